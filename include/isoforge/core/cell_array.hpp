@@ -1,0 +1,59 @@
+#pragma once
+/// \file
+/// `CellArray`: variable-size cells as offsets + connectivity (the VTK 9 layout).
+
+#include <cstddef>
+#include <cstdint>
+#include <initializer_list>
+#include <span>
+#include <vector>
+
+namespace isoforge {
+
+/// Point index type used by all connectivity.
+using Index = std::int64_t;
+
+/// Cells stored as `offsets` (size = cells + 1, offsets[0] = 0, non-decreasing) and
+/// `connectivity` (point ids, cell i is connectivity[offsets[i] .. offsets[i+1])).
+class CellArray {
+ public:
+  CellArray() = default;
+  /// Adopts offsets + connectivity. \throw Error if offsets are not a valid prefix sum of
+  /// connectivity (first 0, non-decreasing, last == connectivity.size()).
+  CellArray(std::vector<Index> offsets, std::vector<Index> connectivity);
+
+  [[nodiscard]] std::size_t size() const { return offsets_.size() - 1; }
+  [[nodiscard]] bool empty() const { return size() == 0; }
+  [[nodiscard]] std::size_t cell_size(std::size_t cell) const {
+    return static_cast<std::size_t>(offsets_[cell + 1] - offsets_[cell]);
+  }
+  [[nodiscard]] std::span<const Index> cell(std::size_t cell) const {
+    return {connectivity_.data() + offsets_[cell], cell_size(cell)};
+  }
+  [[nodiscard]] std::span<Index> cell(std::size_t cell) {
+    return {connectivity_.data() + offsets_[cell], cell_size(cell)};
+  }
+
+  void add(std::span<const Index> ids);
+  void add(std::initializer_list<Index> ids) { add(std::span<const Index>(ids.begin(), ids.size())); }
+  void reserve(std::size_t cells, std::size_t ids);
+  void clear();
+
+  [[nodiscard]] const std::vector<Index>& offsets() const { return offsets_; }
+  [[nodiscard]] const std::vector<Index>& connectivity() const { return connectivity_; }
+  /// Direct access for bulk builders; call `validate` afterwards.
+  [[nodiscard]] std::vector<Index>& offsets() { return offsets_; }
+  [[nodiscard]] std::vector<Index>& connectivity() { return connectivity_; }
+
+  /// Checks the offsets invariant and that every id is in [0, num_points).
+  /// \throw Error mentioning `what` (e.g. "polys") and the first bad cell.
+  void validate(std::size_t num_points, const char* what) const;
+
+  friend bool operator==(const CellArray&, const CellArray&) = default;
+
+ private:
+  std::vector<Index> offsets_{0};
+  std::vector<Index> connectivity_;
+};
+
+}  // namespace isoforge

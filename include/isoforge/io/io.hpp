@@ -1,0 +1,82 @@
+#pragma once
+/// \file
+/// Format-agnostic reading and writing: the format is chosen by the file extension.
+///
+/// | extension | format | read | write |
+/// |---|---|---|---|
+/// | .vtk | VTK legacy (ASCII/binary, 1.0–5.1) | all datasets | all datasets |
+/// | .vti .vts .vtp .vtu | VTK XML | yes | yes |
+/// | .ply | Stanford PLY | polydata | polydata |
+/// | .obj | Wavefront OBJ | — | polydata |
+/// | .off | Object File Format | polydata | polydata |
+/// | .xyz/.bin/.q (with ReadOptions::plot3d_q) | PLOT3D | structured grid | — |
+/// | .nhdr .nrrd | NRRD (raw) | image data | — |
+/// | .mhd .mha | MetaImage | image data | — |
+/// | .vdb | OpenVDB float grid | image data (densified) | image data |
+///
+/// See docs/formats.md for the details of each reader and writer.
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "isoforge/core/dataset.hpp"
+
+namespace isoforge {
+
+enum class FileFormat {
+  VtkLegacy,
+  VtkImageData,        ///< .vti
+  VtkStructuredGrid,   ///< .vts
+  VtkPolyData,         ///< .vtp
+  VtkUnstructuredGrid, ///< .vtu
+  Ply,
+  Obj,
+  Off,
+  Plot3d,
+  Nrrd,
+  MetaImage,
+  Vdb,
+};
+
+/// Format for a path's extension (case-insensitive). \throw Error naming the path when the
+/// extension is not recognised.
+[[nodiscard]] FileFormat format_from_path(const std::filesystem::path& path);
+[[nodiscard]] std::string_view format_name(FileFormat format);
+
+/// Options understood by `read`. Zero/empty values are safe defaults.
+struct ReadOptions {
+  /// PLOT3D: solution (Q) file to read with an XYZ grid file; empty = grid only.
+  std::filesystem::path plot3d_q;
+  /// PLOT3D: "auto" detects byte order, iblank and multi-grid from the file size; or
+  /// "big"/"little" to force the byte order.
+  std::string plot3d_byte_order = "auto";
+  /// OpenVDB: name of the grid to read; empty = the first float grid.
+  std::string vdb_grid;
+  /// OpenVDB: refuse to densify grids with more voxels than this (guards memory).
+  std::size_t vdb_max_voxels = std::size_t{1} << 28;
+};
+
+/// Options understood by `write`.
+struct WriteOptions {
+  bool binary = true;     ///< VTK legacy/XML and PLY: binary (true) or ASCII (false)
+  bool compress = true;   ///< VTK XML: zlib-compress binary blocks
+  /// VTK legacy header version to write: "4.2" (classic cell lists, opens in every VTK) or
+  /// "5.1" (OFFSETS/CONNECTIVITY).
+  std::string vtk_legacy_version = "4.2";
+  /// OpenVDB: voxels with |value - background| <= tolerance become inactive.
+  double vdb_tolerance = 0.0;
+};
+
+/// Reads any supported file. \throw Error naming the file and what is wrong.
+[[nodiscard]] Dataset read(const std::filesystem::path& path, const ReadOptions& options = {});
+
+/// Writes `ds` atomically in the format given by the extension. \throw Error if the format
+/// cannot hold this dataset type (e.g. an unstructured grid to .ply) or on I/O failure.
+void write(const Dataset& ds, const std::filesystem::path& path, const WriteOptions& options = {});
+
+/// Reads a whole file into memory. \throw Error naming the path if it cannot be read.
+[[nodiscard]] std::vector<std::byte> read_file_bytes(const std::filesystem::path& path);
+
+}  // namespace isoforge

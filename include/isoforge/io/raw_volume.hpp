@@ -1,0 +1,27 @@
+#pragma once
+/// \file
+/// Raw volume headers: NRRD (`.nhdr` detached or `.nrrd` attached; raw encoding; data file
+/// lists such as `data file: quarter.%d 1 93 1`) and MetaImage (`.mhd` + raw, or `.mha`).
+/// The result is `ImageData` with one point array "Scalars" of the file's element type.
+
+#include <cstddef>
+#include <filesystem>
+#include <span>
+#include <string_view>
+
+#include "isoforge/core/dataset.hpp"
+
+namespace isoforge {
+
+/// \throw Error naming the header (or data file) and what is wrong.
+[[nodiscard]] ImageData read_nrrd(const std::filesystem::path& path);
+/// In-memory header (with attached data for .nrrd); detached data files are looked up in
+/// `base_dir`.
+[[nodiscard]] ImageData read_nrrd(std::span<const std::byte> data, std::string_view name,
+                                  const std::filesystem::path& base_dir);
+
+[[nodiscard]] ImageData read_metaimage(const std::filesystem::path& path);
+[[nodiscard]] ImageData read_metaimage(std::span<const std::byte> data, std::string_view name,
+                                       const std::filesystem::path& base_dir);
+
+}  // namespace isoforge

@@ -1,0 +1,259 @@
+#pragma once
+// Private: a bounds-checked cursor over an in-memory file, with text (token/line) and binary
+// (endian-aware) reads. Every failure throws isoforge::Error naming the file and the place
+// (line for text, byte offset for binary). Used by every reader.
+
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <span>
+#include <string>
+#include <string_view>
+#include <type_traits>
+#include <vector>
+
+#include "isoforge/core/error.hpp"
+
+namespace isoforge::io_detail {
+
+enum class Endian { Little, Big };
+
+inline constexpr Endian kHostEndian =
+    std::endian::native == std::endian::little ? Endian::Little : Endian::Big;
+
+template <class T>
+inline T byteswap_value(T v) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  unsigned char b[sizeof(T)];
+  std::memcpy(b, &v, sizeof(T));
+  std::reverse(b, b + sizeof(T));
+  std::memcpy(&v, b, sizeof(T));
+  return v;
+}
+
+/// Swaps every element of `values` in place if `from` differs from the host order.
+template <class T>
+inline void to_host(std::span<T> values, Endian from) {
+  if (from == kHostEndian || sizeof(T) == 1) return;
+  for (auto& v : values) v = byteswap_value(v);
+}
+
+/// Swaps elements of a raw buffer of `elem_size`-byte elements in place.
+inline void swap_bytes_inplace(std::byte* data, std::size_t count, std::size_t elem_size) {
+  if (elem_size <= 1) return;
+  for (std::size_t i = 0; i < count; ++i) std::reverse(data + i * elem_size, data + (i + 1) * elem_size);
+}
+
+class Scanner {
+ public:
+  Scanner(std::span<const std::byte> data, std::string name)
+      : data_(data), name_(std::move(name)) {}
+
+  [[nodiscard]] const std::string& name() const { return name_; }
+  [[nodiscard]] std::size_t offset() const { return pos_; }
+  [[nodiscard]] std::size_t size() const { return data_.size(); }
+  [[nodiscard]] std::size_t remaining() const { return data_.size() - pos_; }
+  [[nodiscard]] bool at_end() const { return pos_ >= data_.size(); }
+  [[nodiscard]] std::int64_t line() const { return line_; }
+  [[nodiscard]] std::span<const std::byte> data() const { return data_; }
+  void seek(std::size_t offset) {
+    if (offset > data_.size()) fail_at_byte(offset, "seek past end of file");
+    pos_ = offset;
+  }
+
+  // ---- errors ----
+  [[noreturn]] void fail_line(std::string_view what) const {
+    throw Error(at_line(name_, line_, what));
+  }
+  [[noreturn]] void fail_byte(std::string_view what) const { fail_at_byte(pos_, what); }
+  [[noreturn]] void fail_at_byte(std::size_t offset, std::string_view what) const {
+    throw Error(at_byte(name_, offset, what));
+  }
+
+  // ---- text ----
+  static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
+  [[nodiscard]] char peek_char() const {
+    return at_end() ? '\0' : static_cast<char>(data_[pos_]);
+  }
+
+  /// Skips whitespace (counting lines).
+  void skip_space() {
+    while (pos_ < data_.size()) {
+      char c = static_cast<char>(data_[pos_]);
+      if (!is_space(c)) break;
+      if (c == '\n') ++line_;
+      ++pos_;
+    }
+  }
+
+  /// Next whitespace-delimited token; empty at end of file.
+  [[nodiscard]] std::string_view token() {
+    skip_space();
+    std::size_t start = pos_;
+    while (pos_ < data_.size() && !is_space(static_cast<char>(data_[pos_]))) ++pos_;
+    return view(start, pos_);
+  }
+  /// Next token, failing with "expected <what>" at end of file.
+  [[nodiscard]] std::string_view require_token(std::string_view what) {
+    auto t = token();
+    if (t.empty()) fail_line("unexpected end of file, expected " + std::string(what));
+    return t;
+  }
+  /// Next token without consuming it.
+  [[nodiscard]] std::string_view peek_token() {
+    std::size_t p = pos_;
+    std::int64_t l = line_;
+    auto t = token();
+    pos_ = p;
+    line_ = l;
+    return t;
+  }
+
+  /// Rest of the current line (without the newline, trailing '\r' removed); consumes the
+  /// newline. Returns false at end of file.
+  bool read_line(std::string_view& out) {
+    if (at_end()) return false;
+    std::size_t start = pos_;
+    while (pos_ < data_.size() && static_cast<char>(data_[pos_]) != '\n') ++pos_;
+    std::size_t end = pos_;
+    if (pos_ < data_.size()) {
+      ++pos_;
+      ++line_;
+    }
+    if (end > start && static_cast<char>(data_[end - 1]) == '\r') --end;
+    out = view(start, end);
+    return true;
+  }
+  /// Skips to just after the next newline (or to the end).
+  void skip_line() {
+    std::string_view ignored;
+    read_line(ignored);
+  }
+
+  template <class T>
+  [[nodiscard]] T parse_token(std::string_view what) {
+    auto t = require_token(what);
+    return parse<T>(t, what);
+  }
+
+  template <class T>
+  [[nodiscard]] T parse(std::string_view t, std::string_view what) const {
+    T value{};
+    const char* b = t.data();
+    const char* e = t.data() + t.size();
+    if constexpr (std::is_floating_point_v<T>) {
+      if (!t.empty() && *b == '+') ++b;
+      auto [p, ec] = std::from_chars(b, e, value);
+      if (ec == std::errc::result_out_of_range) {
+        // Denormals and overflows: fall back to strtod semantics (inf / 0).
+        value = static_cast<T>(std::strtod(std::string(t).c_str(), nullptr));
+      } else if (ec != std::errc() || p != e) {
+        // Accept nan/inf spellings from other writers (handled by from_chars), else fail.
+        fail_line("expected " + std::string(what) + ", found '" + std::string(t.substr(0, 40)) + "'");
+      }
+    } else {
+      if (!t.empty() && *b == '+') ++b;
+      auto [p, ec] = std::from_chars(b, e, value);
+      if (ec == std::errc::result_out_of_range) {
+        fail_line(std::string(what) + " '" + std::string(t.substr(0, 40)) + "' is out of range");
+      }
+      if (ec != std::errc() || p != e) {
+        fail_line("expected " + std::string(what) + ", found '" + std::string(t.substr(0, 40)) + "'");
+      }
+    }
+    return value;
+  }
+
+  /// Parses a non-negative count and checks it against an upper bound derived from the bytes
+  /// left (each item needs at least `min_bytes_each` bytes), so a lying header cannot make us
+  /// allocate gigabytes.
+  [[nodiscard]] std::size_t parse_count(std::string_view what, std::size_t min_bytes_each) {
+    auto t = require_token(what);
+    auto v = parse<std::int64_t>(t, what);
+    if (v < 0) fail_line(std::string(what) + " " + std::to_string(v) + " is negative");
+    check_count(static_cast<std::uint64_t>(v), min_bytes_each, what);
+    return static_cast<std::size_t>(v);
+  }
+  void check_count(std::uint64_t n, std::size_t min_bytes_each, std::string_view what) const {
+    if (min_bytes_each == 0) return;
+    if (n > remaining() / min_bytes_each + 1) {
+      fail_line(std::string(what) + " " + std::to_string(n) + " exceeds what the remaining " +
+                std::to_string(remaining()) + " bytes of the file can hold");
+    }
+  }
+
+  // ---- binary ----
+  void require_bytes(std::size_t n, std::string_view what) const {
+    if (n > remaining()) {
+      fail_byte("truncated: " + std::string(what) + " needs " + std::to_string(n) +
+                " bytes but only " + std::to_string(remaining()) + " remain");
+    }
+  }
+  template <class T>
+  [[nodiscard]] T read(Endian endian, std::string_view what) {
+    require_bytes(sizeof(T), what);
+    T v;
+    std::memcpy(&v, data_.data() + pos_, sizeof(T));
+    pos_ += sizeof(T);
+    if (endian != kHostEndian) v = byteswap_value(v);
+    return v;
+  }
+  /// Reads `count` values of T into `out` (resized), converting to host order.
+  template <class T>
+  void read_array(std::size_t count, Endian endian, std::vector<T>& out, std::string_view what) {
+    if (count > remaining() / sizeof(T)) {
+      fail_byte("truncated: " + std::string(what) + " needs " + std::to_string(count) + " values of " +
+                std::to_string(sizeof(T)) + " bytes but only " + std::to_string(remaining()) +
+                " bytes remain");
+    }
+    out.resize(count);
+    std::memcpy(out.data(), data_.data() + pos_, count * sizeof(T));
+    pos_ += count * sizeof(T);
+    to_host(std::span<T>(out), endian);
+  }
+  /// Raw bytes, without conversion.
+  [[nodiscard]] std::span<const std::byte> read_bytes(std::size_t n, std::string_view what) {
+    require_bytes(n, what);
+    auto s = data_.subspan(pos_, n);
+    pos_ += n;
+    return s;
+  }
+  void skip(std::size_t n, std::string_view what) {
+    require_bytes(n, what);
+    pos_ += n;
+  }
+
+ private:
+  [[nodiscard]] std::string_view view(std::size_t b, std::size_t e) const {
+    return {reinterpret_cast<const char*>(data_.data()) + b, e - b};
+  }
+
+  std::span<const std::byte> data_;
+  std::string name_;
+  std::size_t pos_ = 0;
+  std::int64_t line_ = 1;
+};
+
+/// Case-insensitive ASCII equality.
+inline bool iequals(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    char x = a[i], y = b[i];
+    if (x >= 'A' && x <= 'Z') x = static_cast<char>(x - 'A' + 'a');
+    if (y >= 'A' && y <= 'Z') y = static_cast<char>(y - 'A' + 'a');
+    if (x != y) return false;
+  }
+  return true;
+}
+
+/// Multiplies with overflow check; returns false on overflow.
+inline bool mul_overflow(std::uint64_t a, std::uint64_t b, std::uint64_t& out) {
+  return __builtin_mul_overflow(a, b, &out);
+}
+
+}  // namespace isoforge::io_detail

@@ -1,0 +1,168 @@
+#include "isoforge/io/io.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+
+#include "isoforge/io/mesh_formats.hpp"
+#include "isoforge/io/plot3d.hpp"
+#include "isoforge/io/raw_volume.hpp"
+#include "isoforge/io/vdb.hpp"
+#include "isoforge/io/vtk_legacy.hpp"
+#include "isoforge/io/vtk_xml.hpp"
+
+namespace isoforge {
+
+namespace {
+
+std::string lower_extension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+const PolyData& require_poly(const Dataset& ds, const std::filesystem::path& path,
+                             std::string_view format) {
+  if (const auto* pd = std::get_if<PolyData>(&ds)) return *pd;
+  throw Error(path.string() + ": " + std::string(format) + " holds polygonal data only, not " +
+              std::string(dataset_type_name(ds)) + " (try .vtk or " +
+              std::string(vtk_xml_extension(ds)) + ")");
+}
+
+}  // namespace
+
+FileFormat format_from_path(const std::filesystem::path& path) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".vtk") return FileFormat::VtkLegacy;
+  if (ext == ".vti") return FileFormat::VtkImageData;
+  if (ext == ".vts") return FileFormat::VtkStructuredGrid;
+  if (ext == ".vtp") return FileFormat::VtkPolyData;
+  if (ext == ".vtu") return FileFormat::VtkUnstructuredGrid;
+  if (ext == ".ply") return FileFormat::Ply;
+  if (ext == ".obj") return FileFormat::Obj;
+  if (ext == ".off") return FileFormat::Off;
+  if (ext == ".xyz" || ext == ".bin" || ext == ".p3d" || ext == ".x") return FileFormat::Plot3d;
+  if (ext == ".nhdr" || ext == ".nrrd") return FileFormat::Nrrd;
+  if (ext == ".mhd" || ext == ".mha") return FileFormat::MetaImage;
+  if (ext == ".vdb") return FileFormat::Vdb;
+  throw Error(path.string() + ": unknown file extension '" + ext +
+              "' (known: .vtk .vti .vts .vtp .vtu .ply .obj .off .xyz/.bin (PLOT3D) .nhdr .nrrd "
+              ".mhd .mha .vdb)");
+}
+
+std::string_view format_name(FileFormat format) {
+  switch (format) {
+    case FileFormat::VtkLegacy: return "VTK legacy";
+    case FileFormat::VtkImageData: return "VTK XML image data";
+    case FileFormat::VtkStructuredGrid: return "VTK XML structured grid";
+    case FileFormat::VtkPolyData: return "VTK XML polydata";
+    case FileFormat::VtkUnstructuredGrid: return "VTK XML unstructured grid";
+    case FileFormat::Ply: return "PLY";
+    case FileFormat::Obj: return "OBJ";
+    case FileFormat::Off: return "OFF";
+    case FileFormat::Plot3d: return "PLOT3D";
+    case FileFormat::Nrrd: return "NRRD";
+    case FileFormat::MetaImage: return "MetaImage";
+    case FileFormat::Vdb: return "OpenVDB";
+  }
+  return "?";
+}
+
+std::vector<std::byte> read_file_bytes(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw Error(path.string() + ": is a directory, not a file");
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(path.string() + ": cannot open: " + std::strerror(errno));
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  if (size < 0) throw Error(path.string() + ": cannot determine the file size");
+  in.seekg(0, std::ios::beg);
+  std::vector<std::byte> bytes(static_cast<std::size_t>(size));
+  if (size > 0 && !in.read(reinterpret_cast<char*>(bytes.data()), size)) {
+    throw Error(path.string() + ": read failed");
+  }
+  return bytes;
+}
+
+Dataset read(const std::filesystem::path& path, const ReadOptions& options) {
+  switch (format_from_path(path)) {
+    case FileFormat::VtkLegacy: return read_vtk_legacy(path);
+    case FileFormat::VtkImageData:
+    case FileFormat::VtkStructuredGrid:
+    case FileFormat::VtkPolyData:
+    case FileFormat::VtkUnstructuredGrid: return read_vtk_xml(path);
+    case FileFormat::Ply: return read_ply(path);
+    case FileFormat::Obj:
+      throw Error(path.string() + ": reading OBJ is not supported (OBJ is an export format here)");
+    case FileFormat::Off: return read_off(path);
+    case FileFormat::Plot3d: {
+      Plot3dOptions p;
+      if (options.plot3d_byte_order == "big") {
+        p.byte_order = Plot3dByteOrder::Big;
+      } else if (options.plot3d_byte_order == "little") {
+        p.byte_order = Plot3dByteOrder::Little;
+      } else if (options.plot3d_byte_order != "auto") {
+        throw Error("plot3d byte order must be auto, big or little, not '" +
+                    options.plot3d_byte_order + "'");
+      }
+      return read_plot3d(path, options.plot3d_q, p);
+    }
+    case FileFormat::Nrrd: return read_nrrd(path);
+    case FileFormat::MetaImage: return read_metaimage(path);
+    case FileFormat::Vdb:
+      return vdb_to_image(*read_vdb_grid(path, options.vdb_grid), options.vdb_max_voxels);
+  }
+  throw Error(path.string() + ": unsupported format");
+}
+
+void write(const Dataset& ds, const std::filesystem::path& path, const WriteOptions& options) {
+  const FileFormat format = format_from_path(path);
+  switch (format) {
+    case FileFormat::VtkLegacy: {
+      VtkLegacyWriteOptions o;
+      o.binary = options.binary;
+      o.version = options.vtk_legacy_version;
+      write_vtk_legacy(ds, path, o);
+      return;
+    }
+    case FileFormat::VtkImageData:
+    case FileFormat::VtkStructuredGrid:
+    case FileFormat::VtkPolyData:
+    case FileFormat::VtkUnstructuredGrid: {
+      VtkXmlWriteOptions o;
+      o.encoding = options.binary ? VtkXmlEncoding::Appended : VtkXmlEncoding::Ascii;
+      o.compress = options.compress;
+      write_vtk_xml(ds, path, o);
+      return;
+    }
+    case FileFormat::Ply: {
+      PlyWriteOptions o;
+      o.encoding = options.binary ? PlyEncoding::BinaryLittleEndian : PlyEncoding::Ascii;
+      write_ply(require_poly(ds, path, "PLY"), path, o);
+      return;
+    }
+    case FileFormat::Obj: write_obj(require_poly(ds, path, "OBJ"), path); return;
+    case FileFormat::Off: write_off(require_poly(ds, path, "OFF"), path); return;
+    case FileFormat::Vdb: {
+      const auto* img = std::get_if<ImageData>(&ds);
+      if (!img) {
+        throw Error(path.string() + ": .vdb holds volumes (image data) only, not " +
+                    std::string(dataset_type_name(ds)));
+      }
+      write_vdb(*image_to_vdb(*img, {}, 0.0f, static_cast<float>(options.vdb_tolerance)), path);
+      return;
+    }
+    case FileFormat::Plot3d:
+    case FileFormat::Nrrd:
+    case FileFormat::MetaImage:
+      throw Error(path.string() + ": writing " + std::string(format_name(format)) +
+                  " is not supported (write .vts/.vti or .vtk instead)");
+  }
+}
+
+}  // namespace isoforge
