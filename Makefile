@@ -1,0 +1,96 @@
+# isoforge: the two commands a new user needs are `make demo` and `make test`.
+# Both install missing Debian packages first (apt-get; via sudo when not root), then configure
+# and build in Release mode with CMake, then run.
+#
+#   make demo     build, then run the demo pipeline over data/ (results in out/)
+#   make test     build, then run the unit tests, CLI tests, consumer-package test and the quick
+#                 verification subset (ctest)
+#   make verify   the full accuracy verification suite (CGAL), report in out/verify/
+#   make bench    benchmarks against the peers (verify/bench/)
+#   make fuzz     build the libFuzzer targets with clang and run each for FUZZ_SECONDS
+#   make install  install into PREFIX (default /usr/local)
+
+BUILD       ?= build
+FUZZ_BUILD  ?= build-fuzz
+BENCH_BUILD ?= build-bench
+PREFIX      ?= /usr/local
+JOBS        ?= $(shell nproc 2>/dev/null || echo 2)
+FUZZ_SECONDS ?= 20
+GENERATOR   := $(shell command -v ninja >/dev/null 2>&1 && echo Ninja || echo "Unix Makefiles")
+
+# Debian 12 packages the build, tests, verification and benchmarks need.
+DEBIAN_PACKAGES := cmake ninja-build g++ make ccache pkg-config git \
+  libcgal-dev libgmp-dev libmpfr-dev \
+  libopenvdb-dev libboost-iostreams-dev libtbb-dev \
+  libceres-dev libeigen3-dev \
+  libdraco-dev \
+  libcli11-dev libfmt-dev libpugixml-dev zlib1g-dev \
+  libgtest-dev libgmock-dev libbenchmark-dev \
+  python3 python3-vtk9 libmeshoptimizer-dev \
+  clang libclang-rt-14-dev
+
+.PHONY: all deps configure build demo test verify bench fuzz install clean
+
+all: build
+
+deps:
+	@missing=""; \
+	for p in $(DEBIAN_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "installing missing Debian packages:$$missing"; \
+	  if [ "$$(id -u)" -eq 0 ]; then SUDO=""; else SUDO="sudo"; fi; \
+	  $$SUDO apt-get update -q && \
+	  DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -q --no-install-recommends $$missing; \
+	fi
+
+configure: deps
+	@if [ ! -f $(BUILD)/CMakeCache.txt ]; then \
+	  cmake -S . -B $(BUILD) -G "$(GENERATOR)" -DCMAKE_BUILD_TYPE=Release; \
+	fi
+
+build: configure
+	cmake --build $(BUILD) -j $(JOBS)
+
+# Until the figure gallery exists: read every file in data/, print what it holds, and convert
+# it to VTK XML under out/demo/ (open those in ParaView).
+DEMO_INPUTS := data/hello.vtk data/fran_cut.vtk data/Torso.vtp data/bunny.ply data/ironProt.vtk \
+  data/office.binary.vtk data/post.vtk data/blow.vtk data/headsq/quarter.nhdr \
+  data/HeadMRVolume.mhd
+demo: build
+	@mkdir -p out/demo
+	@set -e; for f in $(DEMO_INPUTS); do \
+	  echo "==== $$f"; \
+	  $(BUILD)/src/isoforge info $$f; \
+	  $(BUILD)/src/isoforge convert $$f out/demo/$$(basename $${f%.*}) --vtk-xml; \
+	done; \
+	echo "==== data/combxyz.bin + data/combq.bin (PLOT3D combustor)"; \
+	$(BUILD)/src/isoforge info data/combxyz.bin --q data/combq.bin; \
+	$(BUILD)/src/isoforge convert data/combxyz.bin --q data/combq.bin out/demo/combustor --vtk-xml
+	@echo "demo results: out/demo/ (open in ParaView)"
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) --timeout 900
+
+verify: build
+	$(BUILD)/verify/isoforge-verify --all --report out/verify
+
+bench: deps
+	cmake -S . -B $(BENCH_BUILD) -G "$(GENERATOR)" -DCMAKE_BUILD_TYPE=Release \
+	  -DISOFORGE_BUILD_BENCH=ON -DISOFORGE_BUILD_TESTS=OFF
+	cmake --build $(BENCH_BUILD) -j $(JOBS)
+	./verify/bench/run.sh $(BENCH_BUILD) out/bench
+
+fuzz: deps
+	CXX=clang++ cmake -S . -B $(FUZZ_BUILD) -G "$(GENERATOR)" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DISOFORGE_BUILD_FUZZERS=ON -DISOFORGE_BUILD_TESTS=OFF -DISOFORGE_BUILD_VERIFY=OFF \
+	  -DBUILD_SHARED_LIBS=OFF
+	cmake --build $(FUZZ_BUILD) -j $(JOBS)
+	./tests/fuzz/run.sh $(FUZZ_BUILD) $(FUZZ_SECONDS)
+
+install: build
+	cmake --install $(BUILD) --prefix $(PREFIX)
+
+clean:
+	rm -rf $(BUILD) $(FUZZ_BUILD) $(BENCH_BUILD) out

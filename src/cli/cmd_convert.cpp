@@ -1,0 +1,71 @@
+// isoforge convert IN OUT: format conversion chosen by the extensions.
+
+#include <fmt/core.h>
+
+#include "commands.hpp"
+#include "isoforge/io/io.hpp"
+#include "isoforge/io/vtk_xml.hpp"
+#include "progress.hpp"
+
+namespace isoforge::cli {
+
+void add_convert_command(CLI::App& app, Context& ctx) {
+  struct Args {
+    std::string in, out, q, legacy_version = "4.2", grid;
+    bool ascii = false, no_compress = false, vtk_xml = false;
+    double vdb_tolerance = 0;
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand("convert", "Convert a dataset between formats (chosen by the "
+                                            "file extensions)");
+  cmd->add_option("input", args->in, "Input file")->required();
+  cmd->add_option("output", args->out,
+                  "Output file: .vtk .vti .vts .vtp .vtu .ply .obj .off .vdb")->required();
+  cmd->add_option("--q", args->q, "PLOT3D solution (Q) file to read with a grid file");
+  cmd->add_option("--grid", args->grid, "OpenVDB input: name of the float grid to read");
+  cmd->add_flag("--ascii", args->ascii, "Write text instead of binary (VTK legacy/XML, PLY)");
+  cmd->add_flag("--vtk-xml", args->vtk_xml,
+                "Write VTK XML with the extension that fits the dataset (.vti .vts .vtp .vtu), "
+                "replacing any extension OUTPUT has");
+  cmd->add_flag("--no-compress", args->no_compress, "VTK XML: do not zlib-compress binary data");
+  cmd->add_option("--legacy-version", args->legacy_version,
+                  "VTK legacy output: header version 4.2 (classic) or 5.1 (offsets/connectivity)")
+      ->check(CLI::IsMember({"4.2", "5.1"}));
+  cmd->add_option("--vdb-tolerance", args->vdb_tolerance,
+                  "OpenVDB output: values within this of the background stay inactive");
+  cmd->footer(
+      "The output is written atomically: a failed run leaves no partial file and keeps an\n"
+      "existing file unchanged. A format that cannot hold the dataset is an error.\n"
+      "Examples:\n"
+      "  isoforge convert data/fran_cut.vtk out/fran.vtp\n"
+      "  isoforge convert data/post.vtk out/post --vtk-xml      (writes out/post.vtu)\n"
+      "  isoforge convert data/combxyz.bin --q data/combq.bin out/combustor.vts\n"
+      "  isoforge convert data/bunny.ply out/bunny.vtk --ascii --legacy-version 5.1\n"
+      "  isoforge convert data/headsq/quarter.nhdr out/head.vdb");
+  cmd->callback([args, &ctx] {
+    ReadOptions ro;
+    ro.plot3d_q = args->q;
+    ro.vdb_grid = args->grid;
+    WriteOptions wo;
+    wo.binary = !args->ascii;
+    wo.compress = !args->no_compress;
+    wo.vtk_legacy_version = args->legacy_version;
+    wo.vdb_tolerance = args->vdb_tolerance;
+    // Fail on an unknown output extension before doing any reading.
+    if (!args->vtk_xml) (void)format_from_path(args->out);
+    ProgressBar bar(!ctx.quiet && stderr_is_tty());
+    bar.stage("reading");
+    const Dataset ds = read(args->in, ro);
+    std::filesystem::path out = args->out;
+    if (args->vtk_xml) out.replace_extension(vtk_xml_extension(ds));
+    bar.stage("writing");
+    write(ds, out, wo);
+    bar.finish();
+    if (!ctx.quiet) {
+      fmt::print(stderr, "wrote {} ({} points, {} cells)\n", out.string(), num_points(ds),
+                 num_cells(ds));
+    }
+  });
+}
+
+}  // namespace isoforge::cli

@@ -1,0 +1,65 @@
+// isoforge info FILE: what a file holds (type, dimensions, counts, bounds, arrays and ranges).
+
+#include <fmt/core.h>
+
+#include <cmath>
+#include <map>
+#include <string>
+
+#include "commands.hpp"
+#include "describe.hpp"
+#include "isoforge/io/io.hpp"
+#include "isoforge/io/vdb.hpp"
+#include "progress.hpp"
+
+namespace isoforge::cli {
+
+namespace {
+
+void print_vdb_info(const std::filesystem::path& path) {
+  const auto grids = inspect_vdb(path);
+  fmt::print("file: {} (OpenVDB)\n", path.string());
+  fmt::print("grids: {}\n", grids.size());
+  for (const auto& g : grids) {
+    const auto& b = g.active_bbox;
+    fmt::print("  '{}'  {}  class {}  voxel size {}  active voxels {}  index bbox [{} {} {}] .. [{} {} {}]\n",
+               g.name, g.type, g.grid_class, g.voxel_size, g.active_voxels, b.min().x(),
+               b.min().y(), b.min().z(), b.max().x(), b.max().y(), b.max().z());
+  }
+}
+
+}  // namespace
+
+void add_info_command(CLI::App& app, Context& ctx) {
+  auto* cmd = app.add_subcommand("info", "Print what a file holds: dataset type, dimensions, "
+                                         "point/cell counts, bounds, arrays with ranges");
+  auto path = std::make_shared<std::string>();
+  auto q = std::make_shared<std::string>();
+  cmd->add_option("file", *path, "Input file (.vtk .vti .vts .vtp .vtu .ply .off .nhdr .nrrd .mhd "
+                                 ".mha .vdb, PLOT3D .bin/.xyz)")
+      ->required();
+  cmd->add_option("--q", *q, "PLOT3D solution (Q) file to read with a grid file");
+  cmd->footer(
+      "Examples:\n"
+      "  isoforge info data/fran_cut.vtk\n"
+      "  isoforge info data/combxyz.bin --q data/combq.bin\n"
+      "  isoforge info volume.vdb      (lists grids without densifying them)");
+  cmd->callback([path, q, &ctx] {
+    const std::filesystem::path p(*path);
+    const FileFormat format = format_from_path(p);
+    if (format == FileFormat::Vdb) {
+      print_vdb_info(p);
+      return;
+    }
+    ReadOptions ro;
+    ro.plot3d_q = *q;
+    ProgressBar bar(!ctx.quiet && stderr_is_tty());
+    bar.stage("reading");
+    Dataset ds = read(p, ro);
+    bar.finish();
+    fmt::print("file: {} ({})\n", p.string(), format_name(format));
+    fmt::print("{}", describe(ds));
+  });
+}
+
+}  // namespace isoforge::cli

@@ -1,0 +1,18 @@
+#pragma once
+// Subcommands of the isoforge command. Each add_* function registers one subcommand on the app;
+// its callback does the work and throws isoforge::Error on failure (main prints it as one line
+// and exits non-zero).
+
+#include <CLI/CLI.hpp>
+
+namespace isoforge::cli {
+
+/// Options shared by all subcommands.
+struct Context {
+  bool quiet = false;  ///< --quiet: no progress bar, no informational output on stderr
+};
+
+void add_info_command(CLI::App& app, Context& ctx);
+void add_convert_command(CLI::App& app, Context& ctx);
+
+}  // namespace isoforge::cli

@@ -1,0 +1,14 @@
+#pragma once
+// Human-readable summary of a dataset (used by `isoforge info` and the demo).
+
+#include <string>
+
+#include "isoforge/core/dataset.hpp"
+
+namespace isoforge::cli {
+
+/// Multi-line description: type, dimensions, counts (with a cell-type histogram), bounds, and
+/// every point/cell/field array with its type, components, role and range per component.
+[[nodiscard]] std::string describe(const Dataset& ds);
+
+}  // namespace isoforge::cli

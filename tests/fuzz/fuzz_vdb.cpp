@@ -1,0 +1,16 @@
+// Fuzz target: OpenVDB reader (in memory).
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "isoforge/io/vdb.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const auto bytes = std::as_bytes(std::span(data, size));
+  try {
+    (void)isoforge::read_vdb_grid(bytes, "fuzz.vdb", "");
+  } catch (const isoforge::Error&) {
+    // Rejecting bad input with a clear error is the expected outcome.
+  }
+  return 0;
+}

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Runs every fuzz target for a bounded time on a seed corpus made from data/ (plus small files
+# the round-trip tests write). Usage: run.sh FUZZ_BUILD_DIR SECONDS
+set -euo pipefail
+build=$1 seconds=${2:-20}
+root=$(cd "$(dirname "$0")/../.." && pwd)
+data=$root/data
+corpus=$build/corpus
+bin=$build/tests/fuzz
+
+seed() {  # seed NAME FILE...: copy the first 64 KiB of each file into the corpus of NAME
+  local name=$1; shift
+  mkdir -p "$corpus/$name"
+  for f in "$@"; do head -c 65536 "$f" > "$corpus/$name/$(basename "$f")"; done
+}
+seed vtk_legacy "$data"/hello.vtk "$data"/fran_cut.vtk "$data"/post.vtk "$data"/office.binary.vtk "$data"/blow.vtk "$data"/ironProt.vtk
+seed vtk_xml "$data"/Torso.vtp
+seed ply "$data"/bunny.ply
+seed plot3d "$data"/combxyz.bin "$data"/combq.bin
+seed nrrd "$data"/headsq/quarter.nhdr
+seed metaimage "$data"/HeadMRVolume.mhd
+mkdir -p "$corpus/off" "$corpus/vdb"
+printf 'OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n3 0 1 2\n3 1 3 2\n' > "$corpus/off/quad.off"
+# Generated seeds: small XML, PLY and VDB files written by isoforge itself.
+cli=$build/src/isoforge
+if [ -x "$cli" ]; then
+  "$cli" -q convert "$data/hello.vtk" "$corpus/vtk_xml/hello.vtp" || true
+  "$cli" -q convert "$data/post.vtk" "$corpus/vtk_xml/post.vtu" --no-compress || true
+  "$cli" -q convert "$data/hello.vtk" "$corpus/vtk_xml/hello_ascii.vtp" --ascii || true
+  "$cli" -q convert "$data/fran_cut.vtk" "$corpus/ply/fran.ply" || true
+  "$cli" -q convert "$data/HeadMRVolume.mhd" "$corpus/vdb/head.vdb" || true
+fi
+
+status=0
+for target in vtk_legacy vtk_xml ply off plot3d nrrd metaimage vdb; do
+  echo "== fuzz_$target for ${seconds}s"
+  mkdir -p "$build/crashes/$target"
+  if ! "$bin/fuzz_$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+      -max_len=65536 -print_final_stats=1 -artifact_prefix="$build/crashes/$target/" \
+      "$corpus/$target" 2>"$build/fuzz_$target.log"; then
+    echo "fuzz_$target FAILED; log tail:"; tail -40 "$build/fuzz_$target.log"; status=1
+  else
+    grep -E "stat::number_of_executed_units|cov:" "$build/fuzz_$target.log" | tail -2
+  fi
+done
+exit $status

@@ -1,0 +1,59 @@
+#pragma once
+// The catalogue of verification cases and the results they produce.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <fmt/core.h>
+
+namespace isoforge::verify {
+
+/// One measured property against its expectation.
+struct Check {
+  std::string name;
+  std::string measured;
+  std::string expected;  ///< the tolerance or exact value required
+  bool pass = false;
+};
+
+struct CaseResult {
+  std::string name;
+  std::string description;
+  std::vector<Check> checks;
+  double seconds = 0;
+  std::string error;  ///< an exception stopped the case (counts as a failure)
+  [[nodiscard]] bool pass() const {
+    if (!error.empty() || checks.empty()) return false;
+    for (const auto& c : checks) if (!c.pass) return false;
+    return true;
+  }
+
+  void equal(const std::string& what, auto measured, auto expected) {
+    checks.push_back({what, fmt::format("{}", measured), fmt::format("= {}", expected),
+                      measured == expected});
+  }
+  void at_most(const std::string& what, double measured, double limit) {
+    checks.push_back({what, fmt::format("{:.6g}", measured), fmt::format("<= {:.6g}", limit),
+                      measured <= limit});
+  }
+  void at_least(const std::string& what, double measured, double limit) {
+    checks.push_back({what, fmt::format("{:.6g}", measured), fmt::format(">= {:.6g}", limit),
+                      measured >= limit});
+  }
+  void is_true(const std::string& what, bool value) {
+    checks.push_back({what, value ? "yes" : "no", "yes", value});
+  }
+};
+
+struct Case {
+  std::string name;         ///< "group/name"
+  std::string description;  ///< one line for --list and the report
+  bool quick = false;       ///< part of --quick (runs under make test)
+  std::function<void(CaseResult&)> run;
+};
+
+/// Registration functions, one per group of cases.
+void add_io_cases(std::vector<Case>& cases);
+
+}  // namespace isoforge::verify

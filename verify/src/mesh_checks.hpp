@@ -1,0 +1,62 @@
+#pragma once
+// Mesh checks of the verification suite. Combinatorial checks are exact integer work; geometric
+// ones (degenerate faces, self-intersections, orientation) use CGAL's exact predicates on the
+// stored float coordinates, so a verdict never disagrees with the data.
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "isoforge/core/dataset.hpp"
+
+namespace isoforge::verify {
+
+/// Per connected component (faces joined through shared edges).
+struct ComponentReport {
+  std::size_t vertices = 0, edges = 0, faces = 0;
+  std::size_t border_loops = 0;  ///< closed loops of border edges
+  long euler = 0;                ///< V - E + F
+  /// Genus from V - E + F = 2 - 2g - b (meaningful for manifold components).
+  long genus = 0;
+  bool closed = false;
+};
+
+struct MeshReport {
+  std::size_t vertices = 0;  ///< points referenced by at least one face
+  std::size_t faces = 0;     ///< triangles after fan-triangulating polygons and strips
+  std::size_t edges = 0;     ///< unique undirected edges
+  std::size_t border_edges = 0;
+  std::size_t non_manifold_edges = 0;     ///< edges shared by more than two faces
+  std::size_t non_manifold_vertices = 0;  ///< vertices whose faces form more than one fan
+  std::size_t inconsistent_edges = 0;     ///< manifold edges both faces traverse the same way
+  std::size_t degenerate_faces = 0;       ///< repeated ids or collinear corners (exact)
+  std::size_t duplicate_points = 0;       ///< distinct ids with identical coordinates
+  std::size_t self_intersections = 0;     ///< intersecting pairs of non-adjacent faces (exact)
+  bool self_intersection_checked = false;
+  bool closed = false;            ///< no border edges
+  bool manifold = false;          ///< no non-manifold edges or vertices
+  bool oriented = false;          ///< no inconsistent edges
+  bool outward = false;           ///< closed, oriented and enclosing positive volume (exact test)
+  double area = 0;
+  double volume = 0;  ///< signed, from the divergence theorem (meaningful when closed)
+  std::vector<ComponentReport> components;
+
+  /// Closed, manifold, consistently oriented, no degenerate faces and no self-intersections.
+  [[nodiscard]] bool valid_closed_surface() const {
+    return closed && manifold && oriented && degenerate_faces == 0 && self_intersection_checked &&
+           self_intersections == 0;
+  }
+};
+
+struct MeshCheckOptions {
+  bool self_intersections = true;  ///< run the exact self-intersection test (the slow part)
+};
+
+/// Checks the polygons and triangle strips of `mesh` (verts and lines are ignored).
+/// \throw Error if the mesh is invalid as data (ids out of range) or has no faces.
+[[nodiscard]] MeshReport check_mesh(const PolyData& mesh, const MeshCheckOptions& options = {});
+
+/// Multi-line human-readable summary of a report.
+[[nodiscard]] std::string format_report(const MeshReport& r);
+
+}  // namespace isoforge::verify
