@@ -23,6 +23,8 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", ctx.quiet, "No progress bar or informational messages on stderr");
   add_info_command(app, ctx);
   add_convert_command(app, ctx);
+  add_sample_command(app, ctx);
+  add_select_command(app, ctx);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

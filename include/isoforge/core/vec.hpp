@@ -52,7 +52,8 @@ struct Bounds {
       if (p[i] > max[i]) max[i] = p[i];
     }
   }
-  void extend(const Bounds& b) {
+  /// Grows to contain `b` too.
+  void merge(const Bounds& b) {
     if (b.empty()) return;
     extend(b.min);
     extend(b.max);

@@ -1,0 +1,50 @@
+#pragma once
+/// \file
+/// Sampling implicit functions onto dense volumes (`ImageData`) and onto the points of any
+/// dataset (section 1.5.2: "evaluate these functions on a regular array of points").
+
+#include <string>
+
+#include "isoforge/core/dataset.hpp"
+#include "isoforge/core/progress.hpp"
+#include "isoforge/implicit/function.hpp"
+
+namespace isoforge {
+
+/// A regular grid of sample points: point (i, j, k) is at origin + (i, j, k) * spacing.
+struct GridSpec {
+  Dims dims{64, 64, 64};
+  Vec3 origin{0, 0, 0};
+  Vec3 spacing{1, 1, 1};
+
+  /// A grid whose first and last samples lie on the box corners (VTK's model bounds).
+  /// Axes with dims 1 sample the box's minimum. \throw Error on dims < 1, an empty or
+  /// non-finite box, or dims > 1 along an axis of zero extent.
+  [[nodiscard]] static GridSpec from_bounds(const Bounds& bounds, const Dims& dims);
+  /// Coordinate of sample `i` along `axis`, computed exactly as every sampler computes it (so
+  /// dense and sparse samples of one grid agree bit for bit).
+  [[nodiscard]] double coordinate(int axis, Index i) const {
+    return origin[axis] + static_cast<double>(i) * spacing[axis];
+  }
+};
+
+struct SampleOptions {
+  std::string name = "F";           ///< name of the point scalars
+  ScalarType type = ScalarType::Float32;  ///< Float32 or Float64 values
+  bool normals = false;             ///< also store "Normals": the unit gradient (pointing to F > 0)
+  bool gradients = false;           ///< also store "Gradient": the analytic gradient
+  ProgressCallback progress;        ///< called with the fraction of slices done
+};
+
+/// Samples `f` at every point of the grid. Multi-threaded (TBB) and deterministic: the result
+/// does not depend on the number of threads. \throw Error on an invalid grid or options.
+[[nodiscard]] ImageData sample_image(const ImplicitFunction& f, const GridSpec& grid,
+                                     const SampleOptions& options = {});
+
+/// Values of `f` at the points of any dataset, as a 1-component array named `name`.
+/// This is what cutting contours. Multi-threaded, deterministic.
+[[nodiscard]] DataArray sample_points(const ImplicitFunction& f, const Dataset& ds,
+                                      const std::string& name = "F",
+                                      ScalarType type = ScalarType::Float32);
+
+}  // namespace isoforge

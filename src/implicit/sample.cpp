@@ -1,0 +1,164 @@
+// Dense sampling of implicit functions (vtkSampleFunction's role): rows of points are evaluated
+// in blocks by the function tree (function_node.hpp), rows in parallel with TBB.
+
+#include "isoforge/implicit/sample.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+
+#include "function_node.hpp"
+
+namespace isoforge {
+
+using implicit_detail::eval_block;
+using implicit_detail::kBlock;
+
+GridSpec GridSpec::from_bounds(const Bounds& bounds, const Dims& dims) {
+  (void)checked_point_count(dims, "sample dims");
+  if (bounds.empty() || !is_finite(bounds.min) || !is_finite(bounds.max)) {
+    throw Error("sample bounds: the box is empty or not finite");
+  }
+  GridSpec g;
+  g.dims = dims;
+  g.origin = bounds.min;
+  for (int a = 0; a < 3; ++a) {
+    const double extent = bounds.max[a] - bounds.min[a];
+    if (dims[a] > 1) {
+      if (!(extent > 0)) {
+        throw Error("sample bounds: axis " + std::to_string(a) + " has zero extent but " +
+                    std::to_string(dims[a]) + " samples");
+      }
+      g.spacing[a] = extent / static_cast<double>(dims[a] - 1);
+    } else {
+      g.spacing[a] = extent > 0 ? extent : 1.0;
+    }
+  }
+  return g;
+}
+
+namespace {
+
+void check_grid(const GridSpec& g) {
+  (void)checked_point_count(g.dims, "sample grid");
+  if (!is_finite(g.origin) || !is_finite(g.spacing)) throw Error("sample grid: origin or spacing is not finite");
+  for (int a = 0; a < 3; ++a) {
+    if (g.dims[a] > 1 && !(g.spacing[a] > 0)) {
+      throw Error("sample grid: spacing along axis " + std::to_string(a) + " must be positive");
+    }
+  }
+}
+
+// Samples z-slices [k0, k0 + nk) of the grid into `out` (the values of slice k0 first).
+// Coordinates always come from GridSpec::coordinate on the whole grid, so every sampler
+// (dense or sparse, any slab split, any thread count) computes bit-identical values.
+template <class T>
+void sample_slab(const ImplicitFunction::Node& node, const GridSpec& g, Index k0, Index nk, T* out) {
+  const Index nx = g.dims[0], ny = g.dims[1];
+  tbb::parallel_for(tbb::blocked_range<Index>(0, ny * nk, 16), [&](const tbb::blocked_range<Index>& r) {
+    double x[kBlock], y[kBlock], z[kBlock], v[kBlock];
+    for (Index row = r.begin(); row != r.end(); ++row) {
+      const double yj = g.coordinate(1, row % ny), zk = g.coordinate(2, k0 + row / ny);
+      T* dst = out + row * nx;
+      for (Index i0 = 0; i0 < nx; i0 += static_cast<Index>(kBlock)) {
+        const auto n = static_cast<std::size_t>(std::min<Index>(static_cast<Index>(kBlock), nx - i0));
+        for (std::size_t t = 0; t < n; ++t) {
+          x[t] = g.coordinate(0, i0 + static_cast<Index>(t));
+          y[t] = yj;
+          z[t] = zk;
+        }
+        eval_block(node, x, y, z, n, v);
+        for (std::size_t t = 0; t < n; ++t) dst[i0 + static_cast<Index>(t)] = static_cast<T>(v[t]);
+      }
+    }
+  });
+}
+
+}  // namespace
+
+ImageData sample_image(const ImplicitFunction& f, const GridSpec& grid, const SampleOptions& options) {
+  check_grid(grid);
+  if (options.type != ScalarType::Float32 && options.type != ScalarType::Float64) {
+    throw Error("sample: value type must be Float32 or Float64");
+  }
+  if (options.name.empty()) throw Error("sample: the array name is empty");
+  ImageData img;
+  img.dims = grid.dims;
+  img.origin = grid.origin;
+  img.spacing = grid.spacing;
+  const std::size_t np = img.num_points();
+  DataArray values(options.name, options.type, 1, np);
+
+  // Slabs of z-slices, so progress is reported (and cancellation honoured) from this thread.
+  const Index nz = grid.dims[2];
+  const Index slab = std::max<Index>(1, nz / 32);
+  const std::size_t slice = static_cast<std::size_t>(grid.dims[0] * grid.dims[1]);
+  for (Index k0 = 0; k0 < nz; k0 += slab) {
+    const Index nk = std::min(slab, nz - k0);
+    const std::size_t offset = static_cast<std::size_t>(k0) * slice;
+    if (options.type == ScalarType::Float32) {
+      sample_slab(f.node(), grid, k0, nk, values.values<float>().data() + offset);
+    } else {
+      sample_slab(f.node(), grid, k0, nk, values.values<double>().data() + offset);
+    }
+    report_progress(options.progress, static_cast<double>(k0 + nk) / static_cast<double>(nz), "sample");
+  }
+  img.point_data.add(std::move(values), AttributeRole::Scalars);
+
+  if (options.normals || options.gradients) {
+    DataArray normals("Normals", ScalarType::Float32, 3, options.normals ? np : 0);
+    DataArray gradients("Gradient", ScalarType::Float32, 3, options.gradients ? np : 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, np, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t id = r.begin(); id != r.end(); ++id) {
+        const auto i = static_cast<Index>(id) % grid.dims[0];
+        const auto j = (static_cast<Index>(id) / grid.dims[0]) % grid.dims[1];
+        const auto k = static_cast<Index>(id) / (grid.dims[0] * grid.dims[1]);
+        const Vec3 g = f.gradient({grid.coordinate(0, i), grid.coordinate(1, j), grid.coordinate(2, k)});
+        if (options.gradients) {
+          float* d = gradients.values<float>().data() + 3 * id;
+          d[0] = static_cast<float>(g.x);
+          d[1] = static_cast<float>(g.y);
+          d[2] = static_cast<float>(g.z);
+        }
+        if (options.normals) {
+          const double len = norm(g);
+          const Vec3 u = len > 0 ? g / len : Vec3{0, 0, 0};
+          float* d = normals.values<float>().data() + 3 * id;
+          d[0] = static_cast<float>(u.x);
+          d[1] = static_cast<float>(u.y);
+          d[2] = static_cast<float>(u.z);
+        }
+      }
+    });
+    if (options.normals) img.point_data.add(std::move(normals), AttributeRole::Normals);
+    if (options.gradients) img.point_data.add(std::move(gradients), AttributeRole::Vectors);
+  }
+  return img;
+}
+
+DataArray sample_points(const ImplicitFunction& f, const Dataset& ds, const std::string& name,
+                        ScalarType type) {
+  if (type != ScalarType::Float32 && type != ScalarType::Float64) {
+    throw Error("sample_points: value type must be Float32 or Float64");
+  }
+  const std::size_t np = num_points(ds);
+  DataArray out(name, type, 1, np);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, np, kBlock * 8), [&](const tbb::blocked_range<std::size_t>& r) {
+    double x[kBlock], y[kBlock], z[kBlock], v[kBlock];
+    for (std::size_t b = r.begin(); b < r.end(); b += kBlock) {
+      const std::size_t n = std::min(kBlock, r.end() - b);
+      for (std::size_t t = 0; t < n; ++t) {
+        const Vec3 p = point(ds, static_cast<Index>(b + t));
+        x[t] = p.x;
+        y[t] = p.y;
+        z[t] = p.z;
+      }
+      eval_block(f.node(), x, y, z, n, v);
+      for (std::size_t t = 0; t < n; ++t) out.set(b + t, 0, v[t]);
+    }
+  });
+  return out;
+}
+
+}  // namespace isoforge
