@@ -20,12 +20,22 @@ struct ImplicitFunction::Node {
 
 namespace implicit_detail {
 
-/// Points per evaluation block. Temporaries of this size live on the stack per tree level.
-inline constexpr std::size_t kBlock = 128;
+/// Points per evaluation block (16 x 8 x 4 samples when sampling grids). Temporaries of this size
+/// live on the stack per tree level (4 KiB per array).
+inline constexpr std::size_t kBlock = 512;
 
 /// Evaluates `count` <= kBlock points given as structure-of-arrays.
 void eval_block(const ImplicitFunction::Node& node, const double* x, const double* y,
                 const double* z, std::size_t count, double* out);
+
+/// Like eval_block for points known to lie in `box`: boolean children whose bounds over the box
+/// prove they cannot decide the result are not evaluated. The values are bit-identical to
+/// eval_block's (min/max of the remaining children is the same number).
+void eval_pruned(const ImplicitFunction::Node& node, const Bounds& box, const double* x,
+                 const double* y, const double* z, std::size_t count, double* out);
+
+/// Conservative bounds of a node over a box (ImplicitFunction::bound without the checks).
+Interval bound_of(const ImplicitFunction::Node& node, const Bounds& box);
 
 }  // namespace implicit_detail
 }  // namespace isoforge

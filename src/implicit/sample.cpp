@@ -7,12 +7,14 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <vector>
 
 #include "function_node.hpp"
 
 namespace isoforge {
 
 using implicit_detail::eval_block;
+using implicit_detail::eval_pruned;
 using implicit_detail::kBlock;
 
 GridSpec GridSpec::from_bounds(const Bounds& bounds, const Dims& dims) {
@@ -50,26 +52,52 @@ void check_grid(const GridSpec& g) {
   }
 }
 
-// Samples z-slices [k0, k0 + nk) of the grid into `out` (the values of slice k0 first).
+// Samples z-slices [k0, k0 + nk) of the grid into `out` (the values of slice k0 first), in
+// bricks of 16 x 8 x 4 samples. Each brick is evaluated with eval_pruned over its box, so
+// boolean branches that cannot matter there are skipped.
 // Coordinates always come from GridSpec::coordinate on the whole grid, so every sampler
 // (dense or sparse, any slab split, any thread count) computes bit-identical values.
 template <class T>
 void sample_slab(const ImplicitFunction::Node& node, const GridSpec& g, Index k0, Index nk, T* out) {
+  constexpr Index kBx = 16, kBy = 8, kBz = static_cast<Index>(kBlock) / (kBx * kBy);
+  static_assert(kBx * kBy * kBz == static_cast<Index>(kBlock));
   const Index nx = g.dims[0], ny = g.dims[1];
-  tbb::parallel_for(tbb::blocked_range<Index>(0, ny * nk, 16), [&](const tbb::blocked_range<Index>& r) {
-    double x[kBlock], y[kBlock], z[kBlock], v[kBlock];
-    for (Index row = r.begin(); row != r.end(); ++row) {
-      const double yj = g.coordinate(1, row % ny), zk = g.coordinate(2, k0 + row / ny);
-      T* dst = out + row * nx;
-      for (Index i0 = 0; i0 < nx; i0 += static_cast<Index>(kBlock)) {
-        const auto n = static_cast<std::size_t>(std::min<Index>(static_cast<Index>(kBlock), nx - i0));
-        for (std::size_t t = 0; t < n; ++t) {
-          x[t] = g.coordinate(0, i0 + static_cast<Index>(t));
-          y[t] = yj;
-          z[t] = zk;
+  std::vector<double> xs(static_cast<std::size_t>(nx)), ys(static_cast<std::size_t>(ny)),
+      zs(static_cast<std::size_t>(nk));
+  for (Index i = 0; i < nx; ++i) xs[static_cast<std::size_t>(i)] = g.coordinate(0, i);
+  for (Index j = 0; j < ny; ++j) ys[static_cast<std::size_t>(j)] = g.coordinate(1, j);
+  for (Index k = 0; k < nk; ++k) zs[static_cast<std::size_t>(k)] = g.coordinate(2, k0 + k);
+  const Index bx = (nx + kBx - 1) / kBx, by = (ny + kBy - 1) / kBy, bz = (nk + kBz - 1) / kBz;
+  tbb::parallel_for(tbb::blocked_range<Index>(0, bx * by * bz, 4), [&](const tbb::blocked_range<Index>& r) {
+    alignas(64) double x[kBlock], y[kBlock], z[kBlock], v[kBlock];
+    for (Index b = r.begin(); b != r.end(); ++b) {
+      const Index i0 = (b % bx) * kBx, j0 = ((b / bx) % by) * kBy, kk0 = (b / (bx * by)) * kBz;
+      const Index ni = std::min(kBx, nx - i0), nj = std::min(kBy, ny - j0), nkk = std::min(kBz, nk - kk0);
+      const double* xr = xs.data() + i0;
+      std::size_t n = 0;
+      for (Index k = kk0; k < kk0 + nkk; ++k) {
+        const double zk = zs[static_cast<std::size_t>(k)];
+        for (Index j = j0; j < j0 + nj; ++j) {
+          const double yj = ys[static_cast<std::size_t>(j)];
+          for (Index i = 0; i < ni; ++i) {
+            x[n + static_cast<std::size_t>(i)] = xr[i];
+            y[n + static_cast<std::size_t>(i)] = yj;
+            z[n + static_cast<std::size_t>(i)] = zk;
+          }
+          n += static_cast<std::size_t>(ni);
         }
-        eval_block(node, x, y, z, n, v);
-        for (std::size_t t = 0; t < n; ++t) dst[i0 + static_cast<Index>(t)] = static_cast<T>(v[t]);
+      }
+      Bounds box;
+      box.min = {x[0], y[0], z[0]};
+      box.max = {x[n - 1], y[n - 1], z[n - 1]};
+      eval_pruned(node, box, x, y, z, n, v);
+      n = 0;
+      for (Index k = kk0; k < kk0 + nkk; ++k) {
+        for (Index j = j0; j < j0 + nj; ++j) {
+          T* dst = out + (k * ny + j) * nx + i0;
+          for (Index i = 0; i < ni; ++i) dst[i] = static_cast<T>(v[n + static_cast<std::size_t>(i)]);
+          n += static_cast<std::size_t>(ni);
+        }
       }
     }
   });

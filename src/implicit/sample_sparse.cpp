@@ -22,7 +22,7 @@ namespace isoforge {
 
 namespace {
 
-using implicit_detail::eval_block;
+using implicit_detail::eval_pruned;
 using openvdb::Coord;
 using Tree = openvdb::FloatTree;
 using Leaf = Tree::LeafNodeType;
@@ -125,34 +125,30 @@ openvdb::FloatGrid::Ptr sample_level_set(const ImplicitFunction& f, const GridSp
   const auto& node = f.node();
   const Index nx = grid.dims[0], ny = grid.dims[1], nz = grid.dims[2];
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 8), [&](const tbb::blocked_range<std::size_t>& r) {
-    double x[64], y[64], z[64], v[64];
+    static_assert(implicit_detail::kBlock >= 512, "a leaf is evaluated as one block");
+    alignas(64) double x[512], y[512], z[512], v[512];
     for (std::size_t li = r.begin(); li != r.end(); ++li) {
       const Coord o = d.leaves[li];
       auto* leaf = new Leaf(o, background, false);
-      // Leaf voxel offset = (i << 6) + (j << 3) + k: eight z-rows of 8 per (i, j)... evaluate 64
-      // voxels (a fixed i) per block.
-      for (int i = 0; i < 8; ++i) {
-        for (int j = 0; j < 8; ++j)
-          for (int k = 0; k < 8; ++k) {
-            const int t = j * 8 + k;
-            x[t] = grid.coordinate(0, o.x() + i);
-            y[t] = grid.coordinate(1, o.y() + j);
-            z[t] = grid.coordinate(2, o.z() + k);
-          }
-        eval_block(node, x, y, z, 64, v);
-        for (int j = 0; j < 8; ++j)
-          for (int k = 0; k < 8; ++k) {
-            const int t = j * 8 + k;
-            const Index gi = o.x() + i, gj = o.y() + j, gk = o.z() + k;
-            const bool in_domain = gi >= 0 && gi < nx && gj >= 0 && gj < ny && gk >= 0 && gk < nz;
-            const float value = static_cast<float>(v[t]);
-            const auto offset = static_cast<openvdb::Index>((i << 6) + (j << 3) + k);
-            if (in_domain && std::abs(v[t]) < band) {
-              leaf->setValueOn(offset, value);
-            } else {
-              leaf->setValueOff(offset, value < 0 ? -background : background);
-            }
-          }
+      // Leaf voxel offset = (i << 6) + (j << 3) + k, the order the values are generated in.
+      for (int t = 0; t < 512; ++t) {
+        x[t] = grid.coordinate(0, o.x() + (t >> 6));
+        y[t] = grid.coordinate(1, o.y() + ((t >> 3) & 7));
+        z[t] = grid.coordinate(2, o.z() + (t & 7));
+      }
+      Bounds box;
+      box.min = {x[0], y[0], z[0]};
+      box.max = {x[511], y[511], z[511]};
+      eval_pruned(node, box, x, y, z, 512, v);
+      for (int t = 0; t < 512; ++t) {
+        const Index gi = o.x() + (t >> 6), gj = o.y() + ((t >> 3) & 7), gk = o.z() + (t & 7);
+        const bool in_domain = gi >= 0 && gi < nx && gj >= 0 && gj < ny && gk >= 0 && gk < nz;
+        const auto offset = static_cast<openvdb::Index>(t);
+        if (in_domain && std::abs(v[t]) < band) {
+          leaf->setValueOn(offset, static_cast<float>(v[t]));
+        } else {
+          leaf->setValueOff(offset, v[t] < 0 ? -background : background);
+        }
       }
       leaves[li] = leaf;
     }
