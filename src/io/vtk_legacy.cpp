@@ -1,8 +1,1368 @@
-// placeholder: implemented in a following commit
+// VTK legacy `.vtk` files: reader and writer for the "Simple Legacy Formats" section of the
+// "VTK File Formats" document (Kitware, VTK User's Guide), header versions 1.0 to 5.1, ASCII and
+// BINARY (big-endian), datasets STRUCTURED_POINTS, STRUCTURED_GRID, RECTILINEAR_GRID, POLYDATA
+// and UNSTRUCTURED_GRID with POINT_DATA / CELL_DATA attributes and FIELD data.
+//
+// Where the document is silent, this follows what VTK's own vtkDataReader/vtkDataWriter do:
+//  * Binary blocks start after the newline that ends their keyword line; the writer puts one
+//    newline after each block. Cell lists of versions < 5 and CELL_TYPES are 4-byte ints.
+//  * Versions >= 5.0 write cell sections as `KEY nOffsets nConnectivity` + `OFFSETS type` +
+//    `CONNECTIVITY type`. The reader takes either layout in any version (it looks for OFFSETS).
+//  * `vtkIdType` arrays are 4-byte ints in binary files (VTK writes ids as int); they are read
+//    into Int64 arrays.
+//  * `long` / `unsigned_long` are read as 8-byte integers (Int64/UInt64): VTK reads them with
+//    sizeof(long) of the reading machine, 8 on every LP64 system, and its writer no longer emits
+//    them. This writer never does either: Int64/UInt64 are written as vtktypeint64/vtktypeuint64.
+//  * `char` and `signed_char` are Int8 (Int8 is written as `char`); `bit` arrays become UInt8
+//    arrays of 0/1 (binary bits are packed, most significant bit first).
+//  * `string` / `utf8_string` arrays (FIELD data, PEDIGREE_IDS) are skipped: DataArray is numeric.
+//  * Only the first SCALARS/COLOR_SCALARS, VECTORS, NORMALS, TEXTURE_COORDINATES and TENSORS of a
+//    POINT_DATA/CELL_DATA section becomes the active attribute; later ones are plain arrays.
+//  * `LOOKUP_TABLE default` is stored as the empty lookup-table name (DataArray's "default"), and
+//    the empty name is written as `default`. Lookup-table names survive only on active scalars.
+//  * A `LOOKUP_TABLE name size` data section becomes the field-data array "LookupTable:<name>"
+//    (4 float components, rgba in [0, 1]); the writer writes it back as an ordinary FIELD array.
+//  * METADATA blocks (VTK 9: COMPONENT_NAMES, INFORMATION) are skipped up to the blank line
+//    that ends them.
+//  * Array and lookup-table names are %XX-decoded on read and %XX-encoded on write (spaces,
+//    control and non-ASCII bytes, '"' and '%'), as VTK does.
+//  * RECTILINEAR_GRID becomes a StructuredGrid with explicit points (float32 when all three
+//    coordinate arrays are float, else float64). Those points are not in the file, so their
+//    number is capped (kMaxSynthesizedPoints, or the file size if larger) to keep a tiny lying
+//    file from allocating gigabytes.
+//  * The writer keeps array order: active arrays are written with their keyword where they stand
+//    and runs of other arrays as FIELD blocks between them, so a read gives back the same
+//    Attributes. Arrays active in several roles are written once per role.
+
 #include "isoforge/io/vtk_legacy.hpp"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <new>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "io/detail/scanner.hpp"
+#include "isoforge/io/atomic_file.hpp"
+#include "isoforge/io/io.hpp"
+
 namespace isoforge {
-Dataset read_vtk_legacy(const std::filesystem::path&) { throw Error("not yet"); }
-Dataset read_vtk_legacy(std::span<const std::byte>, std::string_view) { throw Error("not yet"); }
-void write_vtk_legacy(const Dataset&, const std::filesystem::path&, const VtkLegacyWriteOptions&) { throw Error("not yet"); }
-void write_vtk_legacy(const Dataset&, std::ostream&, const VtkLegacyWriteOptions&) { throw Error("not yet"); }
+
+namespace {
+
+using io_detail::Endian;
+using io_detail::iequals;
+using io_detail::Scanner;
+
+/// Largest number of points a RECTILINEAR_GRID may expand to (unless the file is larger).
+constexpr std::size_t kMaxSynthesizedPoints = std::size_t{1} << 24;
+
+template <class... Ts>
+struct Overloaded : Ts... {
+  using Ts::operator()...;
+};
+template <class... Ts>
+Overloaded(Ts...) -> Overloaded<Ts...>;
+
+std::string str(std::uint64_t v) { return std::to_string(v); }
+std::string str(std::int64_t v) { return std::to_string(v); }
+std::string str(int v) { return std::to_string(v); }
+
+/// A token or line for an error message: quoted, at most 40 bytes, unprintable bytes as '?'.
+std::string quote_token(std::string_view t) {
+  std::string s = "'";
+  for (char c : t.substr(0, 40)) {
+    const auto u = static_cast<unsigned char>(c);
+    s += (u >= 0x20 && u < 0x7F) ? c : '?';
+  }
+  if (t.size() > 40) s += "...";
+  return s + "'";
 }
+
+std::string format_double(double v) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return {buf, r.ptr};
+}
+
+// ---------------------------------------------------------------------------------------------
+// Names
+
+int hex_digit(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return -1;
+}
+
+/// Decodes VTK's %XX escapes ("my%20array" -> "my array"). A '%' that is not followed by two
+/// hex digits is kept as it is.
+std::string decode_name(std::string_view s) {
+  std::string out;
+  out.reserve(s.size());
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (s[i] == '%' && i + 2 < s.size()) {
+      const int hi = hex_digit(s[i + 1]);
+      const int lo = hex_digit(s[i + 2]);
+      if (hi >= 0 && lo >= 0) {
+        out += static_cast<char>(hi * 16 + lo);
+        i += 2;
+        continue;
+      }
+    }
+    out += s[i];
+  }
+  return out;
+}
+
+/// Encodes what cannot stand in a whitespace-separated token (and what VTK encodes): bytes up to
+/// ' ', from 0x7F up, '"' and '%'.
+std::string encode_name(std::string_view s) {
+  static constexpr char kHex[] = "0123456789ABCDEF";
+  std::string out;
+  out.reserve(s.size());
+  for (char c : s) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u <= 0x20 || u >= 0x7F || c == '"' || c == '%') {
+      out += '%';
+      out += kHex[u >> 4];
+      out += kHex[u & 0xF];
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Data types
+
+/// A legacy data type name: how its values are stored in the file and in memory.
+struct LegacyType {
+  enum class Kind { Number, Bit, String };
+  Kind kind = Kind::Number;
+  ScalarType file = ScalarType::Float32;    ///< element type in the file (binary size, parsing)
+  ScalarType memory = ScalarType::Float32;  ///< element type of the resulting DataArray
+};
+
+std::optional<LegacyType> legacy_type(std::string_view name) {
+  using K = LegacyType::Kind;
+  using S = ScalarType;
+  struct Entry {
+    std::string_view name;
+    LegacyType type;
+  };
+  static const Entry kTypes[] = {
+      {"bit", {K::Bit, S::UInt8, S::UInt8}},
+      {"char", {K::Number, S::Int8, S::Int8}},
+      {"signed_char", {K::Number, S::Int8, S::Int8}},
+      {"unsigned_char", {K::Number, S::UInt8, S::UInt8}},
+      {"short", {K::Number, S::Int16, S::Int16}},
+      {"unsigned_short", {K::Number, S::UInt16, S::UInt16}},
+      {"int", {K::Number, S::Int32, S::Int32}},
+      {"unsigned_int", {K::Number, S::UInt32, S::UInt32}},
+      {"long", {K::Number, S::Int64, S::Int64}},
+      {"unsigned_long", {K::Number, S::UInt64, S::UInt64}},
+      {"vtktypeint64", {K::Number, S::Int64, S::Int64}},
+      {"vtktypeuint64", {K::Number, S::UInt64, S::UInt64}},
+      {"vtkidtype", {K::Number, S::Int32, S::Int64}},
+      {"float", {K::Number, S::Float32, S::Float32}},
+      {"double", {K::Number, S::Float64, S::Float64}},
+      {"string", {K::String, S::UInt8, S::UInt8}},
+      {"utf8_string", {K::String, S::UInt8, S::UInt8}},
+  };
+  for (const Entry& e : kTypes) {
+    if (iequals(name, e.name)) return e.type;
+  }
+  return std::nullopt;
+}
+
+/// The legacy name the writer uses for each element type.
+std::string_view legacy_type_name(ScalarType t) {
+  switch (t) {
+    case ScalarType::Int8: return "char";
+    case ScalarType::UInt8: return "unsigned_char";
+    case ScalarType::Int16: return "short";
+    case ScalarType::UInt16: return "unsigned_short";
+    case ScalarType::Int32: return "int";
+    case ScalarType::UInt32: return "unsigned_int";
+    case ScalarType::Int64: return "vtktypeint64";
+    case ScalarType::UInt64: return "vtktypeuint64";
+    case ScalarType::Float32: return "float";
+    case ScalarType::Float64: return "double";
+  }
+  return "double";
+}
+
+/// Calls f(T{}) with the C++ type of `t`.
+template <class F>
+decltype(auto) dispatch(ScalarType t, F&& f) {
+  switch (t) {
+    case ScalarType::Int8: return f(std::int8_t{});
+    case ScalarType::UInt8: return f(std::uint8_t{});
+    case ScalarType::Int16: return f(std::int16_t{});
+    case ScalarType::UInt16: return f(std::uint16_t{});
+    case ScalarType::Int32: return f(std::int32_t{});
+    case ScalarType::UInt32: return f(std::uint32_t{});
+    case ScalarType::Int64: return f(std::int64_t{});
+    case ScalarType::UInt64: return f(std::uint64_t{});
+    case ScalarType::Float32: return f(float{});
+    case ScalarType::Float64: break;
+  }
+  return f(double{});
+}
+
+bool same_values(const DataArray& a, const DataArray& b) {
+  return a.type() == b.type() && a.components() == b.components() && a.size() == b.size() &&
+         (a.size_bytes() == 0 || std::memcmp(a.bytes(), b.bytes(), a.size_bytes()) == 0);
+}
+
+bool is_blank(std::string_view line) {
+  return std::all_of(line.begin(), line.end(), [](char c) { return Scanner::is_space(c); });
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reader
+
+/// A place in the file, for error messages: the line (ASCII files) or byte offset (BINARY).
+struct Where {
+  std::int64_t line = 0;
+  std::size_t offset = 0;
+};
+
+/// A cell section of polydata, checked against the points once the geometry is complete.
+struct CellSection {
+  std::string keyword;
+  Where where;
+  const CellArray* cells = nullptr;
+  int min_size = 1;
+};
+
+class LegacyReader {
+ public:
+  LegacyReader(std::span<const std::byte> data, std::string_view name)
+      : s_(data, std::string(name)) {}
+
+  Dataset read() {
+    read_header();
+    const Where w = skip_to_token();
+    const std::string_view kw = s_.token();
+    if (!iequals(kw, "DATASET")) {
+      fail_at(w, kw.empty() ? "unexpected end of file, expected DATASET"
+                            : "expected DATASET, found " + quote_token(kw));
+    }
+    const std::string_view type = s_.require_token("a dataset type after DATASET");
+    Dataset ds;
+    if (iequals(type, "STRUCTURED_POINTS")) {
+      ds = read_structured_points();
+    } else if (iequals(type, "STRUCTURED_GRID")) {
+      ds = read_structured_grid();
+    } else if (iequals(type, "RECTILINEAR_GRID")) {
+      ds = read_rectilinear_grid();
+    } else if (iequals(type, "POLYDATA")) {
+      ds = read_polydata();
+    } else if (iequals(type, "UNSTRUCTURED_GRID")) {
+      ds = read_unstructured_grid();
+    } else {
+      fail_at(w, "unknown DATASET type " + quote_token(type) +
+                     " (expected STRUCTURED_POINTS, STRUCTURED_GRID, RECTILINEAR_GRID, POLYDATA "
+                     "or UNSTRUCTURED_GRID)");
+    }
+    field_data(ds) = std::move(field_);
+    read_attributes(ds);
+    try {
+      validate(ds);
+    } catch (const Error& e) {
+      fail(e.what());
+    }
+    return ds;
+  }
+
+ private:
+  // ---- errors and tokens ----
+
+  [[nodiscard]] Where here() const { return {s_.line(), s_.offset()}; }
+  Where skip_to_token() {
+    s_.skip_space();
+    return here();
+  }
+  [[noreturn]] void fail_at(const Where& w, const std::string& what) const {
+    if (binary_) throw Error(at_byte(s_.name(), w.offset, what));
+    throw Error(at_line(s_.name(), w.line, what));
+  }
+  [[noreturn]] void fail(const std::string& what) const { fail_at(here(), what); }
+  [[noreturn]] void unknown_keyword(const Where& w, std::string_view kw, std::string_view where,
+                                    std::string_view expected) const {
+    fail_at(w, "unknown keyword " + quote_token(kw) + " in " + std::string(where) + " (expected " +
+                   std::string(expected) + ")");
+  }
+
+  /// A component count token: an integer >= 1.
+  int parse_components(std::string_view token, const std::string& what) {
+    const auto v = s_.parse<std::int64_t>(token, what);
+    if (v < 1 || v > std::numeric_limits<int>::max()) {
+      fail(what + " " + str(v) + " is out of range (must be at least 1)");
+    }
+    return static_cast<int>(v);
+  }
+
+  std::size_t values_count(std::size_t tuples, int components, const std::string& what) {
+    std::uint64_t n = 0;
+    if (io_detail::mul_overflow(tuples, static_cast<std::uint64_t>(components), n) ||
+        n > std::numeric_limits<std::size_t>::max() / 8) {
+      fail(what + ": " + str(static_cast<std::uint64_t>(tuples)) + " tuples of " +
+           str(components) + " components are too many values");
+    }
+    return static_cast<std::size_t>(n);
+  }
+
+  // ---- header ----
+
+  void read_header() {
+    constexpr std::string_view kMagic = "# vtk DataFile Version";
+    std::string_view line;
+    if (!s_.read_line(line)) s_.fail_line("empty file, expected '# vtk DataFile Version x.y'");
+    if (!line.starts_with(kMagic)) {
+      throw Error(at_line(s_.name(), 1,
+                          "not a VTK legacy file: the first line must start with '# vtk "
+                          "DataFile Version', found " + quote_token(line)));
+    }
+    std::string_view version = line.substr(kMagic.size());
+    while (!version.empty() && Scanner::is_space(version.front())) version.remove_prefix(1);
+    version = version.substr(0, std::min(version.find_first_of(" \t"), version.size()));
+    const auto dot = version.find('.');
+    int major = 0;
+    int minor = 0;
+    bool ok = dot != std::string_view::npos;
+    if (ok) {
+      const char* b = version.data();
+      const char* e = version.data() + version.size();
+      auto r1 = std::from_chars(b, b + dot, major);
+      auto r2 = std::from_chars(b + dot + 1, e, minor);
+      ok = r1.ec == std::errc() && r1.ptr == b + dot && r2.ec == std::errc() && r2.ptr == e;
+    }
+    if (!ok) {
+      throw Error(at_line(s_.name(), 1, "cannot read the file version in " + quote_token(line)));
+    }
+    if (major < 1 || major > 5 || (major == 5 && minor > 1)) {
+      throw Error(at_line(s_.name(), 1,
+                          "unsupported file version " + std::string(version) +
+                              " (this reader handles 1.0 to 5.1)"));
+    }
+    if (!s_.read_line(line)) s_.fail_line("unexpected end of file, expected the title line");
+    // The format keyword may follow blank lines (ironProt.vtk has one).
+    const Where w = skip_to_token();
+    const std::string_view format = s_.token();
+    if (iequals(format, "ASCII")) {
+      binary_ = false;
+    } else if (iequals(format, "BINARY")) {
+      binary_ = true;
+      s_.report_byte_offsets(true);
+    } else {
+      fail_at(w, format.empty() ? "unexpected end of file, expected ASCII or BINARY"
+                                : "expected ASCII or BINARY, found " + quote_token(format));
+    }
+  }
+
+  // ---- values ----
+
+  /// Reads `count` values stored as T: in BINARY files after the rest of the keyword line,
+  /// big-endian; in ASCII files as whitespace-separated numbers. Checks the count against the
+  /// bytes left before allocating.
+  template <class T>
+  std::vector<T> read_numbers(std::size_t count, const std::string& what) {
+    std::vector<T> v;
+    if (binary_) {
+      s_.skip_line();
+      data_offset_ = s_.offset();
+      s_.read_array(count, Endian::Big, v, what);
+    } else {
+      s_.check_count(count, 2, what + " value count");
+      v.resize(count);
+      const std::string item = what + " value";
+      for (T& x : v) x = s_.parse_token<T>(item);
+    }
+    return v;
+  }
+
+  std::vector<std::uint8_t> read_bits(std::size_t count, const std::string& what) {
+    std::vector<std::uint8_t> v;
+    if (binary_) {
+      s_.skip_line();
+      const auto bytes = s_.read_bytes(count / 8 + (count % 8 != 0 ? 1 : 0), what);
+      v.resize(count);
+      for (std::size_t i = 0; i < count; ++i) {
+        const unsigned byte = std::to_integer<unsigned>(bytes[i / 8]);
+        v[i] = static_cast<std::uint8_t>((byte >> (7 - i % 8)) & 1u);
+      }
+    } else {
+      s_.check_count(count, 2, what + " value count");
+      v.resize(count);
+      const std::string item = what + " value";
+      for (auto& x : v) x = s_.parse_token<std::int64_t>(item) != 0 ? 1 : 0;
+    }
+    return v;
+  }
+
+  /// Skips a string array: one (encoded) line per value in ASCII files, length-prefixed
+  /// values in BINARY files.
+  void skip_strings(std::size_t count, const std::string& what) {
+    s_.check_count(count, 1, what + " value count");
+    s_.skip_line();
+    for (std::size_t i = 0; i < count; ++i) {
+      if (!binary_) {
+        if (s_.at_end()) fail("unexpected end of file in the values of " + what);
+        s_.skip_line();
+        continue;
+      }
+      const auto first = std::to_integer<unsigned>(s_.read_bytes(1, what)[0]);
+      const std::size_t header = std::size_t{1} << (3 - (first >> 6));  // 1, 2, 4 or 8 bytes
+      std::uint64_t len = first;
+      for (auto b : s_.read_bytes(header - 1, what)) {
+        len = (len << 8) | std::to_integer<unsigned>(b);
+      }
+      if (header < 8) len &= (std::uint64_t{1} << (8 * header - 2)) - 1;
+      if (len > s_.remaining()) {
+        s_.fail_byte("truncated: string " + str(static_cast<std::uint64_t>(i)) + " of " + what +
+                     " needs " + str(len) + " bytes but only " +
+                     str(static_cast<std::uint64_t>(s_.remaining())) + " remain");
+      }
+      s_.skip(static_cast<std::size_t>(len), what);
+    }
+  }
+
+  /// Skips a METADATA block (its keyword already read) up to the blank line that ends it.
+  void skip_metadata_body() {
+    s_.skip_line();
+    std::string_view line;
+    while (s_.read_line(line)) {
+      if (is_blank(line)) break;
+    }
+  }
+  void skip_metadata() {
+    if (!iequals(s_.peek_token(), "METADATA")) return;
+    (void)s_.token();
+    skip_metadata_body();
+  }
+
+  /// Reads `tuples` x `components` values of the legacy type named `type` (then any METADATA
+  /// block after them) into a DataArray called `name`. `what` names the data in errors.
+  DataArray read_array(std::string_view type, std::size_t tuples, int components,
+                       std::string name, const std::string& what) {
+    const auto lt = legacy_type(type);
+    if (!lt) fail("unknown data type " + quote_token(type) + " for " + what);
+    if (lt->kind == LegacyType::Kind::String) {
+      fail(what + ": string arrays are only supported in FIELD data");
+    }
+    const std::size_t count = values_count(tuples, components, what);
+    DataArray a;
+    if (lt->kind == LegacyType::Kind::Bit) {
+      a = DataArray::from_vector(std::move(name), components, read_bits(count, what));
+    } else {
+      a = dispatch(lt->file, [&](auto tag) {
+        using T = decltype(tag);
+        std::vector<T> v = read_numbers<T>(count, what);
+        if constexpr (std::is_same_v<T, std::int32_t>) {
+          if (lt->memory == ScalarType::Int64) {  // vtkIdType: int in the file
+            return DataArray::from_vector(std::move(name), components,
+                                          std::vector<std::int64_t>(v.begin(), v.end()));
+          }
+        }
+        return DataArray::from_vector(std::move(name), components, std::move(v));
+      });
+    }
+    skip_metadata();
+    return a;
+  }
+
+  /// `count` integers of an integer data type read from the next token, as point ids.
+  std::vector<Index> read_index_array(std::size_t count, const std::string& what) {
+    const std::string_view type = s_.require_token(what + " data type");
+    const auto lt = legacy_type(type);
+    if (!lt || lt->kind != LegacyType::Kind::Number || is_floating(lt->memory)) {
+      fail(what + " needs an integer data type, found " + quote_token(type));
+    }
+    const DataArray a = read_array(type, count, 1, "ids", what);
+    std::vector<Index> out(count);
+    a.visit([&](const auto& v) {
+      for (std::size_t i = 0; i < count; ++i) out[i] = static_cast<Index>(v[i]);
+    });
+    return out;
+  }
+
+  // ---- geometry ----
+
+  /// Next geometry keyword, or "" when the geometry ends (end of file, POINT_DATA, CELL_DATA).
+  /// Dataset-level FIELD data and stray METADATA blocks are consumed here.
+  std::string_view next_geometry_keyword(Where& w) {
+    for (;;) {
+      w = skip_to_token();
+      const std::string_view t = s_.peek_token();
+      if (t.empty() || iequals(t, "POINT_DATA") || iequals(t, "CELL_DATA")) return {};
+      (void)s_.token();
+      if (iequals(t, "FIELD")) {
+        read_field(field_, std::nullopt, "dataset FIELD data");
+      } else if (iequals(t, "METADATA")) {
+        skip_metadata_body();
+      } else {
+        return t;
+      }
+    }
+  }
+
+  Dims read_dims(const Where& w, std::string_view what) {
+    Dims d{};
+    for (auto& v : d) v = s_.parse_token<std::int64_t>("DIMENSIONS value");
+    try {
+      (void)checked_point_count(d, what);
+    } catch (const Error& e) {
+      fail_at(w, "DIMENSIONS: " + std::string(e.what()));
+    }
+    return d;
+  }
+
+  Vec3 read_vec3(std::string_view kw) {
+    const std::string what = std::string(kw) + " value";
+    Vec3 v;
+    for (int a = 0; a < 3; ++a) v[a] = s_.parse_token<double>(what);
+    if (!is_finite(v)) fail(std::string(kw) + " has a non-finite value");
+    return v;
+  }
+
+  Points read_points(const Where& w) {
+    const std::size_t n = s_.parse_count("POINTS count", binary_ ? 3 : 6);
+    const std::string_view type = s_.require_token("POINTS data type");
+    Points p(read_array(type, n, 3, "Points", "POINTS"));  // non-float types become Float64
+    const std::size_t bad = p.first_non_finite();
+    if (bad < p.size()) {
+      const Vec3 q = p[bad];
+      fail_at(w, "POINTS: point " + str(static_cast<std::uint64_t>(bad)) +
+                     " has a non-finite coordinate (" + format_double(q.x) + ", " +
+                     format_double(q.y) + ", " + format_double(q.z) + ")");
+    }
+    return p;
+  }
+
+  /// A cell section after its keyword: classic `n size` + `count id id ...` lists, or
+  /// `nOffsets nConnectivity` + OFFSETS + CONNECTIVITY arrays (versions >= 5.0).
+  CellArray read_cells(const std::string& kw, const Where& w) {
+    const std::size_t a = s_.parse_count(kw + " count", binary_ ? 1 : 2);
+    const std::size_t b = s_.parse_count(kw + " size", binary_ ? 1 : 2);
+    if (iequals(s_.peek_token(), "OFFSETS")) {
+      (void)s_.token();
+      std::vector<Index> offsets = read_index_array(a, kw + " OFFSETS");
+      const Where cw = skip_to_token();
+      const std::string_view t = s_.token();
+      if (!iequals(t, "CONNECTIVITY")) {
+        fail_at(cw, kw + ": expected CONNECTIVITY after the offsets, found " + quote_token(t));
+      }
+      std::vector<Index> conn = read_index_array(b, kw + " CONNECTIVITY");
+      if (offsets.empty()) {
+        if (!conn.empty()) fail_at(w, kw + ": connectivity without offsets");
+        return {};
+      }
+      try {
+        return CellArray(std::move(offsets), std::move(conn));
+      } catch (const Error& e) {
+        fail_at(w, kw + ": " + e.what());
+      }
+    }
+    // Classic layout: `a` cells in `b` integers, each cell its point count then its ids.
+    if (a > b) {
+      fail_at(w, kw + ": " + str(static_cast<std::uint64_t>(a)) + " cells cannot fit in " +
+                     str(static_cast<std::uint64_t>(b)) + " values");
+    }
+    std::vector<std::int32_t> raw;
+    if (binary_) {
+      raw = read_numbers<std::int32_t>(b, kw);
+    } else {
+      s_.check_count(b, 2, kw + " value count");
+    }
+    std::size_t pos = 0;
+    const std::string item = kw + " value";
+    auto next = [&]() -> std::int64_t {
+      return binary_ ? raw[pos++] : (++pos, s_.parse_token<std::int64_t>(item));
+    };
+    auto fail_cell = [&](const std::string& what) {
+      if (binary_) fail_at({0, data_offset_ + 4 * (pos - 1)}, what);
+      fail(what);
+    };
+    CellArray cells;
+    cells.reserve(a, b - a);
+    std::vector<Index> ids;
+    for (std::size_t c = 0; c < a; ++c) {
+      auto cell = [&] { return kw + ": cell " + str(static_cast<std::uint64_t>(c)); };
+      if (pos == b) {
+        fail_at(w, cell() + " starts after the declared size " +
+                       str(static_cast<std::uint64_t>(b)) + " is used up (" +
+                       str(static_cast<std::uint64_t>(a)) + " cells declared)");
+      }
+      const std::int64_t k = next();
+      if (k < 0) fail_cell(cell() + " has a negative point count " + str(k));
+      if (static_cast<std::uint64_t>(k) > b - pos) {
+        fail_cell(cell() + " has " + str(k) + " points, more than the " +
+                  str(static_cast<std::uint64_t>(b - pos)) + " values left of the declared size " +
+                  str(static_cast<std::uint64_t>(b)));
+      }
+      ids.resize(static_cast<std::size_t>(k));
+      for (Index& id : ids) id = next();
+      cells.add(ids);
+    }
+    if (pos != b) {
+      fail_at(w, kw + " declares " + str(static_cast<std::uint64_t>(b)) + " values but its " +
+                     str(static_cast<std::uint64_t>(a)) + " cells hold " +
+                     str(static_cast<std::uint64_t>(pos)));
+    }
+    return cells;
+  }
+
+  /// Checks ids against the point count and the minimum cell size, naming the section.
+  void check_cells(const CellSection& sec, std::size_t num_points) const {
+    try {
+      sec.cells->validate(num_points, sec.keyword.c_str());
+    } catch (const Error& e) {
+      fail_at(sec.where, e.what());
+    }
+    for (std::size_t c = 0; c < sec.cells->size(); ++c) {
+      if (sec.cells->cell_size(c) < static_cast<std::size_t>(sec.min_size)) {
+        fail_at(sec.where, sec.keyword + ": cell " + str(static_cast<std::uint64_t>(c)) +
+                               " has " + str(static_cast<std::uint64_t>(sec.cells->cell_size(c))) +
+                               " points, needs at least " + str(sec.min_size));
+      }
+    }
+  }
+
+  ImageData read_structured_points() {
+    ImageData img;
+    bool have_dims = false;
+    Where w;
+    for (std::string_view kw; !(kw = next_geometry_keyword(w)).empty();) {
+      if (iequals(kw, "DIMENSIONS")) {
+        img.dims = read_dims(w, "image data");
+        have_dims = true;
+      } else if (iequals(kw, "SPACING") || iequals(kw, "ASPECT_RATIO")) {
+        img.spacing = read_vec3(kw);
+      } else if (iequals(kw, "ORIGIN")) {
+        img.origin = read_vec3(kw);
+      } else {
+        unknown_keyword(w, kw, "STRUCTURED_POINTS",
+                        "DIMENSIONS, SPACING, ASPECT_RATIO, ORIGIN, FIELD or POINT_DATA");
+      }
+    }
+    if (!have_dims) fail("STRUCTURED_POINTS has no DIMENSIONS");
+    return img;
+  }
+
+  StructuredGrid read_structured_grid() {
+    StructuredGrid sg;
+    bool have_dims = false;
+    std::optional<Where> points_at;
+    Where w;
+    for (std::string_view kw; !(kw = next_geometry_keyword(w)).empty();) {
+      if (iequals(kw, "DIMENSIONS")) {
+        sg.dims = read_dims(w, "structured grid");
+        have_dims = true;
+      } else if (iequals(kw, "POINTS")) {
+        sg.points = read_points(w);
+        points_at = w;
+      } else {
+        unknown_keyword(w, kw, "STRUCTURED_GRID", "DIMENSIONS, POINTS, FIELD or POINT_DATA");
+      }
+    }
+    if (!have_dims) fail("STRUCTURED_GRID has no DIMENSIONS");
+    if (!points_at) fail("STRUCTURED_GRID has no POINTS");
+    const std::size_t np = checked_point_count(sg.dims, "structured grid");
+    if (sg.points.size() != np) {
+      fail_at(*points_at, "POINTS has " + str(static_cast<std::uint64_t>(sg.points.size())) +
+                              " points but DIMENSIONS " + str(sg.dims[0]) + " " +
+                              str(sg.dims[1]) + " " + str(sg.dims[2]) + " needs " +
+                              str(static_cast<std::uint64_t>(np)));
+    }
+    return sg;
+  }
+
+  StructuredGrid read_rectilinear_grid() {
+    static constexpr std::string_view kAxes[3] = {"X_COORDINATES", "Y_COORDINATES",
+                                                  "Z_COORDINATES"};
+    Dims dims{};
+    bool have_dims = false;
+    std::array<std::optional<DataArray>, 3> coords;
+    std::array<Where, 3> coords_at{};
+    Where w;
+    for (std::string_view kw; !(kw = next_geometry_keyword(w)).empty();) {
+      if (iequals(kw, "DIMENSIONS")) {
+        dims = read_dims(w, "rectilinear grid");
+        have_dims = true;
+        continue;
+      }
+      int axis = -1;
+      for (int a = 0; a < 3; ++a) {
+        if (iequals(kw, kAxes[a])) axis = a;
+      }
+      if (axis < 0) {
+        unknown_keyword(w, kw, "RECTILINEAR_GRID",
+                        "DIMENSIONS, X_COORDINATES, Y_COORDINATES, Z_COORDINATES, FIELD or "
+                        "POINT_DATA");
+      }
+      const std::string name(kAxes[axis]);
+      const std::size_t n = s_.parse_count(name + " count", binary_ ? 1 : 2);
+      const std::string_view type = s_.require_token(name + " data type");
+      DataArray a = read_array(type, n, 1, name, name);
+      for (std::size_t i = 0; i < n; ++i) {
+        if (!std::isfinite(a.get(i))) {
+          fail_at(w, name + ": value " + str(static_cast<std::uint64_t>(i)) + " is not finite");
+        }
+      }
+      coords[static_cast<std::size_t>(axis)] = std::move(a);
+      coords_at[static_cast<std::size_t>(axis)] = w;
+    }
+    if (!have_dims) fail("RECTILINEAR_GRID has no DIMENSIONS");
+    bool all_float = true;
+    for (std::size_t a = 0; a < 3; ++a) {
+      if (!coords[a]) fail("RECTILINEAR_GRID has no " + std::string(kAxes[a]));
+      if (coords[a]->tuples() != static_cast<std::size_t>(dims[a])) {
+        fail_at(coords_at[a], std::string(kAxes[a]) + " has " +
+                                  str(static_cast<std::uint64_t>(coords[a]->tuples())) +
+                                  " values but DIMENSIONS says " + str(dims[a]));
+      }
+      all_float = all_float && coords[a]->type() == ScalarType::Float32;
+    }
+    const std::size_t np = checked_point_count(dims, "rectilinear grid");
+    const std::size_t limit = std::max(kMaxSynthesizedPoints, s_.size());
+    if (np > limit) {
+      fail("RECTILINEAR_GRID with " + str(static_cast<std::uint64_t>(np)) +
+           " points is too large to expand into explicit points (limit " +
+           str(static_cast<std::uint64_t>(limit)) + ")");
+    }
+    StructuredGrid sg;
+    sg.dims = dims;
+    sg.points = Points(np, all_float ? ScalarType::Float32 : ScalarType::Float64);
+    std::size_t id = 0;
+    for (Index k = 0; k < dims[2]; ++k) {
+      for (Index j = 0; j < dims[1]; ++j) {
+        for (Index i = 0; i < dims[0]; ++i) {
+          sg.points.set(id++, {coords[0]->get(static_cast<std::size_t>(i)),
+                               coords[1]->get(static_cast<std::size_t>(j)),
+                               coords[2]->get(static_cast<std::size_t>(k))});
+        }
+      }
+    }
+    return sg;
+  }
+
+  PolyData read_polydata() {
+    PolyData pd;
+    std::vector<CellSection> sections;
+    Where w;
+    for (std::string_view kw; !(kw = next_geometry_keyword(w)).empty();) {
+      CellArray* cells = nullptr;
+      int min_size = 1;
+      if (iequals(kw, "POINTS")) {
+        pd.points = read_points(w);
+        continue;
+      }
+      if (iequals(kw, "VERTICES")) {
+        cells = &pd.verts;
+      } else if (iequals(kw, "LINES")) {
+        cells = &pd.lines;
+        min_size = 2;
+      } else if (iequals(kw, "POLYGONS")) {
+        cells = &pd.polys;
+        min_size = 3;
+      } else if (iequals(kw, "TRIANGLE_STRIPS")) {
+        cells = &pd.strips;
+        min_size = 3;
+      } else {
+        unknown_keyword(w, kw, "POLYDATA",
+                        "POINTS, VERTICES, LINES, POLYGONS, TRIANGLE_STRIPS, FIELD, POINT_DATA or "
+                        "CELL_DATA");
+      }
+      std::string name(kw);
+      *cells = read_cells(name, w);
+      sections.push_back({std::move(name), w, cells, min_size});
+    }
+    for (const CellSection& sec : sections) check_cells(sec, pd.points.size());
+    return pd;
+  }
+
+  std::vector<CellType> read_cell_types(const Where& w) {
+    const std::size_t n = s_.parse_count("CELL_TYPES count", binary_ ? 4 : 2);
+    const std::vector<std::int32_t> ids = read_numbers<std::int32_t>(n, "CELL_TYPES");
+    std::vector<CellType> types(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!is_valid_cell_type(ids[i])) {
+        const std::string what = "CELL_TYPES: cell " + str(static_cast<std::uint64_t>(i)) +
+                                 " has cell type " + str(ids[i]) +
+                                 ", which is not a supported linear cell type (1 to 14)";
+        if (binary_) fail_at({0, data_offset_ + 4 * i}, what);
+        fail_at(w, what);
+      }
+      types[i] = static_cast<CellType>(ids[i]);
+    }
+    return types;
+  }
+
+  UnstructuredGrid read_unstructured_grid() {
+    UnstructuredGrid ug;
+    std::optional<Where> cells_at;
+    std::optional<Where> types_at;
+    Where w;
+    for (std::string_view kw; !(kw = next_geometry_keyword(w)).empty();) {
+      if (iequals(kw, "POINTS")) {
+        ug.points = read_points(w);
+      } else if (iequals(kw, "CELLS")) {
+        ug.cells = read_cells("CELLS", w);
+        cells_at = w;
+      } else if (iequals(kw, "CELL_TYPES")) {
+        ug.types = read_cell_types(w);
+        types_at = w;
+      } else {
+        unknown_keyword(w, kw, "UNSTRUCTURED_GRID",
+                        "POINTS, CELLS, CELL_TYPES, FIELD, POINT_DATA or CELL_DATA");
+      }
+    }
+    if (cells_at) check_cells({"CELLS", *cells_at, &ug.cells, 0}, ug.points.size());
+    if (ug.types.size() != ug.cells.size()) {
+      fail_at(types_at ? *types_at : (cells_at ? *cells_at : here()),
+              "CELL_TYPES lists " + str(static_cast<std::uint64_t>(ug.types.size())) +
+                  " types but CELLS has " + str(static_cast<std::uint64_t>(ug.cells.size())) +
+                  " cells");
+    }
+    for (std::size_t c = 0; c < ug.types.size(); ++c) {
+      const CellType t = ug.types[c];
+      const int fixed = cell_fixed_size(t);
+      const auto n = static_cast<std::int64_t>(ug.cells.cell_size(c));
+      if ((fixed > 0 && n != fixed) || n < cell_min_size(t)) {
+        fail_at(*types_at, "cell " + str(static_cast<std::uint64_t>(c)) + " is a " +
+                               std::string(cell_type_name(t)) + " with " + str(n) +
+                               " points (needs " +
+                               (fixed > 0 ? str(fixed) : "at least " + str(cell_min_size(t))) +
+                               ")");
+      }
+    }
+    return ug;
+  }
+
+  // ---- attributes ----
+
+  /// FIELD name n, then n arrays `name components tuples type` + values; "NULL_ARRAY" stands
+  /// for a missing array. `tuples` is the required tuple count (none for dataset field data).
+  void read_field(Attributes& dst, std::optional<std::size_t> tuples, const std::string& where) {
+    (void)s_.require_token("FIELD name");
+    const std::size_t n = s_.parse_count("FIELD array count", 1);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Where w = skip_to_token();
+      const std::string_view raw = s_.require_token("FIELD array name");
+      if (raw == "NULL_ARRAY") continue;
+      std::string name = decode_name(raw);
+      const std::string what = "FIELD array " + quote_token(name);
+      const int comps = parse_components(s_.require_token(what + " component count"),
+                                         what + " component count");
+      const std::size_t nt = s_.parse_count(what + " tuple count", 0);
+      const std::string_view type = s_.require_token(what + " data type");
+      if (tuples && nt != *tuples) {
+        fail_at(w, what + " has " + str(static_cast<std::uint64_t>(nt)) + " tuples but " +
+                       where + " declares " + str(static_cast<std::uint64_t>(*tuples)));
+      }
+      const auto lt = legacy_type(type);
+      if (lt && lt->kind == LegacyType::Kind::String) {
+        skip_strings(values_count(nt, comps, what), what);
+        skip_metadata();
+        continue;
+      }
+      dst.add(read_array(type, nt, comps, std::move(name), what));
+    }
+  }
+
+  /// Adds an attribute array: active for `role` if that role is still free in this section
+  /// (VTK's rule: the first one wins), else a plain array.
+  static void add_attribute(Attributes& attrs, DataArray a, AttributeRole role) {
+    if (!attrs.active_name(role).empty()) {
+      attrs.add(std::move(a));
+      return;
+    }
+    // The writer repeats an array active in several roles once per role.
+    if (const DataArray* existing = attrs.find(a.name()); existing && same_values(*existing, a)) {
+      attrs.set_active(role, a.name());
+      return;
+    }
+    attrs.add(std::move(a), role);
+  }
+
+  void read_attributes(Dataset& ds) {
+    const std::size_t np = num_points(ds);
+    const std::size_t nc = num_cells(ds);
+    Attributes* attrs = nullptr;
+    std::size_t tuples = 0;
+    std::string section;
+    for (;;) {
+      const Where w = skip_to_token();
+      const std::string_view kw = s_.token();
+      if (kw.empty()) return;
+      if (iequals(kw, "POINT_DATA") || iequals(kw, "CELL_DATA")) {
+        const bool points = iequals(kw, "POINT_DATA");
+        section = points ? "POINT_DATA" : "CELL_DATA";
+        const auto n = s_.parse_token<std::int64_t>(section + " count");
+        if (n < 0) fail_at(w, section + " count " + str(n) + " is negative");
+        const std::size_t want = points ? np : nc;
+        if (static_cast<std::uint64_t>(n) != want) {
+          fail_at(w, section + " " + str(n) + " does not match the " +
+                         str(static_cast<std::uint64_t>(want)) +
+                         (points ? " points" : " cells") + " of the dataset");
+        }
+        attrs = points ? &point_data(ds) : &cell_data(ds);
+        tuples = want;
+        continue;
+      }
+      if (attrs == nullptr) {
+        fail_at(w, "unexpected keyword " + quote_token(kw) + " (expected POINT_DATA or CELL_DATA)");
+      }
+      read_attribute(kw, w, *attrs, tuples, section, field_data(ds));
+    }
+  }
+
+  void read_attribute(std::string_view kw, const Where& w, Attributes& attrs, std::size_t n,
+                      const std::string& section, Attributes& field) {
+    const std::string key(kw);
+    auto read_name = [&]() { return decode_name(s_.require_token(key + " name")); };
+    // `KEY name type` + values with a fixed component count.
+    auto read_fixed = [&](int comps, std::optional<AttributeRole> role) {
+      std::string name = read_name();
+      const std::string_view type = s_.require_token(key + " data type");
+      DataArray a = read_array(type, n, comps, name, key + " " + quote_token(name));
+      if (role) {
+        add_attribute(attrs, std::move(a), *role);
+      } else {
+        attrs.add(std::move(a));
+      }
+    };
+    if (iequals(kw, "SCALARS")) {
+      std::string name = read_name();
+      const std::string what = "SCALARS " + quote_token(name);
+      const std::string_view type = s_.require_token(what + " data type");
+      std::string_view next = s_.require_token("LOOKUP_TABLE after " + what);
+      int comps = 1;
+      if (!iequals(next, "LOOKUP_TABLE")) {
+        comps = parse_components(next, what + " component count");
+        next = s_.require_token("LOOKUP_TABLE after " + what);
+      }
+      if (!iequals(next, "LOOKUP_TABLE")) {
+        fail(what + " must be followed by LOOKUP_TABLE, found " + quote_token(next));
+      }
+      std::string lut = decode_name(s_.require_token("lookup table name"));
+      DataArray a = read_array(type, n, comps, name, what);
+      if (lut != "default") a.set_lookup_table(std::move(lut));
+      add_attribute(attrs, std::move(a), AttributeRole::Scalars);
+    } else if (iequals(kw, "COLOR_SCALARS")) {
+      std::string name = read_name();
+      const std::string what = "COLOR_SCALARS " + quote_token(name);
+      const int comps =
+          parse_components(s_.require_token(what + " component count"), what + " component count");
+      const std::size_t count = values_count(n, comps, what);
+      std::vector<std::uint8_t> v;
+      if (binary_) {
+        v = read_numbers<std::uint8_t>(count, what);
+      } else {  // floats in [0, 1]
+        const std::vector<float> f = read_numbers<float>(count, what);
+        v.resize(count);
+        for (std::size_t i = 0; i < count; ++i) {
+          const double x = 255.0 * static_cast<double>(f[i]) + 0.5;
+          v[i] = !(x > 0.0) ? 0 : (x >= 255.0 ? 255 : static_cast<std::uint8_t>(x));
+        }
+      }
+      skip_metadata();
+      add_attribute(attrs, DataArray::from_vector(std::move(name), comps, std::move(v)),
+                    AttributeRole::Scalars);
+    } else if (iequals(kw, "LOOKUP_TABLE")) {
+      const std::string name = read_name();
+      const std::string what = "LOOKUP_TABLE " + quote_token(name);
+      const std::size_t size = s_.parse_count(what + " size", binary_ ? 4 : 8);
+      std::vector<float> rgba;
+      if (binary_) {
+        const std::vector<std::uint8_t> bytes = read_numbers<std::uint8_t>(4 * size, what);
+        rgba.resize(bytes.size());
+        for (std::size_t i = 0; i < bytes.size(); ++i) {
+          rgba[i] = static_cast<float>(bytes[i]) / 255.0f;
+        }
+      } else {
+        rgba = read_numbers<float>(4 * size, what);
+      }
+      skip_metadata();
+      field.add(DataArray::from_vector("LookupTable:" + name, 4, std::move(rgba)));
+    } else if (iequals(kw, "VECTORS")) {
+      read_fixed(3, AttributeRole::Vectors);
+    } else if (iequals(kw, "NORMALS")) {
+      read_fixed(3, AttributeRole::Normals);
+    } else if (iequals(kw, "TENSORS")) {
+      read_fixed(9, AttributeRole::Tensors);
+    } else if (iequals(kw, "TENSORS6")) {
+      read_fixed(6, AttributeRole::Tensors);
+    } else if (iequals(kw, "TEXTURE_COORDINATES")) {
+      std::string name = read_name();
+      const std::string what = "TEXTURE_COORDINATES " + quote_token(name);
+      const std::string_view dim_token = s_.require_token(what + " dimension");
+      const int dim = parse_components(dim_token, what + " dimension");
+      if (dim > 3) fail(what + " dimension " + str(dim) + " is not 1, 2 or 3");
+      const std::string_view type = s_.require_token(what + " data type");
+      add_attribute(attrs, read_array(type, n, dim, name, what), AttributeRole::TCoords);
+    } else if (iequals(kw, "GLOBAL_IDS") || iequals(kw, "EDGE_FLAGS")) {
+      read_fixed(1, std::nullopt);
+    } else if (iequals(kw, "PEDIGREE_IDS")) {
+      std::string name = read_name();
+      const std::string what = key + " " + quote_token(name);
+      const std::string_view type = s_.require_token(what + " data type");
+      const auto lt = legacy_type(type);
+      if (lt && lt->kind == LegacyType::Kind::String) {
+        skip_strings(n, what);
+        skip_metadata();
+      } else {
+        attrs.add(read_array(type, n, 1, name, what));
+      }
+    } else if (iequals(kw, "FIELD")) {
+      read_field(attrs, n, section);
+    } else if (iequals(kw, "METADATA")) {
+      skip_metadata_body();
+    } else {
+      unknown_keyword(w, kw, section,
+                      "SCALARS, COLOR_SCALARS, LOOKUP_TABLE, VECTORS, NORMALS, "
+                      "TEXTURE_COORDINATES, TENSORS, TENSORS6, FIELD, POINT_DATA or CELL_DATA");
+    }
+  }
+
+  Scanner s_;
+  bool binary_ = false;
+  std::size_t data_offset_ = 0;  ///< start of the last binary block read
+  Attributes field_;             ///< dataset-level FIELD data, read with the geometry
+};
+
+// ---------------------------------------------------------------------------------------------
+// Writer
+
+/// Active roles of the array called `name`, in keyword order.
+std::vector<AttributeRole> roles_of(const Attributes& attrs, const std::string& name) {
+  std::vector<AttributeRole> roles;
+  for (std::size_t r = 0; r < kAttributeRoleCount; ++r) {
+    const auto role = static_cast<AttributeRole>(r);
+    if (attrs.active_name(role) == name) roles.push_back(role);
+  }
+  return roles;
+}
+
+/// Throws (naming `target`) for everything the legacy format cannot hold, before any byte is
+/// written.
+void check_writable(const Dataset& ds, const VtkLegacyWriteOptions& options,
+                    const std::string& target) {
+  auto fail = [&](const std::string& what) { throw Error(target + ": " + what); };
+  if (options.version != "4.2" && options.version != "5.1") {
+    fail("VTK legacy version must be \"4.2\" or \"5.1\", not " + quote_token(options.version));
+  }
+  try {
+    validate(ds);
+  } catch (const Error& e) {
+    fail("cannot write invalid " + std::string(dataset_type_name(ds)) + ": " + e.what());
+  }
+  const Points* pts =
+      std::visit(Overloaded{[](const ImageData&) -> const Points* { return nullptr; },
+                            [](const auto& d) -> const Points* { return &d.points; }},
+                 ds);
+  if (pts != nullptr) {
+    const std::size_t bad = pts->first_non_finite();
+    if (bad < pts->size()) {
+      fail("point " + str(static_cast<std::uint64_t>(bad)) +
+           " has a non-finite coordinate, which VTK legacy readers reject");
+    }
+    if (options.version == "4.2" &&
+        pts->size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max())) {
+      fail("version 4.2 cell lists store point ids as 32-bit ints; write version 5.1 for " +
+           str(static_cast<std::uint64_t>(pts->size())) + " points");
+    }
+  }
+  for (const Attributes* attrs : {&point_data(ds), &cell_data(ds)}) {
+    for (std::size_t r = 0; r < kAttributeRoleCount; ++r) {
+      const auto role = static_cast<AttributeRole>(r);
+      const DataArray* a = attrs->active(role);
+      if (a == nullptr) continue;
+      const int c = a->components();
+      const bool three = role == AttributeRole::Vectors || role == AttributeRole::Normals;
+      const bool ok = role == AttributeRole::Scalars || (three && c == 3) ||
+                      (role == AttributeRole::Tensors && (c == 9 || c == 6)) ||
+                      (role == AttributeRole::TCoords && c >= 1 && c <= 3);
+      if (!ok) {
+        fail("active " + std::string(attribute_role_name(role)) + " " + quote_token(a->name()) +
+             " has " + str(c) + " components, which VTK legacy " +
+             std::string(attribute_role_name(role)) + " cannot hold (" +
+             (role == AttributeRole::Tensors    ? "9 or 6"
+              : role == AttributeRole::TCoords ? "1 to 3"
+                                                : "3") +
+             "); clear the role to write it as a FIELD array");
+      }
+    }
+  }
+}
+
+class LegacyWriter {
+ public:
+  LegacyWriter(std::ostream& out, const VtkLegacyWriteOptions& options)
+      : out_(out), binary_(options.binary), v5_(options.version == "5.1") {
+    std::string title = options.title;
+    std::replace(title.begin(), title.end(), '\n', ' ');
+    std::replace(title.begin(), title.end(), '\r', ' ');
+    buf_ = "# vtk DataFile Version " + options.version + "\n" + title + "\n" +
+           (binary_ ? "BINARY\n" : "ASCII\n");
+  }
+
+  void write(const Dataset& ds) {
+    std::visit([&](const auto& d) { write_geometry(d); }, ds);
+    write_attributes(cell_data(ds), "CELL_DATA", num_cells(ds));
+    write_attributes(point_data(ds), "POINT_DATA", num_points(ds));
+    flush();
+  }
+
+ private:
+  void flush() {
+    out_.write(buf_.data(), static_cast<std::streamsize>(buf_.size()));
+    buf_.clear();
+  }
+  void maybe_flush() {
+    if (buf_.size() >= (std::size_t{1} << 20)) flush();
+  }
+  void text(std::string_view s) { buf_ += s; }
+
+  template <class T>
+  void number(T v) {
+    char tmp[64];
+    const auto r = std::to_chars(tmp, tmp + sizeof tmp, v);  // shortest round-trip for floats
+    buf_.append(tmp, r.ptr);
+  }
+  template <class T>
+  void big_endian(T v) {
+    if constexpr (sizeof(T) > 1) {
+      if (io_detail::kHostEndian != Endian::Big) v = io_detail::byteswap_value(v);
+    }
+    char b[sizeof(T)];
+    std::memcpy(b, &v, sizeof(T));
+    buf_.append(b, sizeof(T));
+  }
+
+  /// Values as ASCII (nine per line) or big-endian binary, then a newline.
+  template <class T>
+  void values(std::span<const T> v) {
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      if (binary_) {
+        big_endian(v[i]);
+      } else {
+        number(v[i]);
+        buf_ += (i % 9 == 8 || i + 1 == v.size()) ? '\n' : ' ';
+      }
+      if (i % 4096 == 4095) maybe_flush();
+    }
+    if (binary_ || v.empty()) buf_ += '\n';
+  }
+  void values(const DataArray& a) {
+    a.visit([&](const auto& v) { values(std::span(v.data(), v.size())); });
+  }
+
+  void header_line(std::string_view key, const DataArray& a, std::string_view extra = {}) {
+    text(key);
+    text(" ");
+    text(encode_name(a.name()));
+    text(" ");
+    text(extra);
+    text(legacy_type_name(a.type()));
+    text("\n");
+  }
+
+  void write_field(const std::vector<const DataArray*>& arrays) {
+    if (arrays.empty()) return;
+    text("FIELD FieldData " + str(static_cast<std::uint64_t>(arrays.size())) + "\n");
+    for (const DataArray* a : arrays) {
+      text(encode_name(a->name()) + " " + str(a->components()) + " " +
+           str(static_cast<std::uint64_t>(a->tuples())) + " ");
+      text(legacy_type_name(a->type()));
+      text("\n");
+      values(*a);
+    }
+  }
+  void write_dataset_field(const Attributes& field) {
+    std::vector<const DataArray*> arrays;
+    for (const DataArray& a : field) arrays.push_back(&a);
+    write_field(arrays);
+  }
+
+  void write_points(const Points& p) {
+    text("POINTS " + str(static_cast<std::uint64_t>(p.size())) + " ");
+    text(legacy_type_name(p.type()));
+    text("\n");
+    values(p.array());
+  }
+
+  void write_dims(const Dims& d) {
+    text("DIMENSIONS " + str(d[0]) + " " + str(d[1]) + " " + str(d[2]) + "\n");
+  }
+  void write_vec3(std::string_view key, const Vec3& v) {
+    text(key);
+    for (int a = 0; a < 3; ++a) {
+      text(" ");
+      number(v[a]);
+    }
+    text("\n");
+  }
+
+  void write_cells(std::string_view key, const CellArray& cells) {
+    const auto& offsets = cells.offsets();
+    const auto& conn = cells.connectivity();
+    const std::size_t n = cells.size();
+    if (v5_) {
+      text(std::string(key) + " " + str(static_cast<std::uint64_t>(n + 1)) + " " +
+           str(static_cast<std::uint64_t>(conn.size())) + "\nOFFSETS vtktypeint64\n");
+      values(std::span(offsets.data(), offsets.size()));
+      text("CONNECTIVITY vtktypeint64\n");
+      values(std::span(conn.data(), conn.size()));
+      return;
+    }
+    text(std::string(key) + " " + str(static_cast<std::uint64_t>(n)) + " " +
+         str(static_cast<std::uint64_t>(n + conn.size())) + "\n");
+    for (std::size_t c = 0; c < n; ++c) {
+      const auto ids = cells.cell(c);
+      if (binary_) {
+        big_endian(static_cast<std::int32_t>(ids.size()));
+        for (Index id : ids) big_endian(static_cast<std::int32_t>(id));
+      } else {
+        number(ids.size());
+        for (Index id : ids) {
+          buf_ += ' ';
+          number(id);
+        }
+        buf_ += '\n';
+      }
+      if (c % 1024 == 1023) maybe_flush();
+    }
+    if (binary_) buf_ += '\n';
+  }
+
+  void write_geometry(const ImageData& img) {
+    text("DATASET STRUCTURED_POINTS\n");
+    write_dataset_field(img.field_data);
+    write_dims(img.dims);
+    write_vec3("SPACING", img.spacing);
+    write_vec3("ORIGIN", img.origin);
+  }
+  void write_geometry(const StructuredGrid& sg) {
+    text("DATASET STRUCTURED_GRID\n");
+    write_dataset_field(sg.field_data);
+    write_dims(sg.dims);
+    write_points(sg.points);
+  }
+  void write_geometry(const PolyData& pd) {
+    text("DATASET POLYDATA\n");
+    write_dataset_field(pd.field_data);
+    write_points(pd.points);
+    if (!pd.verts.empty()) write_cells("VERTICES", pd.verts);
+    if (!pd.lines.empty()) write_cells("LINES", pd.lines);
+    if (!pd.polys.empty()) write_cells("POLYGONS", pd.polys);
+    if (!pd.strips.empty()) write_cells("TRIANGLE_STRIPS", pd.strips);
+  }
+  void write_geometry(const UnstructuredGrid& ug) {
+    text("DATASET UNSTRUCTURED_GRID\n");
+    write_dataset_field(ug.field_data);
+    write_points(ug.points);
+    if (ug.cells.empty()) return;
+    write_cells("CELLS", ug.cells);
+    text("CELL_TYPES " + str(static_cast<std::uint64_t>(ug.types.size())) + "\n");
+    std::vector<std::int32_t> types(ug.types.size());
+    for (std::size_t i = 0; i < types.size(); ++i) {
+      types[i] = static_cast<std::int32_t>(ug.types[i]);
+    }
+    values(std::span<const std::int32_t>(types));
+  }
+
+  void write_attribute(const DataArray& a, AttributeRole role) {
+    switch (role) {
+      case AttributeRole::Scalars: {
+        text("SCALARS " + encode_name(a.name()) + " ");
+        text(legacy_type_name(a.type()));
+        if (a.components() != 1) text(" " + str(a.components()));
+        text("\nLOOKUP_TABLE " +
+             (a.lookup_table().empty() ? std::string("default") : encode_name(a.lookup_table())) +
+             "\n");
+        break;
+      }
+      case AttributeRole::Vectors: header_line("VECTORS", a); break;
+      case AttributeRole::Normals: header_line("NORMALS", a); break;
+      case AttributeRole::Tensors:
+        header_line(a.components() == 6 ? "TENSORS6" : "TENSORS", a);
+        break;
+      case AttributeRole::TCoords:
+        header_line("TEXTURE_COORDINATES", a, str(a.components()) + " ");
+        break;
+    }
+    values(a);
+  }
+
+  /// Arrays in their order: active ones with their keywords, runs of the others as FIELD blocks.
+  void write_attributes(const Attributes& attrs, std::string_view section, std::size_t n) {
+    if (attrs.empty()) return;
+    text(std::string(section) + " " + str(static_cast<std::uint64_t>(n)) + "\n");
+    std::vector<const DataArray*> plain;
+    for (const DataArray& a : attrs) {
+      const std::vector<AttributeRole> roles = roles_of(attrs, a.name());
+      if (roles.empty()) {
+        plain.push_back(&a);
+        continue;
+      }
+      write_field(plain);
+      plain.clear();
+      for (AttributeRole role : roles) write_attribute(a, role);
+    }
+    write_field(plain);
+  }
+
+  std::ostream& out_;
+  bool binary_;
+  bool v5_;
+  std::string buf_;
+};
+
+}  // namespace
+
+Dataset read_vtk_legacy(const std::filesystem::path& path) {
+  const std::vector<std::byte> bytes = read_file_bytes(path);
+  return read_vtk_legacy(bytes, path.string());
+}
+
+Dataset read_vtk_legacy(std::span<const std::byte> data, std::string_view name) {
+  try {
+    return LegacyReader(data, name).read();
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw Error(std::string(name) + ": out of memory while reading");
+  } catch (const std::exception& e) {
+    throw Error(std::string(name) + ": internal error while reading: " + e.what());
+  }
+}
+
+void write_vtk_legacy(const Dataset& ds, const std::filesystem::path& path,
+                      const VtkLegacyWriteOptions& options) {
+  check_writable(ds, options, path.string());
+  AtomicFile file(path);
+  LegacyWriter(file.stream(), options).write(ds);
+  file.commit();
+}
+
+void write_vtk_legacy(const Dataset& ds, std::ostream& out, const VtkLegacyWriteOptions& options) {
+  check_writable(ds, options, "VTK legacy writer");
+  LegacyWriter(out, options).write(ds);
+  if (!out) throw Error("VTK legacy writer: writing to the stream failed");
+}
+
+}  // namespace isoforge

@@ -68,8 +68,13 @@ class Scanner {
 
   // ---- errors ----
   [[noreturn]] void fail_line(std::string_view what) const {
+    if (report_offsets_) fail_at_byte(pos_, what);
     throw Error(at_line(name_, line_, what));
   }
+  /// Makes `fail_line` (and so every text error) report the byte offset instead of the line.
+  /// For formats that mix text with binary blocks (VTK legacy BINARY), where line numbers stop
+  /// meaning anything after the first block. Off by default.
+  void report_byte_offsets(bool on) { report_offsets_ = on; }
   [[noreturn]] void fail_byte(std::string_view what) const { fail_at_byte(pos_, what); }
   [[noreturn]] void fail_at_byte(std::size_t offset, std::string_view what) const {
     throw Error(at_byte(name_, offset, what));
@@ -212,6 +217,7 @@ class Scanner {
                 " bytes remain");
     }
     out.resize(count);
+    if (count == 0) return;  // out.data() may be null: memcpy(nullptr, ..., 0) is UB
     std::memcpy(out.data(), data_.data() + pos_, count * sizeof(T));
     pos_ += count * sizeof(T);
     to_host(std::span<T>(out), endian);
@@ -237,6 +243,7 @@ class Scanner {
   std::string name_;
   std::size_t pos_ = 0;
   std::int64_t line_ = 1;
+  bool report_offsets_ = false;
 };
 
 /// Case-insensitive ASCII equality.
