@@ -1,8 +1,412 @@
-// placeholder: implemented in a following commit
+// Object File Format (Geomview OFF: "OFF" / "COFF" / "NOFF" / "STOFF" headers, `nv nf ne`
+// counts, vertices, faces `n i j k ...` with optional trailing colour ignored, '#' comments) —
+// reader and writer; and the Wavefront OBJ geometry subset (v, vn, vt, f v/vt/vn, l, p;
+// 1-based indices) — writer only.
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "io/detail/scanner.hpp"
+#include "isoforge/io/atomic_file.hpp"
+#include "isoforge/io/io.hpp"
 #include "isoforge/io/mesh_formats.hpp"
+
 namespace isoforge {
-void write_obj(const PolyData&, const std::filesystem::path&) { throw Error("not yet"); }
-PolyData read_off(const std::filesystem::path&) { throw Error("not yet"); }
-PolyData read_off(std::span<const std::byte>, std::string_view) { throw Error("not yet"); }
-void write_off(const PolyData&, const std::filesystem::path&) { throw Error("not yet"); }
+
+namespace {
+
+using io_detail::Scanner;
+
+/// Appends `v` in the shortest form that reads back to the same value.
+template <class T>
+void append_number(std::string& out, T v) {
+  char tmp[64];
+  auto r = std::to_chars(tmp, tmp + sizeof(tmp), v);
+  out.append(tmp, r.ptr);
 }
+
+void append_coord(std::string& out, double v, bool single) {
+  if (single) {
+    append_number(out, static_cast<float>(v));
+  } else {
+    append_number(out, v);
+  }
+}
+
+/// Strips '#' comments and splits on whitespace.
+std::vector<std::string_view> split_rest(std::string_view line) {
+  if (auto h = line.find('#'); h != std::string_view::npos) line = line.substr(0, h);
+  std::vector<std::string_view> words;
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && Scanner::is_space(line[i])) ++i;
+    const std::size_t start = i;
+    while (i < line.size() && !Scanner::is_space(line[i])) ++i;
+    if (i > start) words.push_back(line.substr(start, i - start));
+  }
+  return words;
+}
+
+/// Number of significant digits in a decimal number token (to tell float32 text from float64).
+int significant_digits(std::string_view t) {
+  int n = 0;
+  bool leading = true;
+  for (char c : t) {
+    if (c == 'e' || c == 'E') break;
+    if (c < '0' || c > '9') continue;
+    if (leading && c == '0') continue;
+    leading = false;
+    ++n;
+  }
+  return n;
+}
+
+class OffReader {
+ public:
+  OffReader(std::span<const std::byte> data, std::string_view name)
+      : sc_(data, std::string(name)) {}
+
+  PolyData read() {
+    // ---- header keyword: [ST][C][N]OFF ----
+    const std::string_view magic = next();
+    if (magic.empty()) sc_.fail_line("empty file, expected the OFF header keyword");
+    std::string_view m = magic;
+    if (m.starts_with("ST")) {
+      texture_ = true;
+      m.remove_prefix(2);
+    }
+    if (m.starts_with("C")) {
+      color_ = true;
+      m.remove_prefix(1);
+    }
+    if (m.starts_with("N")) {
+      normals_ = true;
+      m.remove_prefix(1);
+    }
+    if (texture_ && color_)
+      sc_.fail_line("'" + std::string(magic) + "' (texture and colour) is not supported");
+    if (m == "4OFF" || m == "nOFF") {
+      sc_.fail_line("'" + std::string(magic) + "' (4D or n-dimensional OFF) is not supported");
+    }
+    if (m != "OFF") {
+      sc_.fail_line("bad magic: expected 'OFF' (or COFF/NOFF/STOFF), found '" +
+                    std::string(magic.substr(0, 40)) + "'");
+    }
+    // ---- counts ----
+    std::string_view t = next();
+    if (t == "BINARY") sc_.fail_line("binary OFF is not supported");
+    const std::size_t nv = parse_count(t, "vertex count", 6);
+    const std::size_t nf = parse_count(next(), "face count", 8);
+    const std::int64_t counts_line = sc_.line();
+    // The edge count is optional in practice; ignore the rest of the counts line.
+    sc_.skip_line();
+    std::uint64_t need = 0;
+    if (__builtin_mul_overflow(static_cast<std::uint64_t>(nv), 6u, &need) ||
+        __builtin_add_overflow(need, static_cast<std::uint64_t>(nf) * 8u, &need) ||
+        need > sc_.remaining() + 2) {
+      fail_at_line(counts_line, "vertex count " + std::to_string(nv) + " and face count " +
+                                    std::to_string(nf) + " exceed what the remaining " +
+                                    std::to_string(sc_.remaining()) +
+                                    " bytes of the file can hold");
+    }
+
+    // ---- vertices ----
+    std::vector<double> xyz(3 * nv);
+    std::vector<float> normals(normals_ ? 3 * nv : 0);
+    std::vector<float> tcoords(texture_ ? 2 * nv : 0);
+    std::vector<std::uint8_t> colors;
+    int color_comps = 3;
+    bool wide = false;  // a coordinate has more digits than float32 needs
+    for (std::size_t i = 0; i < nv; ++i) {
+      for (int a = 0; a < 3; ++a) {
+        const auto tok = require("vertex coordinate");
+        wide = wide || significant_digits(tok) > 9;
+        xyz[3 * i + static_cast<std::size_t>(a)] = sc_.parse<double>(tok, "vertex coordinate");
+      }
+      const double* p = &xyz[3 * i];
+      if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+        sc_.fail_line("vertex " + std::to_string(i) + " has a non-finite coordinate");
+      }
+      if (normals_) {
+        for (int a = 0; a < 3; ++a) {
+          normals[3 * i + static_cast<std::size_t>(a)] =
+              sc_.parse<float>(require("vertex normal"), "vertex normal");
+        }
+      }
+      if (color_) read_color(i, colors, color_comps);
+      if (texture_) {
+        for (int a = 0; a < 2; ++a) {
+          tcoords[2 * i + static_cast<std::size_t>(a)] =
+              sc_.parse<float>(require("texture coordinate"), "texture coordinate");
+        }
+      }
+    }
+
+    // ---- faces ----
+    PolyData mesh;
+    auto& offsets = mesh.polys.offsets();
+    auto& conn = mesh.polys.connectivity();
+    offsets.reserve(nf + 1);
+    for (std::size_t f = 0; f < nf; ++f) {
+      const auto n = sc_.parse<std::int64_t>(require("face vertex count"), "face vertex count");
+      if (n < 3) {
+        sc_.fail_line("face " + std::to_string(f) + " has " + std::to_string(n) +
+                      " vertices, a polygon needs at least 3");
+      }
+      sc_.check_count(static_cast<std::uint64_t>(n), 2, "face vertex count");
+      for (std::int64_t j = 0; j < n; ++j) {
+        const auto id = sc_.parse<std::int64_t>(require("face vertex index"), "face vertex index");
+        if (id < 0 || static_cast<std::uint64_t>(id) >= nv) {
+          sc_.fail_line("face " + std::to_string(f) + ": vertex index " + std::to_string(id) +
+                        " is out of range (" + std::to_string(nv) + " vertices)");
+        }
+        conn.push_back(id);
+      }
+      offsets.push_back(static_cast<Index>(conn.size()));
+      sc_.skip_line();  // optional face colour
+    }
+    // Anything but comments and whitespace after the faces is an error.
+    if (const auto extra = next(); !extra.empty()) {
+      sc_.fail_line("unexpected data after the last face: '" + std::string(extra.substr(0, 40)) +
+                    "'");
+    }
+
+    mesh.points = Points(nv, wide ? ScalarType::Float64 : ScalarType::Float32);
+    for (std::size_t i = 0; i < nv; ++i)
+      mesh.points.set(i, {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]});
+    if (normals_) {
+      mesh.point_data.add(DataArray::from_vector("Normals", 3, std::move(normals)),
+                          AttributeRole::Normals);
+    }
+    if (color_) {
+      mesh.point_data.add(DataArray::from_vector("Colors", color_comps, std::move(colors)),
+                          AttributeRole::Scalars);
+    }
+    if (texture_) {
+      mesh.point_data.add(DataArray::from_vector("TCoords", 2, std::move(tcoords)),
+                          AttributeRole::TCoords);
+    }
+    return mesh;
+  }
+
+ private:
+  [[noreturn]] void fail_at_line(std::int64_t line, const std::string& what) const {
+    throw Error(at_line(sc_.name(), line, what));
+  }
+
+  /// Next token, skipping '#' comments.
+  std::string_view next() {
+    for (;;) {
+      sc_.skip_space();
+      if (sc_.peek_char() != '#') break;
+      sc_.skip_line();
+    }
+    std::string_view t = sc_.token();
+    if (auto h = t.find('#'); h != std::string_view::npos && h > 0) {
+      sc_.seek(sc_.offset() - (t.size() - h));  // same line: the line count stays right
+      t = t.substr(0, h);
+    }
+    return t;
+  }
+  std::string_view require(std::string_view what) {
+    auto t = next();
+    if (t.empty()) sc_.fail_line("unexpected end of file, expected " + std::string(what));
+    return t;
+  }
+  std::size_t parse_count(std::string_view t, std::string_view what, std::size_t min_bytes) {
+    if (t.empty()) sc_.fail_line("unexpected end of file, expected " + std::string(what));
+    const auto v = sc_.parse<std::int64_t>(t, what);
+    if (v < 0) sc_.fail_line(std::string(what) + " " + std::to_string(v) + " is negative");
+    sc_.check_count(static_cast<std::uint64_t>(v), min_bytes, what);
+    return static_cast<std::size_t>(v);
+  }
+
+  // COFF colour: the rest of the vertex line, 3 or 4 values, integers 0..255 or floats 0..1.
+  void read_color(std::size_t i, std::vector<std::uint8_t>& colors, int& comps) {
+    std::string_view rest;
+    sc_.read_line(rest);
+    const auto w = split_rest(rest);
+    if (w.size() < 3 || w.size() > 4) {
+      throw Error(at_line(sc_.name(), sc_.line() - 1,
+                          "vertex " + std::to_string(i) +
+                              ": expected 3 or 4 colour values, found " +
+                              std::to_string(w.size())));
+    }
+    if (w.size() == 4 && comps == 3) {
+      // Switch to RGBA; earlier vertices get alpha 255.
+      std::vector<std::uint8_t> rgba;
+      rgba.reserve(colors.size() / 3 * 4 + 4);
+      for (std::size_t k = 0; k < colors.size(); k += 3) {
+        rgba.insert(rgba.end(), {colors[k], colors[k + 1], colors[k + 2], 255});
+      }
+      colors = std::move(rgba);
+      comps = 4;
+    }
+    for (std::size_t c = 0; c < static_cast<std::size_t>(comps); ++c) {
+      if (c >= w.size()) {
+        colors.push_back(255);
+        continue;
+      }
+      const bool fl = w[c].find_first_of(".eE") != std::string_view::npos;
+      double v = sc_.parse<double>(w[c], "colour value");
+      if (fl) v = std::round(v * 255.0);
+      if (!(v >= 0)) v = 0;
+      if (v > 255) v = 255;
+      colors.push_back(static_cast<std::uint8_t>(v));
+    }
+  }
+
+  Scanner sc_;
+  bool texture_ = false;
+  bool color_ = false;
+  bool normals_ = false;
+};
+
+/// Polys followed by the triangles of the strips (alternating orientation).
+CellArray faces_with_triangulated_strips(const PolyData& mesh) {
+  CellArray faces = mesh.polys;
+  for (std::size_t s = 0; s < mesh.strips.size(); ++s) {
+    const auto ids = mesh.strips.cell(s);
+    for (std::size_t k = 0; k + 2 < ids.size(); ++k) {
+      if (k % 2 == 0) {
+        faces.add({ids[k], ids[k + 1], ids[k + 2]});
+      } else {
+        faces.add({ids[k + 1], ids[k], ids[k + 2]});
+      }
+    }
+  }
+  return faces;
+}
+
+void validate_for_write(const PolyData& mesh, const std::string& file) {
+  try {
+    mesh.validate();
+  } catch (const Error& e) {
+    throw Error(file + ": cannot write an invalid mesh: " + e.what());
+  }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// OFF
+
+PolyData read_off(std::span<const std::byte> data, std::string_view name) {
+  OffReader reader(data, name);
+  return reader.read();
+}
+
+PolyData read_off(const std::filesystem::path& path) {
+  const auto bytes = read_file_bytes(path);
+  return read_off(bytes, path.string());
+}
+
+void write_off(const PolyData& mesh, const std::filesystem::path& path) {
+  const std::string file = path.string();
+  if (!mesh.verts.empty() || !mesh.lines.empty()) {
+    throw Error(file + ": OFF holds polygons only; the mesh has " +
+                std::to_string(mesh.verts.size()) + " verts and " +
+                std::to_string(mesh.lines.size()) + " lines");
+  }
+  validate_for_write(mesh, file);
+  const CellArray faces = faces_with_triangulated_strips(mesh);
+  const bool single = mesh.points.type() == ScalarType::Float32;
+  std::string out = "OFF\n# written by isoforge\n";
+  out += std::to_string(mesh.num_points()) + " " + std::to_string(faces.size()) + " 0\n";
+  for (std::size_t i = 0; i < mesh.num_points(); ++i) {
+    const Vec3 p = mesh.points[i];
+    for (int a = 0; a < 3; ++a) {
+      if (a) out += ' ';
+      append_coord(out, p[a], single);
+    }
+    out += '\n';
+  }
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    const auto ids = faces.cell(f);
+    out += std::to_string(ids.size());
+    for (Index id : ids) {
+      out += ' ';
+      append_number(out, id);
+    }
+    out += '\n';
+  }
+  write_file_atomic(path, out);
+}
+
+// ---------------------------------------------------------------------------------------------
+// OBJ
+
+void write_obj(const PolyData& mesh, const std::filesystem::path& path) {
+  const std::string file = path.string();
+  validate_for_write(mesh, file);
+  const std::size_t np = mesh.num_points();
+  const DataArray* normals = mesh.point_data.normals();
+  if (normals && normals->components() != 3) normals = nullptr;
+  const DataArray* tcoords = mesh.point_data.tcoords();
+  if (tcoords && (tcoords->components() < 1 || tcoords->components() > 3)) tcoords = nullptr;
+  const bool single = mesh.points.type() == ScalarType::Float32;
+
+  std::string out = "# written by isoforge\n";
+  out += "# " + std::to_string(np) + " vertices\n";
+  for (std::size_t i = 0; i < np; ++i) {
+    const Vec3 p = mesh.points[i];
+    out += 'v';
+    for (int a = 0; a < 3; ++a) {
+      out += ' ';
+      append_coord(out, p[a], single);
+    }
+    out += '\n';
+  }
+  if (normals) {
+    const bool nsingle = normals->type() != ScalarType::Float64;
+    for (std::size_t i = 0; i < np; ++i) {
+      out += "vn";
+      for (int a = 0; a < 3; ++a) {
+        out += ' ';
+        append_coord(out, normals->get(i, a), nsingle);
+      }
+      out += '\n';
+    }
+  }
+  if (tcoords) {
+    const bool tsingle = tcoords->type() != ScalarType::Float64;
+    for (std::size_t i = 0; i < np; ++i) {
+      out += "vt";
+      for (int a = 0; a < tcoords->components(); ++a) {
+        out += ' ';
+        append_coord(out, tcoords->get(i, a), tsingle);
+      }
+      out += '\n';
+    }
+  }
+  auto vertex_ref = [&](Index id) {
+    const std::string n = std::to_string(id + 1);
+    if (normals && tcoords) return n + "/" + n + "/" + n;
+    if (tcoords) return n + "/" + n;
+    if (normals) return n + "//" + n;
+    return n;
+  };
+  for (std::size_t c = 0; c < mesh.verts.size(); ++c) {
+    out += 'p';
+    for (Index id : mesh.verts.cell(c)) out += ' ' + std::to_string(id + 1);
+    out += '\n';
+  }
+  for (std::size_t c = 0; c < mesh.lines.size(); ++c) {
+    out += 'l';
+    for (Index id : mesh.lines.cell(c)) out += ' ' + std::to_string(id + 1);
+    out += '\n';
+  }
+  const CellArray faces = faces_with_triangulated_strips(mesh);
+  for (std::size_t c = 0; c < faces.size(); ++c) {
+    out += 'f';
+    for (Index id : faces.cell(c)) out += ' ' + vertex_ref(id);
+    out += '\n';
+  }
+  write_file_atomic(path, out);
+}
+
+}  // namespace isoforge

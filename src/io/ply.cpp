@@ -1,7 +1,789 @@
-// placeholder: implemented in a following commit
+// Stanford PLY polygon file format, version 1.0 (Greg Turk, "The PLY Polygon File Format",
+// 1994, as documented by Paul Bourke): reader and writer for `format ascii`,
+// `binary_little_endian` and `binary_big_endian`.
+//
+// Reader: every element of the header is parsed (unknown elements are skipped value by value,
+// list counts included); "vertex" and "face" elements become points, point arrays, polys and
+// cell arrays as described in isoforge/io/mesh_formats.hpp. Writer: points, point arrays as
+// properties, polys and triangulated strips, cell arrays as face properties.
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "io/detail/scanner.hpp"
+#include "isoforge/io/atomic_file.hpp"
+#include "isoforge/io/io.hpp"
 #include "isoforge/io/mesh_formats.hpp"
+
 namespace isoforge {
-PolyData read_ply(const std::filesystem::path&) { throw Error("not yet"); }
-PolyData read_ply(std::span<const std::byte>, std::string_view) { throw Error("not yet"); }
-void write_ply(const PolyData&, const std::filesystem::path&, const PlyWriteOptions&) { throw Error("not yet"); }
+
+namespace {
+
+using io_detail::Endian;
+using io_detail::Scanner;
+
+// ---------------------------------------------------------------------------------------------
+// Types
+
+std::optional<ScalarType> ply_scalar_type(std::string_view name) {
+  if (name == "char" || name == "int8") return ScalarType::Int8;
+  if (name == "uchar" || name == "uint8") return ScalarType::UInt8;
+  if (name == "short" || name == "int16") return ScalarType::Int16;
+  if (name == "ushort" || name == "uint16") return ScalarType::UInt16;
+  if (name == "int" || name == "int32") return ScalarType::Int32;
+  if (name == "uint" || name == "uint32") return ScalarType::UInt32;
+  if (name == "float" || name == "float32") return ScalarType::Float32;
+  if (name == "double" || name == "float64") return ScalarType::Float64;
+  return std::nullopt;
 }
+
+/// Calls f(T{}) with the C++ type of `t`.
+template <class F>
+decltype(auto) dispatch(ScalarType t, F&& f) {
+  switch (t) {
+    case ScalarType::Int8:
+      return f(std::int8_t{});
+    case ScalarType::UInt8:
+      return f(std::uint8_t{});
+    case ScalarType::Int16:
+      return f(std::int16_t{});
+    case ScalarType::UInt16:
+      return f(std::uint16_t{});
+    case ScalarType::Int32:
+      return f(std::int32_t{});
+    case ScalarType::UInt32:
+      return f(std::uint32_t{});
+    case ScalarType::Int64:
+      return f(std::int64_t{});
+    case ScalarType::UInt64:
+      return f(std::uint64_t{});
+    case ScalarType::Float32:
+      return f(float{});
+    case ScalarType::Float64:
+      break;
+  }
+  return f(double{});
+}
+
+// ---------------------------------------------------------------------------------------------
+// Header
+
+struct PlyProperty {
+  std::string name;
+  bool is_list = false;
+  ScalarType count_type = ScalarType::UInt8;  // lists only
+  ScalarType type = ScalarType::Float32;      // value type, or item type for lists
+};
+
+struct PlyElement {
+  std::string name;
+  std::uint64_t count = 0;
+  std::int64_t line = 0;
+  std::vector<PlyProperty> props;
+
+  [[nodiscard]] int find(std::string_view prop, bool list) const {
+    for (std::size_t i = 0; i < props.size(); ++i) {
+      if (props[i].name == prop && props[i].is_list == list) return static_cast<int>(i);
+    }
+    return -1;
+  }
+};
+
+enum class PlyFormat { Ascii, Little, Big };
+
+std::vector<std::string_view> split_words(std::string_view line) {
+  std::vector<std::string_view> words;
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && Scanner::is_space(line[i])) ++i;
+    std::size_t start = i;
+    while (i < line.size() && !Scanner::is_space(line[i])) ++i;
+    if (i > start) words.push_back(line.substr(start, i - start));
+  }
+  return words;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reader
+
+class PlyReader {
+ public:
+  PlyReader(std::span<const std::byte> data, std::string_view name)
+      : sc_(data, std::string(name)) {}
+
+  PolyData read() {
+    parse_header();
+    check_body_size();
+    for (const PlyElement& e : elements_) {
+      if (e.name == "vertex") {
+        read_vertices(e);
+      } else if (e.name == "face") {
+        read_faces(e);
+      } else {
+        skip_element(e);
+      }
+    }
+    return build();
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const {
+    if (format_ == PlyFormat::Ascii) sc_.fail_line(what);
+    sc_.fail_byte(what);
+  }
+  [[noreturn]] void fail_header(std::int64_t line, const std::string& what) const {
+    throw Error(at_line(sc_.name(), line, what));
+  }
+
+  void parse_header() {
+    std::string_view line;
+    if (!sc_.read_line(line)) sc_.fail_line("empty file, expected the PLY magic 'ply'");
+    if (line != "ply") {
+      fail_header(1, "bad magic: expected 'ply', found '" + std::string(line.substr(0, 40)) + "'");
+    }
+    bool have_format = false;
+    bool ended = false;
+    while (!ended) {
+      const std::int64_t line_no = sc_.line();
+      if (!sc_.read_line(line))
+        fail_header(line_no, "unexpected end of file in the header (no end_header)");
+      const auto w = split_words(line);
+      if (w.empty()) continue;
+      const std::string_view key = w[0];
+      if (key == "comment" || key == "obj_info") continue;
+      if (key == "end_header") {
+        if (w.size() != 1) fail_header(line_no, "unexpected text after end_header");
+        ended = true;
+      } else if (key == "format") {
+        if (have_format) fail_header(line_no, "duplicate format line");
+        if (w.size() != 3) fail_header(line_no, "format line needs an encoding and a version");
+        if (w[1] == "ascii") {
+          format_ = PlyFormat::Ascii;
+        } else if (w[1] == "binary_little_endian") {
+          format_ = PlyFormat::Little;
+        } else if (w[1] == "binary_big_endian") {
+          format_ = PlyFormat::Big;
+        } else {
+          fail_header(line_no, "unknown format '" + std::string(w[1].substr(0, 40)) +
+                                   "' (expected ascii, binary_little_endian or binary_big_endian)");
+        }
+        if (w[2] != "1.0" && w[2] != "1") {
+          fail_header(line_no, "unsupported PLY version '" + std::string(w[2].substr(0, 40)) + "'");
+        }
+        have_format = true;
+      } else if (key == "element") {
+        if (w.size() != 3) fail_header(line_no, "element line needs a name and a count");
+        PlyElement e;
+        e.name = std::string(w[1]);
+        e.line = line_no;
+        std::int64_t count = 0;
+        const auto [ptr, ec] = std::from_chars(w[2].data(), w[2].data() + w[2].size(), count);
+        if (ec != std::errc() || ptr != w[2].data() + w[2].size()) {
+          fail_header(line_no, "element '" + e.name + "' count '" +
+                                   std::string(w[2].substr(0, 40)) + "' is not an integer");
+        }
+        if (count < 0) {
+          fail_header(line_no,
+                      "element '" + e.name + "' count " + std::to_string(count) + " is negative");
+        }
+        e.count = static_cast<std::uint64_t>(count);
+        for (const auto& other : elements_) {
+          if (other.name == e.name && (e.name == "vertex" || e.name == "face")) {
+            fail_header(line_no, "duplicate element '" + e.name + "'");
+          }
+        }
+        elements_.push_back(std::move(e));
+      } else if (key == "property") {
+        if (elements_.empty()) fail_header(line_no, "property before any element");
+        PlyProperty p;
+        if (w.size() >= 2 && w[1] == "list") {
+          if (w.size() != 5)
+            fail_header(line_no, "property list needs a count type, an item type and a name");
+          auto ct = ply_scalar_type(w[2]);
+          auto it = ply_scalar_type(w[3]);
+          if (!ct)
+            fail_header(line_no, "unknown property type '" + std::string(w[2].substr(0, 40)) + "'");
+          if (!it)
+            fail_header(line_no, "unknown property type '" + std::string(w[3].substr(0, 40)) + "'");
+          if (is_floating(*ct)) {
+            fail_header(line_no,
+                        "list count type '" + std::string(w[2]) + "' is not an integer type");
+          }
+          p.is_list = true;
+          p.count_type = *ct;
+          p.type = *it;
+          p.name = std::string(w[4]);
+        } else {
+          if (w.size() != 3) fail_header(line_no, "property line needs a type and a name");
+          auto t = ply_scalar_type(w[1]);
+          if (!t)
+            fail_header(line_no, "unknown property type '" + std::string(w[1].substr(0, 40)) + "'");
+          p.type = *t;
+          p.name = std::string(w[2]);
+        }
+        for (const auto& q : elements_.back().props) {
+          if (q.name == p.name) {
+            fail_header(line_no, "duplicate property '" + p.name + "' in element '" +
+                                     elements_.back().name + "'");
+          }
+        }
+        elements_.back().props.push_back(std::move(p));
+      } else {
+        fail_header(line_no, "unknown header keyword '" + std::string(key.substr(0, 40)) + "'");
+      }
+    }
+    if (!have_format) fail_header(sc_.line(), "header has no format line");
+    endian_ = format_ == PlyFormat::Big ? Endian::Big : Endian::Little;
+  }
+
+  // Minimum bytes one instance of `e` occupies (ASCII: a character and a separator per value).
+  [[nodiscard]] std::uint64_t min_instance_bytes(const PlyElement& e) const {
+    std::uint64_t n = 0;
+    for (const auto& p : e.props) {
+      if (format_ == PlyFormat::Ascii) {
+        n += 2;
+      } else {
+        n += scalar_size(p.is_list ? p.count_type : p.type);
+      }
+    }
+    return n;
+  }
+
+  // Rejects headers whose element counts cannot fit in the bytes that follow, before anything
+  // is allocated.
+  void check_body_size() const {
+    std::uint64_t total = 0;
+    const std::uint64_t remaining = sc_.remaining() + (format_ == PlyFormat::Ascii ? 1 : 0);
+    for (const auto& e : elements_) {
+      std::uint64_t need = 0;
+      if (io_detail::mul_overflow(e.count, min_instance_bytes(e), need) ||
+          __builtin_add_overflow(total, need, &total) || total > remaining) {
+        fail_header(e.line, "element '" + e.name + "' count " + std::to_string(e.count) +
+                                " exceeds what the remaining " + std::to_string(sc_.remaining()) +
+                                " bytes of the file can hold");
+      }
+    }
+  }
+
+  template <class T>
+  T read_value(const char* what) {
+    if (format_ == PlyFormat::Ascii) return sc_.parse_token<T>(what);
+    return sc_.read<T>(endian_, what);
+  }
+
+  double read_as_double(ScalarType t, const char* what) {
+    return dispatch(t,
+                    [&](auto tag) { return static_cast<double>(read_value<decltype(tag)>(what)); });
+  }
+
+  // Reads an integer-typed value (list count or index) as int64.
+  std::int64_t read_integer(ScalarType t, const char* what) {
+    return dispatch(t, [&](auto tag) -> std::int64_t {
+      using T = decltype(tag);
+      const T v = read_value<T>(what);
+      if constexpr (std::is_floating_point_v<T>) {
+        if (!(v >= -9.0e18 && v <= 9.0e18) || v != std::floor(v)) {
+          fail(std::string(what) + " " + std::to_string(v) + " is not an integer");
+        }
+        return static_cast<std::int64_t>(v);
+      } else {
+        return static_cast<std::int64_t>(v);
+      }
+    });
+  }
+
+  // Reads a list count and checks it against the bytes left.
+  std::uint64_t read_list_count(const PlyProperty& p) {
+    const std::int64_t n = read_integer(p.count_type, "list count");
+    if (n < 0) fail("list '" + p.name + "' count " + std::to_string(n) + " is negative");
+    const std::uint64_t per = format_ == PlyFormat::Ascii ? 2 : scalar_size(p.type);
+    if (static_cast<std::uint64_t>(n) > (sc_.remaining() + 1) / per) {
+      fail("list '" + p.name + "' count " + std::to_string(n) + " exceeds what the remaining " +
+           std::to_string(sc_.remaining()) + " bytes of the file can hold");
+    }
+    return static_cast<std::uint64_t>(n);
+  }
+
+  void skip_value(ScalarType t) {
+    if (format_ == PlyFormat::Ascii) {
+      (void)read_as_double(t, "property value");
+    } else {
+      sc_.skip(scalar_size(t), "property value");
+    }
+  }
+
+  void skip_property(const PlyProperty& p) {
+    if (!p.is_list) {
+      skip_value(p.type);
+      return;
+    }
+    const std::uint64_t n = read_list_count(p);
+    if (format_ == PlyFormat::Ascii) {
+      for (std::uint64_t i = 0; i < n; ++i) skip_value(p.type);
+    } else {
+      sc_.skip(static_cast<std::size_t>(n) * scalar_size(p.type), "list items");
+    }
+  }
+
+  void skip_element(const PlyElement& e) {
+    if (e.props.empty()) return;  // instances occupy no bytes
+    for (std::uint64_t i = 0; i < e.count; ++i) {
+      for (const auto& p : e.props) skip_property(p);
+    }
+  }
+
+  void read_scalar_into(DataArray& a, std::size_t i, const char* what) {
+    a.visit([&](auto& vec) {
+      using T = typename std::decay_t<decltype(vec)>::value_type;
+      vec[i] = read_value<T>(what);
+    });
+  }
+
+  void read_vertices(const PlyElement& e) {
+    have_vertex_ = true;
+    const auto n = static_cast<std::size_t>(e.count);
+    vertex_props_ = e.props;
+    vertex_arrays_.clear();
+    for (const auto& p : e.props) {
+      vertex_arrays_.emplace_back(p.name, p.is_list ? ScalarType::UInt8 : p.type, 1,
+                                  p.is_list ? 0 : n);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t k = 0; k < e.props.size(); ++k) {
+        if (e.props[k].is_list) {
+          skip_property(e.props[k]);
+        } else {
+          read_scalar_into(vertex_arrays_[k], i, "vertex property value");
+        }
+      }
+    }
+    num_vertices_ = n;
+  }
+
+  void read_faces(const PlyElement& e) {
+    int idx = e.find("vertex_indices", true);
+    if (idx < 0) idx = e.find("vertex_index", true);
+    if (idx < 0) {
+      fail_header(e.line,
+                  "element 'face' has no 'vertex_indices' (or 'vertex_index') list property");
+    }
+    if (is_floating(e.props[static_cast<std::size_t>(idx)].type)) {
+      fail_header(e.line, "face vertex index type is not an integer type");
+    }
+    const auto n = static_cast<std::size_t>(e.count);
+    // The vertex count comes from the header, so faces may precede the vertex element.
+    std::uint64_t nverts = 0;
+    for (const auto& el : elements_) {
+      if (el.name == "vertex") nverts = el.count;
+    }
+    face_props_ = e.props;
+    face_arrays_.clear();
+    for (const auto& p : e.props) {
+      face_arrays_.emplace_back(p.name, p.is_list ? ScalarType::UInt8 : p.type, 1,
+                                p.is_list ? 0 : n);
+    }
+    auto& offsets = polys_.offsets();
+    auto& conn = polys_.connectivity();
+    offsets.reserve(n + 1);
+    for (std::size_t f = 0; f < n; ++f) {
+      for (std::size_t k = 0; k < e.props.size(); ++k) {
+        const PlyProperty& p = e.props[k];
+        if (static_cast<int>(k) == idx) {
+          const std::uint64_t count = read_list_count(p);
+          if (count < 3) {
+            fail("face " + std::to_string(f) + " has " + std::to_string(count) +
+                 " vertices, a polygon needs at least 3");
+          }
+          for (std::uint64_t j = 0; j < count; ++j) {
+            const std::int64_t v = read_integer(p.type, "face vertex index");
+            if (v < 0 || static_cast<std::uint64_t>(v) >= nverts) {
+              fail("face " + std::to_string(f) + ": vertex index " + std::to_string(v) +
+                   " is out of range (" + std::to_string(nverts) + " vertices)");
+            }
+            conn.push_back(v);
+          }
+          offsets.push_back(static_cast<Index>(conn.size()));
+        } else if (p.is_list) {
+          skip_property(p);
+        } else {
+          read_scalar_into(face_arrays_[k], f, "face property value");
+        }
+      }
+    }
+    face_index_prop_ = idx;
+  }
+
+  // Index of the scalar vertex property `name`, or -1.
+  [[nodiscard]] int vertex_prop(std::string_view name) const {
+    for (std::size_t i = 0; i < vertex_props_.size(); ++i) {
+      if (vertex_props_[i].name == name && !vertex_props_[i].is_list) return static_cast<int>(i);
+    }
+    return -1;
+  }
+
+  PolyData build() {
+    PolyData mesh;
+    if (!have_vertex_) {
+      if (!polys_.empty()) throw Error(sc_.name() + ": faces but no vertex element");
+      return mesh;
+    }
+    const std::size_t n = num_vertices_;
+    std::vector<bool> used(vertex_props_.size(), false);
+    for (std::size_t k = 0; k < vertex_props_.size(); ++k) used[k] = vertex_props_[k].is_list;
+
+    const int ix = vertex_prop("x"), iy = vertex_prop("y"), iz = vertex_prop("z");
+    if (ix < 0 || iy < 0 || iz < 0) {
+      const char* missing = ix < 0 ? "x" : (iy < 0 ? "y" : "z");
+      throw Error(sc_.name() + ": vertex element has no '" + missing + "' property");
+    }
+    const int xyz[3] = {ix, iy, iz};
+    bool dbl = false;
+    for (int a : xyz) {
+      dbl = dbl || vertex_props_[static_cast<std::size_t>(a)].type == ScalarType::Float64;
+      used[static_cast<std::size_t>(a)] = true;
+    }
+    mesh.points = Points(n, dbl ? ScalarType::Float64 : ScalarType::Float32);
+    for (std::size_t i = 0; i < n; ++i) {
+      Vec3 p{vertex_arrays_[static_cast<std::size_t>(ix)].get(i),
+             vertex_arrays_[static_cast<std::size_t>(iy)].get(i),
+             vertex_arrays_[static_cast<std::size_t>(iz)].get(i)};
+      mesh.points.set(i, p);
+    }
+    if (const std::size_t bad = mesh.points.first_non_finite(); bad < n) {
+      const Vec3 p = mesh.points[bad];
+      throw Error(sc_.name() + ": vertex " + std::to_string(bad) +
+                  " has a non-finite coordinate (" + std::to_string(p.x) + ", " +
+                  std::to_string(p.y) + ", " + std::to_string(p.z) + ")");
+    }
+
+    // Grouped attributes.
+    auto group = [&](std::initializer_list<const char*> names, const char* array_name,
+                     AttributeRole role) {
+      std::vector<int> ids;
+      for (const char* nm : names) {
+        const int id = vertex_prop(nm);
+        if (id < 0) return;
+        ids.push_back(id);
+      }
+      bool any_double = false;
+      for (int id : ids) {
+        any_double =
+            any_double || vertex_props_[static_cast<std::size_t>(id)].type == ScalarType::Float64;
+      }
+      DataArray a(array_name, any_double ? ScalarType::Float64 : ScalarType::Float32,
+                  static_cast<int>(ids.size()), n);
+      for (std::size_t c = 0; c < ids.size(); ++c) {
+        const DataArray& src = vertex_arrays_[static_cast<std::size_t>(ids[c])];
+        for (std::size_t i = 0; i < n; ++i) a.set(i, static_cast<int>(c), src.get(i));
+        used[static_cast<std::size_t>(ids[c])] = true;
+      }
+      mesh.point_data.add(std::move(a), role);
+    };
+    group({"nx", "ny", "nz"}, "Normals", AttributeRole::Normals);
+
+    // Colors: uint8; floating colours are taken as 0..1 and scaled, integers are clamped.
+    {
+      std::vector<int> ids;
+      for (const char* nm : {"red", "green", "blue"}) ids.push_back(vertex_prop(nm));
+      if (std::all_of(ids.begin(), ids.end(), [](int id) { return id >= 0; })) {
+        if (const int ia = vertex_prop("alpha"); ia >= 0) ids.push_back(ia);
+        DataArray c("Colors", ScalarType::UInt8, static_cast<int>(ids.size()), n);
+        auto& cv = c.vector<std::uint8_t>();
+        for (std::size_t k = 0; k < ids.size(); ++k) {
+          const auto id = static_cast<std::size_t>(ids[k]);
+          const DataArray& src = vertex_arrays_[id];
+          const bool fl = is_floating(src.type());
+          for (std::size_t i = 0; i < n; ++i) {
+            double v = src.get(i);
+            if (fl) v = std::round(v * 255.0);
+            if (!(v >= 0)) v = 0;  // also NaN
+            if (v > 255) v = 255;
+            cv[i * ids.size() + k] = static_cast<std::uint8_t>(v);
+          }
+          used[id] = true;
+        }
+        mesh.point_data.add(std::move(c), AttributeRole::Scalars);
+      }
+    }
+    if (vertex_prop("u") >= 0 && vertex_prop("v") >= 0) {
+      group({"u", "v"}, "TCoords", AttributeRole::TCoords);
+    } else if (vertex_prop("s") >= 0 && vertex_prop("t") >= 0) {
+      group({"s", "t"}, "TCoords", AttributeRole::TCoords);
+    } else {
+      group({"texture_u", "texture_v"}, "TCoords", AttributeRole::TCoords);
+    }
+    for (std::size_t k = 0; k < vertex_props_.size(); ++k) {
+      if (!used[k]) mesh.point_data.add(std::move(vertex_arrays_[k]));
+    }
+
+    mesh.polys = std::move(polys_);
+    for (std::size_t k = 0; k < face_props_.size(); ++k) {
+      if (static_cast<int>(k) != face_index_prop_ && !face_props_[k].is_list) {
+        mesh.cell_data.add(std::move(face_arrays_[k]));
+      }
+    }
+    return mesh;
+  }
+
+  Scanner sc_;
+  PlyFormat format_ = PlyFormat::Ascii;
+  Endian endian_ = Endian::Little;
+  std::vector<PlyElement> elements_;
+
+  bool have_vertex_ = false;
+  std::size_t num_vertices_ = 0;
+  std::vector<PlyProperty> vertex_props_;
+  std::vector<DataArray> vertex_arrays_;
+  std::vector<PlyProperty> face_props_;
+  std::vector<DataArray> face_arrays_;
+  int face_index_prop_ = -1;
+  CellArray polys_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Writer
+
+std::string_view ply_type_name(ScalarType t) {
+  switch (t) {
+    case ScalarType::Int8:
+      return "char";
+    case ScalarType::UInt8:
+      return "uchar";
+    case ScalarType::Int16:
+      return "short";
+    case ScalarType::UInt16:
+      return "ushort";
+    case ScalarType::Int32:
+      return "int";
+    case ScalarType::UInt32:
+      return "uint";
+    case ScalarType::Float32:
+      return "float";
+    default:
+      return "double";  // Float64; 64-bit integers are written as double
+  }
+}
+
+ScalarType ply_output_type(ScalarType t) {
+  if (t == ScalarType::Int64 || t == ScalarType::UInt64) return ScalarType::Float64;
+  return t;
+}
+
+/// One written property: component `comp` of `array`, named `name`, written as `type`.
+struct OutProp {
+  const DataArray* array = nullptr;
+  int comp = 0;
+  std::string name;
+  ScalarType type = ScalarType::Float32;
+};
+
+class PlyOut {
+ public:
+  PlyOut(PlyEncoding enc) : enc_(enc) {}
+
+  template <class T>
+  void put(T v) {
+    if (enc_ == PlyEncoding::Ascii) {
+      if (!first_) buf_ += ' ';
+      first_ = false;
+      char tmp[64];
+      auto r = std::to_chars(tmp, tmp + sizeof(tmp), v);
+      buf_.append(tmp, r.ptr);
+      return;
+    }
+    if ((enc_ == PlyEncoding::BinaryBigEndian) != (io_detail::kHostEndian == Endian::Big)) {
+      v = io_detail::byteswap_value(v);
+    }
+    char tmp[sizeof(T)];
+    std::memcpy(tmp, &v, sizeof(T));
+    buf_.append(tmp, sizeof(T));
+  }
+  void put_as(ScalarType t, double v) {
+    dispatch(t, [&](auto tag) {
+      using T = decltype(tag);
+      put(static_cast<T>(v));
+    });
+  }
+  void end_record() {
+    if (enc_ == PlyEncoding::Ascii) buf_ += '\n';
+    first_ = true;
+  }
+  std::string& buffer() { return buf_; }
+
+ private:
+  PlyEncoding enc_;
+  std::string buf_;
+  bool first_ = true;
+};
+
+std::string sanitize(std::string name) {
+  for (char& c : name) {
+    if (Scanner::is_space(c)) c = '_';
+  }
+  return name;
+}
+
+}  // namespace
+
+PolyData read_ply(std::span<const std::byte> data, std::string_view name) {
+  PlyReader reader(data, name);
+  return reader.read();
+}
+
+PolyData read_ply(const std::filesystem::path& path) {
+  const auto bytes = read_file_bytes(path);
+  return read_ply(bytes, path.string());
+}
+
+void write_ply(const PolyData& mesh, const std::filesystem::path& path,
+               const PlyWriteOptions& options) {
+  const std::string file = path.string();
+  if (!mesh.verts.empty() || !mesh.lines.empty()) {
+    throw Error(file + ": PLY holds surfaces (polygons and strips) only; the mesh has " +
+                std::to_string(mesh.verts.size()) + " verts and " +
+                std::to_string(mesh.lines.size()) + " lines");
+  }
+  try {
+    mesh.validate();
+  } catch (const Error& e) {
+    throw Error(file + ": cannot write an invalid mesh: " + e.what());
+  }
+  const std::size_t np = mesh.num_points();
+  if (np > std::numeric_limits<std::uint32_t>::max()) {
+    throw Error(file + ": " + std::to_string(np) + " points exceed what 32-bit PLY indices hold");
+  }
+
+  // ---- vertex properties ----
+  std::vector<OutProp> vprops;
+  std::set<std::string> used{"x", "y", "z"};
+  auto add_prop = [&](std::vector<OutProp>& props, const DataArray* a, int comp, std::string name,
+                      ScalarType type, const char* what) {
+    if (!used.insert(name).second) {
+      throw Error(file + ": " + what + " array '" + a->name() +
+                  "' would be written as PLY property '" + name + "', which is already used");
+    }
+    props.push_back({a, comp, std::move(name), type});
+  };
+  const DataArray* normals = mesh.point_data.normals();
+  if (!normals || normals->components() != 3) {
+    normals = mesh.point_data.find("Normals");
+    if (normals && normals->components() != 3) normals = nullptr;
+  }
+  const DataArray* colors = mesh.point_data.find("Colors");
+  if (colors && (colors->type() != ScalarType::UInt8 ||
+                 (colors->components() != 3 && colors->components() != 4))) {
+    colors = nullptr;
+  }
+  const DataArray* tcoords = mesh.point_data.tcoords();
+  if (!tcoords || tcoords->components() != 2) {
+    tcoords = mesh.point_data.find("TCoords");
+    if (tcoords && tcoords->components() != 2) tcoords = nullptr;
+  }
+  for (const DataArray& a : mesh.point_data) {
+    const ScalarType t = ply_output_type(a.type());
+    if (&a == normals) {
+      const char* names[3] = {"nx", "ny", "nz"};
+      for (int c = 0; c < 3; ++c) add_prop(vprops, &a, c, names[c], t, "point");
+    } else if (&a == colors) {
+      const char* names[4] = {"red", "green", "blue", "alpha"};
+      for (int c = 0; c < a.components(); ++c) add_prop(vprops, &a, c, names[c], t, "point");
+    } else if (&a == tcoords) {
+      add_prop(vprops, &a, 0, "u", t, "point");
+      add_prop(vprops, &a, 1, "v", t, "point");
+    } else if (a.components() == 1) {
+      add_prop(vprops, &a, 0, sanitize(a.name()), t, "point");
+    } else {
+      for (int c = 0; c < a.components(); ++c) {
+        add_prop(vprops, &a, c, sanitize(a.name()) + "_" + std::to_string(c), t, "point");
+      }
+    }
+  }
+
+  // ---- faces: polys, then strips as triangles; `rows` maps each face to its cell id ----
+  CellArray faces = mesh.polys;
+  std::vector<std::size_t> rows(mesh.polys.size());
+  for (std::size_t c = 0; c < rows.size(); ++c) rows[c] = c;
+  for (std::size_t s = 0; s < mesh.strips.size(); ++s) {
+    const auto ids = mesh.strips.cell(s);
+    for (std::size_t k = 0; k + 2 < ids.size(); ++k) {
+      if (k % 2 == 0) {
+        faces.add({ids[k], ids[k + 1], ids[k + 2]});
+      } else {
+        faces.add({ids[k + 1], ids[k], ids[k + 2]});
+      }
+      rows.push_back(mesh.polys.size() + s);
+    }
+  }
+  std::size_t max_face = 0;
+  for (std::size_t f = 0; f < faces.size(); ++f) max_face = std::max(max_face, faces.cell_size(f));
+  const ScalarType count_type = max_face <= 255 ? ScalarType::UInt8 : ScalarType::Int32;
+  const ScalarType index_type =
+      np <= static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()) ? ScalarType::Int32
+                                                                               : ScalarType::UInt32;
+  std::vector<OutProp> fprops;
+  used = {"vertex_indices"};
+  for (const DataArray& a : mesh.cell_data) {
+    const ScalarType t = ply_output_type(a.type());
+    if (a.components() == 1) {
+      add_prop(fprops, &a, 0, sanitize(a.name()), t, "cell");
+    } else {
+      for (int c = 0; c < a.components(); ++c) {
+        add_prop(fprops, &a, c, sanitize(a.name()) + "_" + std::to_string(c), t, "cell");
+      }
+    }
+  }
+
+  // ---- header ----
+  const ScalarType pt =
+      mesh.points.type() == ScalarType::Float64 ? ScalarType::Float64 : ScalarType::Float32;
+  PlyOut out(options.encoding);
+  std::string& buf = out.buffer();
+  buf += "ply\nformat ";
+  buf += options.encoding == PlyEncoding::Ascii             ? "ascii"
+         : options.encoding == PlyEncoding::BinaryBigEndian ? "binary_big_endian"
+                                                            : "binary_little_endian";
+  buf += " 1.0\ncomment written by isoforge\n";
+  buf += "element vertex " + std::to_string(np) + "\n";
+  for (const char* c : {"x", "y", "z"}) {
+    buf += "property " + std::string(ply_type_name(pt)) + " " + c + "\n";
+  }
+  for (const auto& p : vprops) {
+    buf += "property " + std::string(ply_type_name(p.type)) + " " + p.name + "\n";
+  }
+  buf += "element face " + std::to_string(faces.size()) + "\n";
+  buf += "property list " + std::string(ply_type_name(count_type)) + " " +
+         std::string(ply_type_name(index_type)) + " vertex_indices\n";
+  for (const auto& p : fprops) {
+    buf += "property " + std::string(ply_type_name(p.type)) + " " + p.name + "\n";
+  }
+  buf += "end_header\n";
+
+  // ---- body ----
+  for (std::size_t i = 0; i < np; ++i) {
+    const Vec3 p = mesh.points[i];
+    for (int a = 0; a < 3; ++a) out.put_as(pt, p[a]);
+    for (const auto& q : vprops) out.put_as(q.type, q.array->get(i, q.comp));
+    out.end_record();
+  }
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    const auto ids = faces.cell(f);
+    out.put_as(count_type, static_cast<double>(ids.size()));
+    for (Index id : ids) out.put_as(index_type, static_cast<double>(id));
+    for (const auto& q : fprops) out.put_as(q.type, q.array->get(rows[f], q.comp));
+    out.end_record();
+  }
+
+  AtomicFile file_out(path);
+  file_out.stream().write(buf.data(), static_cast<std::streamsize>(buf.size()));
+  file_out.commit();
+}
+
+}  // namespace isoforge
