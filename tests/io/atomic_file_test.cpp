@@ -1,3 +1,4 @@
+#include "support/scratch.hpp"
 #include "isoforge/io/atomic_file.hpp"
 
 #include <gtest/gtest.h>
@@ -14,7 +15,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path scratch(const std::string& name) {
-  fs::path dir = fs::path(ISOFORGE_TEST_TMP) / "atomic" / name;
+  fs::path dir = fs::path(ISOFORGE_TEST_TMP) / "atomic" / isoforge::test::current_test_id() / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

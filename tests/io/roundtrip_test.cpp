@@ -8,6 +8,7 @@
 #include <fstream>
 #include <string>
 
+#include "support/scratch.hpp"
 #include "isoforge/io/io.hpp"
 #include "support/sample_datasets.hpp"
 
@@ -17,7 +18,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path scratch(const std::string& name) {
-  fs::path dir = fs::path(ISOFORGE_TEST_TMP) / "roundtrip" / name;
+  fs::path dir = fs::path(ISOFORGE_TEST_TMP) / "roundtrip" / isoforge::test::current_test_id() / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

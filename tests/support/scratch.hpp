@@ -1,0 +1,32 @@
+#pragma once
+// Per-test scratch directories. ctest runs every test case as its own process, in parallel, so
+// two cases must never share a directory: the path includes the running test's full name.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+namespace isoforge::test {
+
+/// "Suite.Name/param" of the running test, with characters unsafe in paths replaced by '_'.
+inline std::string current_test_id() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::string id = info ? std::string(info->test_suite_name()) + "." + info->name() : "no_test";
+  for (char& c : id) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                    c == '.' || c == '-' || c == '_';
+    if (!ok) c = '_';
+  }
+  return id;
+}
+
+/// A fresh, empty directory ISOFORGE_TEST_TMP/<module>/<test id>/<name>.
+inline std::filesystem::path scratch_dir(const std::string& module, const std::string& name) {
+  const auto dir = std::filesystem::path(ISOFORGE_TEST_TMP) / module / current_test_id() / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+}  // namespace isoforge::test
