@@ -1,7 +1,7 @@
 // Mesh checks for the verification suite (see mesh_checks.hpp).
 //
-// Combinatorics (edges, fans, components, Euler characteristic) are computed here with integer
-// arithmetic. Geometry uses CGAL 5.5: exact predicates (Epick: exact predicates, inexact
+// Combinatorics (edges, fans, components, Euler characteristic) come from the library's
+// analyze_topology (exact integer work). Geometry uses CGAL 5.5: exact predicates (Epick: exact predicates, inexact
 // constructions) for collinearity, Polygon Mesh Processing for self-intersections
 // (box-intersection filtered, exact triangle-triangle predicates) and outward orientation.
 
@@ -17,8 +17,7 @@
 
 #include <algorithm>
 #include <array>
-#include <numeric>
-#include <unordered_map>
+#include <tuple>
 
 namespace isoforge::verify {
 
@@ -29,58 +28,28 @@ using Point = Kernel::Point_3;
 using Mesh = CGAL::Surface_mesh<Point>;
 namespace PMP = CGAL::Polygon_mesh_processing;
 
-using Tri = std::array<Index, 3>;
-
-struct UnionFind {
-  std::vector<std::size_t> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  std::size_t find(std::size_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void unite(std::size_t a, std::size_t b) { parent[find(a)] = find(b); }
-};
-
-std::vector<Tri> triangulate(const PolyData& mesh) {
-  std::vector<Tri> tris;
-  for (std::size_t c = 0; c < mesh.polys.size(); ++c) {
-    auto ids = mesh.polys.cell(c);
-    for (std::size_t k = 1; k + 1 < ids.size(); ++k) tris.push_back({ids[0], ids[k], ids[k + 1]});
-  }
-  for (std::size_t c = 0; c < mesh.strips.size(); ++c) {
-    auto ids = mesh.strips.cell(c);
-    for (std::size_t k = 0; k + 2 < ids.size(); ++k) {
-      if (k % 2 == 0) {
-        tris.push_back({ids[k], ids[k + 1], ids[k + 2]});
-      } else {
-        tris.push_back({ids[k + 1], ids[k], ids[k + 2]});
-      }
-    }
-  }
-  return tris;
-}
-
 Point to_point(const Vec3& v) { return {v.x, v.y, v.z}; }
-
-// A directed half-edge of face f from a to b, keyed by its undirected edge.
-struct HalfEdge {
-  Index lo, hi;  // undirected key
-  Index from;    // a
-  std::size_t face;
-  int corner_from, corner_to;
-};
 
 }  // namespace
 
 MeshReport check_mesh(const PolyData& mesh, const MeshCheckOptions& options) {
-  mesh.polys.validate(mesh.points.size(), "polys");
-  mesh.strips.validate(mesh.points.size(), "strips");
-  const std::vector<Tri> tris = triangulate(mesh);
+  const SurfaceTopology topo = analyze_topology(mesh);
+  const auto tris = triangulate_faces(mesh);
   if (tris.empty()) throw Error("check_mesh: the mesh has no polygons");
+  const std::size_t nf = tris.size();
 
   MeshReport r;
-  r.faces = tris.size();
-  const std::size_t nf = tris.size();
+  r.faces = topo.faces;
+  r.vertices = topo.vertices;
+  r.edges = topo.edges;
+  r.border_edges = topo.border_edges;
+  r.non_manifold_edges = topo.non_manifold_edges;
+  r.non_manifold_vertices = topo.non_manifold_vertices;
+  r.inconsistent_edges = topo.inconsistent_edges;
+  r.components = topo.components;
+  r.closed = topo.closed();
+  r.manifold = topo.manifold();
+  r.oriented = topo.oriented();
 
   // Points as stored (float or double) converted exactly to double.
   std::vector<Point> pts(mesh.points.size());
@@ -88,8 +57,10 @@ MeshReport check_mesh(const PolyData& mesh, const MeshCheckOptions& options) {
 
   // Degenerate faces (exact).
   std::vector<bool> degenerate(nf, false);
+  std::vector<bool> used(mesh.points.size(), false);
   for (std::size_t f = 0; f < nf; ++f) {
     const auto& t = tris[f];
+    for (Index id : t) used[static_cast<std::size_t>(id)] = true;
     if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2] ||
         CGAL::collinear(pts[static_cast<std::size_t>(t[0])], pts[static_cast<std::size_t>(t[1])],
                         pts[static_cast<std::size_t>(t[2])])) {
@@ -98,76 +69,19 @@ MeshReport check_mesh(const PolyData& mesh, const MeshCheckOptions& options) {
     }
   }
 
-  // Half-edges grouped by undirected edge.
-  std::vector<HalfEdge> hes;
-  hes.reserve(3 * nf);
-  for (std::size_t f = 0; f < nf; ++f) {
-    for (int k = 0; k < 3; ++k) {
-      Index a = tris[f][static_cast<std::size_t>(k)], b = tris[f][static_cast<std::size_t>((k + 1) % 3)];
-      if (a == b) continue;
-      hes.push_back({std::min(a, b), std::max(a, b), a, f, k, (k + 1) % 3});
-    }
-  }
-  std::sort(hes.begin(), hes.end(), [](const HalfEdge& x, const HalfEdge& y) {
-    return std::tie(x.lo, x.hi, x.face) < std::tie(y.lo, y.hi, y.face);
-  });
-
-  UnionFind corners(3 * nf);  // corner (f, k) = 3f + k; fans = classes of corners at a vertex
-  UnionFind face_sets(nf);
-  struct EdgeInfo { Index lo, hi; std::size_t count; std::size_t first; };
-  std::vector<EdgeInfo> edges;
-  for (std::size_t i = 0; i < hes.size();) {
-    std::size_t j = i;
-    while (j < hes.size() && hes[j].lo == hes[i].lo && hes[j].hi == hes[i].hi) ++j;
-    const std::size_t n = j - i;
-    edges.push_back({hes[i].lo, hes[i].hi, n, i});
-    for (std::size_t k = i + 1; k < j; ++k) face_sets.unite(hes[i].face, hes[k].face);
-    if (n == 1) {
-      ++r.border_edges;
-    } else if (n > 2) {
-      ++r.non_manifold_edges;
-    } else {
-      const HalfEdge& x = hes[i];
-      const HalfEdge& y = hes[i + 1];
-      if (x.from == y.from) ++r.inconsistent_edges;
-      // Join the corners at each end of this manifold edge: same vertex, adjacent faces.
-      auto corner_at = [](const HalfEdge& h, Index v) {
-        return 3 * h.face + static_cast<std::size_t>(h.from == v ? h.corner_from : h.corner_to);
-      };
-      corners.unite(corner_at(x, x.lo), corner_at(y, x.lo));
-      corners.unite(corner_at(x, x.hi), corner_at(y, x.hi));
-    }
-    i = j;
-  }
-  r.edges = edges.size();
-
-  // Vertices: referenced points, fans per vertex.
-  std::unordered_map<Index, std::vector<std::size_t>> vertex_corners;
-  for (std::size_t f = 0; f < nf; ++f)
-    for (std::size_t k = 0; k < 3; ++k) vertex_corners[tris[f][k]].push_back(3 * f + k);
-  r.vertices = vertex_corners.size();
-  for (auto& [v, cs] : vertex_corners) {
-    std::vector<std::size_t> roots;
-    for (std::size_t c : cs) roots.push_back(corners.find(c));
-    std::sort(roots.begin(), roots.end());
-    if (std::unique(roots.begin(), roots.end()) - roots.begin() > 1) ++r.non_manifold_vertices;
-  }
-
-  // Duplicate points among referenced vertices (identical stored coordinates).
+  // Duplicate points among used points (identical stored coordinates).
   {
-    std::vector<std::pair<Vec3, Index>> coords;
-    coords.reserve(vertex_corners.size());
-    for (auto& [v, cs] : vertex_corners) coords.push_back({mesh.points[static_cast<std::size_t>(v)], v});
-    std::sort(coords.begin(), coords.end(), [](const auto& a, const auto& b) {
-      return std::tie(a.first.x, a.first.y, a.first.z) < std::tie(b.first.x, b.first.y, b.first.z);
+    std::vector<Vec3> coords;
+    for (std::size_t i = 0; i < used.size(); ++i) {
+      if (used[i]) coords.push_back(mesh.points[i]);
+    }
+    std::sort(coords.begin(), coords.end(), [](const Vec3& a, const Vec3& b) {
+      return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z);
     });
-    for (std::size_t i = 1; i < coords.size(); ++i)
-      if (coords[i].first == coords[i - 1].first) ++r.duplicate_points;
+    for (std::size_t i = 1; i < coords.size(); ++i) {
+      if (coords[i] == coords[i - 1]) ++r.duplicate_points;
+    }
   }
-
-  r.closed = r.border_edges == 0;
-  r.manifold = r.non_manifold_edges == 0 && r.non_manifold_vertices == 0;
-  r.oriented = r.inconsistent_edges == 0;
 
   // Area and signed volume (divergence theorem), in double.
   for (const auto& t : tris) {
@@ -176,50 +90,6 @@ MeshReport check_mesh(const PolyData& mesh, const MeshCheckOptions& options) {
     const Vec3 c = mesh.points[static_cast<std::size_t>(t[2])];
     r.area += 0.5 * norm(cross(b - a, c - a));
     r.volume += dot(a, cross(b, c)) / 6.0;
-  }
-
-  // Components: V - E + F and border loops per component.
-  {
-    std::unordered_map<std::size_t, std::size_t> comp_of_root;
-    std::vector<std::size_t> comp(nf);
-    for (std::size_t f = 0; f < nf; ++f) {
-      auto [it, inserted] = comp_of_root.try_emplace(face_sets.find(f), comp_of_root.size());
-      comp[f] = it->second;
-    }
-    r.components.resize(comp_of_root.size());
-    for (std::size_t f = 0; f < nf; ++f) ++r.components[comp[f]].faces;
-    for (auto& [v, cs] : vertex_corners) {
-      // A non-manifold vertex shared by two components counts in each.
-      std::vector<std::size_t> cc;
-      for (std::size_t c : cs) cc.push_back(comp[c / 3]);
-      std::sort(cc.begin(), cc.end());
-      cc.erase(std::unique(cc.begin(), cc.end()), cc.end());
-      for (std::size_t c : cc) ++r.components[c].vertices;
-    }
-    // Border loops: union border edges sharing a vertex, per component.
-    std::unordered_map<Index, std::size_t> border_vertex;
-    std::vector<std::pair<Index, Index>> border;
-    for (const auto& e : edges) {
-      ++r.components[comp[hes[e.first].face]].edges;
-      if (e.count == 1) border.push_back({e.lo, e.hi});
-    }
-    for (const auto& [a, b] : border) {
-      border_vertex.try_emplace(a, border_vertex.size());
-      border_vertex.try_emplace(b, border_vertex.size());
-    }
-    UnionFind loops(border_vertex.size());
-    for (const auto& [a, b] : border) loops.unite(border_vertex[a], border_vertex[b]);
-    std::unordered_map<std::size_t, std::size_t> loop_comp;
-    for (const auto& e : edges) {
-      if (e.count != 1) continue;
-      loop_comp[loops.find(border_vertex[e.lo])] = comp[hes[e.first].face];
-    }
-    for (auto& [root, c] : loop_comp) ++r.components[c].border_loops;
-    for (auto& c : r.components) {
-      c.euler = static_cast<long>(c.vertices) - static_cast<long>(c.edges) + static_cast<long>(c.faces);
-      c.closed = c.border_loops == 0;
-      c.genus = (2 - c.euler - static_cast<long>(c.border_loops)) / 2;
-    }
   }
 
   // Geometry with CGAL on the non-degenerate faces.

@@ -8,18 +8,11 @@
 #include <vector>
 
 #include "isoforge/core/dataset.hpp"
+#include "isoforge/core/mesh_topology.hpp"
 
 namespace isoforge::verify {
 
-/// Per connected component (faces joined through shared edges).
-struct ComponentReport {
-  std::size_t vertices = 0, edges = 0, faces = 0;
-  std::size_t border_loops = 0;  ///< closed loops of border edges
-  long euler = 0;                ///< V - E + F
-  /// Genus from V - E + F = 2 - 2g - b (meaningful for manifold components).
-  long genus = 0;
-  bool closed = false;
-};
+using ComponentReport = SurfaceComponent;
 
 struct MeshReport {
   std::size_t vertices = 0;  ///< points referenced by at least one face
