@@ -26,7 +26,7 @@ DEBIAN_PACKAGES := cmake ninja-build g++ make ccache pkg-config git \
   libdraco-dev \
   libcli11-dev libfmt-dev libpugixml-dev zlib1g-dev \
   libgtest-dev libgmock-dev libbenchmark-dev \
-  python3 python3-vtk9 libmeshoptimizer-dev \
+  python3 python3-vtk9 python3-numpy libmeshoptimizer-dev \
   clang libclang-rt-14-dev
 
 .PHONY: all deps configure build demo test verify bench fuzz install clean

@@ -12,6 +12,13 @@
 
 int main(int argc, char** argv) {
   using namespace isoforge::cli;
+#if defined(__x86_64__)
+  if (!__builtin_cpu_supports("popcnt") || !__builtin_cpu_supports("sse4.2")) {
+    fmt::print(stderr, "isoforge: error: this build needs an x86-64-v2 CPU (POPCNT, SSE4.2); "
+                       "rebuild with -DISOFORGE_X86_64_V2=OFF\n");
+    return 1;
+  }
+#endif
   CLI::App app{
       "isoforge: scientific visualization algorithms (contouring, implicit modeling, cutting,\n"
       "probing, decimation) on VTK, PLY, PLOT3D, NRRD and OpenVDB data.\n"

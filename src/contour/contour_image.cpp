@@ -14,6 +14,9 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <emmintrin.h>
+#include <xmmintrin.h>
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -81,7 +84,16 @@ class ImageContourer {
           const T* p = v + 64 * w;
           Word word = 0;
           if constexpr (std::is_same_v<T, float>) {
-            for (Index b = 0; b < n; ++b) word |= static_cast<Word>(p[b] >= threshold) << b;
+            Index b = 0;
+            if (n == 64) {
+              // Four samples per compare; movemask packs the four sign bits.
+              const __m128 thr = _mm_set1_ps(threshold);
+              for (; b < 64; b += 4) {
+                const __m128 cmp = _mm_cmpge_ps(_mm_loadu_ps(p + b), thr);
+                word |= static_cast<Word>(_mm_movemask_ps(cmp)) << b;
+              }
+            }
+            for (; b < n; ++b) word |= static_cast<Word>(p[b] >= threshold) << b;
           } else {
             for (Index b = 0; b < n; ++b) word |= static_cast<Word>(static_cast<double>(p[b]) >= iso_) << b;
           }
@@ -200,6 +212,7 @@ class ImageContourer {
     const CaseTable& table = voxel_table();
     const double ox = img_.origin.x, oy = img_.origin.y, oz = img_.origin.z;
     const double hx = img_.spacing.x, hy = img_.spacing.y, hz = img_.spacing.z;
+    const bool copy_cells = arrays_ && arrays_->cell_data;
     tbb::parallel_for(tbb::blocked_range<Index>(0, rows_, 8), [&](const tbb::blocked_range<Index>& r) {
       Scratch s;
       s.masks.resize(static_cast<std::size_t>(8 * words_));
@@ -301,21 +314,26 @@ class ImageContourer {
             for (unsigned q = 0; q < var.centers; ++q) {
               emit_center(pts, center + static_cast<Index>(q), table.center_edges(var, q), i, j, k);
             }
-            for (std::size_t e = 0; e < edges.size(); ++e) {
-              const unsigned edge = edges[e];
-              Index id;
-              if (edge >= 12) {
-                id = center + static_cast<Index>(edge - 12);
-              } else {
+            // Point ids of the voxel's crossed edges, each computed once.
+            Index ids[12];
+            unsigned have = 0;
+            auto edge_id = [&](unsigned edge) -> Index {
+              if (edge >= 12) return center + static_cast<Index>(edge - 12);
+              if (!((have >> edge) & 1u)) {
                 const int m = kEdgeMask[edge];
-                id = gbase[m] + rank(s.masks.data() + m * words_, s.prefix.data() + m * (words_ + 1),
-                                     i + kEdgeDi[edge]);
+                ids[edge] = gbase[m] + rank(s.masks.data() + m * words_, s.prefix.data() + m * (words_ + 1),
+                                            i + kEdgeDi[edge]);
+                have |= 1u << edge;
               }
-              conn[3 * t + static_cast<Index>(e % 3)] = id;
-              if (e % 3 == 2) {
-                if (arrays_ && arrays_->cell_data) copy_cell(t, voxel);
-                ++t;
-              }
+              return ids[edge];
+            };
+            for (std::size_t e = 0; e < edges.size(); e += 3) {
+              Index* tri = conn + 3 * t;
+              tri[0] = edge_id(edges[e]);
+              tri[1] = edge_id(edges[e + 1]);
+              tri[2] = edge_id(edges[e + 2]);
+              if (copy_cells) copy_cell(t, voxel);
+              ++t;
             }
             center += var.centers;
           }
@@ -337,7 +355,9 @@ class ImageContourer {
     pts[3 * id + 2] = static_cast<float>(p.z);
     const Index a = i0 + nx_ * (j0 + ny_ * k0), b = i1 + nx_ * (j1 + ny_ * k1);
     if (!arrays_) return;
-    arrays_->interpolate(static_cast<std::size_t>(id), static_cast<std::size_t>(a), static_cast<std::size_t>(b), t);
+    if (arrays_->has_point_arrays()) {
+      arrays_->interpolate(static_cast<std::size_t>(id), static_cast<std::size_t>(a), static_cast<std::size_t>(b), t);
+    }
     if (arrays_->normals) {
       const Vec3 ga = gradient(i0, j0, k0), gb = gradient(i1, j1, k1);
       Vec3 g = ga + (gb - ga) * t;

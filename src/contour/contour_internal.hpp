@@ -35,6 +35,8 @@ class InterpolatedArrays {
   /// Moves the arrays (and "Normals" if requested) into the output's attributes.
   void move_into(Attributes& point_data, Attributes& cell_data);
 
+  [[nodiscard]] bool has_point_arrays() const { return !interp_.empty(); }
+
   float* normals = nullptr;  ///< 3 floats per output point when normals were requested
   bool cell_data = false;    ///< whether there are cell arrays to copy
 

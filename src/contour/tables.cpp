@@ -48,49 +48,50 @@ int edge_of(const CellTopology& t, int a, int b) {
   throw Error("contour tables: face edge missing from the edge list");
 }
 
-// Whether cell edges a and b lie on a common face (a segment between crossings on them would
-// lie in that face's plane).
-bool share_face(const CellTopology& t, int a, int b) {
-  for (const auto& f : t.faces) {
-    bool ha = false, hb = false;
-    for (std::size_t i = 0; i < f.size(); ++i) {
-      const int e = edge_of(t, f[i], f[(i + 1) % f.size()]);
-      ha = ha || e == a;
-      hb = hb || e == b;
+// Bit f of face_mask[e] is set when edge e is a side of face f.
+std::vector<unsigned> face_masks(const CellTopology& t) {
+  std::vector<unsigned> mask(t.edges.size(), 0);
+  for (std::size_t f = 0; f < t.faces.size(); ++f) {
+    const auto& face = t.faces[f];
+    for (std::size_t i = 0; i < face.size(); ++i) {
+      mask[static_cast<std::size_t>(edge_of(t, face[i], face[(i + 1) % face.size()]))] |= 1u << f;
     }
-    if (ha && hb) return true;
   }
-  return false;
+  return mask;
 }
 
 // Triangulates the polygon loop[lo..hi] (a contiguous run of the loop, closed by the edge
 // loop[hi]-loop[lo]) with no diagonal joining two crossings on a common face: such a diagonal
 // would lie in the face, where the neighbouring cell may make the same one (four triangles on an
 // edge) or overlap it. Prefers a fan from loop[lo]; tries every apex otherwise.
-bool triangulate_range(const CellTopology& t, const std::vector<int>& loop, std::size_t lo, std::size_t hi,
-                       std::vector<std::array<int, 3>>& out) {
+bool triangulate_range(const std::vector<unsigned>& face_mask, const std::vector<int>& loop, std::size_t lo,
+                       std::size_t hi, std::vector<std::array<int, 3>>& out) {
   if (hi - lo < 2) return true;
   // Sides lo-k and k-hi of the triangle (lo, k, hi) are loop sides when adjacent, otherwise new
   // diagonals (lo-hi was checked by the caller, or is the loop's closing side).
-  auto diagonal_ok = [&](std::size_t a, std::size_t b) { return b - a == 1 || !share_face(t, loop[a], loop[b]); };
+  auto diagonal_ok = [&](std::size_t a, std::size_t b) {
+    return b - a == 1 ||
+           (face_mask[static_cast<std::size_t>(loop[a])] & face_mask[static_cast<std::size_t>(loop[b])]) == 0;
+  };
   for (std::size_t k = lo + 1; k < hi; ++k) {
     // Triangle (lo, k, hi): its sides lo-k and k-hi are diagonals unless adjacent on the loop.
     if (!diagonal_ok(lo, k) || !diagonal_ok(k, hi)) continue;
     const std::size_t mark = out.size();
     out.push_back({loop[lo], loop[k], loop[hi]});
-    if (triangulate_range(t, loop, lo, k, out) && triangulate_range(t, loop, k, hi, out)) return true;
+    if (triangulate_range(face_mask, loop, lo, k, out) && triangulate_range(face_mask, loop, k, hi, out)) return true;
     out.resize(mark);
   }
   return false;
 }
 
-bool triangulate_loop(const CellTopology& t, const std::vector<int>& loop, std::vector<std::array<int, 3>>& out) {
+bool triangulate_loop(const std::vector<unsigned>& face_mask, const std::vector<int>& loop,
+                      std::vector<std::array<int, 3>>& out) {
   // Try every rotation of the loop (different apexes for the outer triangle).
   for (std::size_t r = 0; r < loop.size(); ++r) {
     std::vector<int> rotated(loop.begin() + static_cast<std::ptrdiff_t>(r), loop.end());
     rotated.insert(rotated.end(), loop.begin(), loop.begin() + static_cast<std::ptrdiff_t>(r));
     out.clear();
-    if (triangulate_range(t, rotated, 0, rotated.size() - 1, out)) return true;
+    if (triangulate_range(face_mask, rotated, 0, rotated.size() - 1, out)) return true;
   }
   return false;
 }
@@ -99,6 +100,14 @@ bool triangulate_loop(const CellTopology& t, const std::vector<int>& loop, std::
 
 CaseTable::CaseTable(const CellTopology& topology) : topo_(topology) {
   orient_faces(topo_);
+  const std::vector<unsigned> face_mask = face_masks(topo_);
+  // edge_index[a][b]: the edge joining corners a and b.
+  std::vector<std::vector<int>> edge_index(static_cast<std::size_t>(topo_.corners),
+                                           std::vector<int>(static_cast<std::size_t>(topo_.corners), -1));
+  for (std::size_t e = 0; e < topo_.edges.size(); ++e) {
+    edge_index[static_cast<std::size_t>(topo_.edges[e][0])][static_cast<std::size_t>(topo_.edges[e][1])] = static_cast<int>(e);
+    edge_index[static_cast<std::size_t>(topo_.edges[e][1])][static_cast<std::size_t>(topo_.edges[e][0])] = static_cast<int>(e);
+  }
   const unsigned ncases = 1u << topo_.corners;
   cases_.resize(ncases);
   for (unsigned c = 0; c < ncases; ++c) {
@@ -126,7 +135,9 @@ CaseTable::CaseTable(const CellTopology& topology) : topo_(topology) {
         std::vector<std::pair<int, bool>> xs;
         for (std::size_t i = 0; i < n; ++i) {
           const int a = face[i], b = face[(i + 1) % n];
-          if (above(a) != above(b)) xs.push_back({edge_of(topo_, a, b), above(a)});
+          if (above(a) != above(b)) {
+            xs.push_back({edge_index[static_cast<std::size_t>(a)][static_cast<std::size_t>(b)], above(a)});
+          }
         }
         if (xs.empty()) continue;
         if (xs.size() == 2) {
@@ -158,7 +169,7 @@ CaseTable::CaseTable(const CellTopology& topology) : topo_(topology) {
           if (next[static_cast<std::size_t>(e)] < 0) throw Error("contour tables: open loop");
         }
         std::vector<std::array<int, 3>> tris;
-        if (!triangulate_loop(topo_, loop, tris)) {
+        if (!triangulate_loop(face_mask, loop, tris)) {
           // No triangulation avoids a diagonal on a face: fan around a point inside the cell
           // (the mean of the loop's crossings), numbered after the cell's edges.
           const int center = static_cast<int>(topo_.edges.size() + v.centers);
