@@ -57,3 +57,16 @@ elif section == "implicit":
         lines.append(f"| {n}³ | {b['real_time']:.0f} | {b['active_voxels']:.0f} | {b['tree_MB']:.1f} | "
                      f"{b['dense_MB']:.0f} | {b['evaluated_fraction']:.4f} | {b['peak_rss_MB']:.0f} |")
     write("Sampling implicit functions: isoforge vs vtkSampleFunction (same machine, same run)", lines)
+elif section == "contour":
+    ours, vtk = load("contour_isoforge.json"), load("contour_vtk.json")
+    lines = ["| field | n³ | threads | isoforge Mvox/s | triangles | vtkFlyingEdges3D Mvox/s | triangles | speed-up vs FE | vtkMarchingCubes Mvox/s (1 thread) | speed-up vs MC |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    for b in ours.get("benchmarks", []):
+        name, n, thr = b["label"].split("/")
+        fe = vtk.get(f"flying_edges/{name}/{n}/{thr}") or (vtk.get(f"flying_edges/{name}/{n}/{int(b['threads'])}"))
+        mc = vtk.get(f"marching_cubes/{name}/{n}/1")
+        ours_rate = b["Mvoxels_per_s"]
+        fe_s = f"{fe['Mvoxels_per_s']:.0f} | {fe['triangles']} | {ours_rate / fe['Mvoxels_per_s']:.2f}x" if fe else "n/a | n/a | n/a"
+        mc_s = f"{mc['Mvoxels_per_s']:.0f} | {ours_rate / mc['Mvoxels_per_s']:.1f}x" if (mc and int(b['threads']) == 1) else "| "
+        lines.append(f"| {name} | {n} | {int(b['threads'])} | {ours_rate:.0f} | {int(b['triangles'])} | {fe_s} | {mc_s} |")
+    write("Marching cubes: isoforge vs vtkFlyingEdges3D and vtkMarchingCubes (same volumes, same run)", lines)

@@ -3,7 +3,7 @@
 # Usage: run.sh BENCH_BUILD_DIR OUT_DIR [SECTION...]   (sections: io implicit; default all)
 set -euo pipefail
 build=$1 out=$2; shift 2
-sections=${*:-io implicit}
+sections=${*:-io implicit contour}
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 mkdir -p "$out"
@@ -20,6 +20,11 @@ for s in $sections; do
     implicit)
       "$build/verify/bench/bench_implicit" --benchmark_format=json > "$out/implicit_isoforge.json"
       if [ $have_vtk = 1 ]; then /usr/bin/python3 "$here/peers/vtk_sample.py" 256 512 > "$out/implicit_vtk.json"; else echo '{}' > "$out/implicit_vtk.json"; fi
+      ;;
+    contour)
+      /usr/bin/python3 "$here/peers/make_fields.py" "$out/fields" 256 512
+      ISOFORGE_BENCH_FIELDS="$out/fields" "$build/verify/bench/bench_contour" --benchmark_format=json > "$out/contour_isoforge.json"
+      if [ $have_vtk = 1 ]; then /usr/bin/python3 "$here/peers/vtk_contour.py" "$out/fields" 256 512 > "$out/contour_vtk.json"; else echo '{}' > "$out/contour_vtk.json"; fi
       ;;
     *) echo "unknown section $s"; exit 2 ;;
   esac

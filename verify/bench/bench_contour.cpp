@@ -1,0 +1,68 @@
+// Marching cubes on dense volumes (the raw fields written by peers/make_fields.py, contoured by
+// vtkFlyingEdges3D and vtkMarchingCubes in the same run by peers/vtk_contour.py).
+// Set ISOFORGE_BENCH_FIELDS to the directory of the raw fields.
+
+#include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include "isoforge/contour/contour.hpp"
+
+namespace {
+
+using namespace isoforge;
+
+const ImageData& field(const std::string& name, Index n) {
+  static std::map<std::string, ImageData> cache;
+  const std::string key = name + "_" + std::to_string(n);
+  auto it = cache.find(key);
+  if (it != cache.end()) return it->second;
+  const char* dir = std::getenv("ISOFORGE_BENCH_FIELDS");
+  const auto path = std::filesystem::path(dir ? dir : "out/bench/fields") / (key + ".raw");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("bench_contour: missing " + path.string() + " (run peers/make_fields.py)");
+  std::vector<float> v(static_cast<std::size_t>(n * n * n));
+  in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(float)));
+  ImageData img;
+  img.dims = {n, n, n};
+  const double h = 1.0 / static_cast<double>(n - 1);
+  img.spacing = {h, h, h};
+  img.point_data.add(DataArray::from_vector<float>("s", 1, std::move(v)), AttributeRole::Scalars);
+  return cache.emplace(key, std::move(img)).first->second;
+}
+
+// args: field (0 gyroid, 1 blobs), n, threads (0 = all)
+void contour_dense(benchmark::State& state) {
+  const std::string name = state.range(0) == 0 ? "gyroid" : "blobs";
+  const Index n = state.range(1);
+  const int threads = state.range(2) == 0 ? tbb::info::default_concurrency() : static_cast<int>(state.range(2));
+  const ImageData& img = field(name, n);
+  tbb::global_control c(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  ContourOptions o;
+  o.values = {name == "gyroid" ? 0.0 : 0.5};
+  o.interpolate_attributes = false;  // like the peers (ComputeScalarsOff)
+  ContourStats stats;
+  for (auto _ : state) {
+    PolyData pd = contour_image(img, o, &stats);
+    benchmark::DoNotOptimize(pd);
+  }
+  state.counters["threads"] = threads;
+  state.counters["triangles"] = static_cast<double>(stats.cells);
+  state.counters["Mvoxels_per_s"] =
+      benchmark::Counter(static_cast<double>(n * n * n) * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
+  state.SetLabel(name + "/" + std::to_string(n) + "/" + std::to_string(threads));
+}
+
+}  // namespace
+
+BENCHMARK(contour_dense)
+    ->ArgsProduct({{0, 1}, {256, 512}, {1, 0}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+BENCHMARK_MAIN();
