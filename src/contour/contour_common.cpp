@@ -61,7 +61,7 @@ InterpolatedArrays::InterpolatedArrays(const Attributes& point_data, const Attri
     src_points_ = &point_data;
     src_cells_ = &cell_data;
     for (const auto& a : point_data) {
-      DataArray d(a.name(), a.type(), a.components(), points);
+      DataArray d = DataArray::uninitialized(a.name(), a.type(), a.components(), points);
       d.set_lookup_table(a.lookup_table());
       points_.add(std::move(d));
       interp_.push_back(a.visit([](const auto& v) -> InterpFn {
@@ -74,7 +74,7 @@ InterpolatedArrays::InterpolatedArrays(const Attributes& point_data, const Attri
       if (!point_data.active_name(role).empty()) points_.set_active(role, point_data.active_name(role));
     }
     for (const auto& a : cell_data) {
-      cells_.add(DataArray(a.name(), a.type(), a.components(), cells));
+      cells_.add(DataArray::uninitialized(a.name(), a.type(), a.components(), cells));
       copy_.push_back(&copy_tuple_raw);
     }
     for (std::size_t r = 0; r < kAttributeRoleCount; ++r) {
@@ -84,7 +84,7 @@ InterpolatedArrays::InterpolatedArrays(const Attributes& point_data, const Attri
     this->cell_data = !cells_.empty();
   }
   if (normals) {
-    normal_array_ = DataArray("Normals", ScalarType::Float32, 3, points);
+    normal_array_ = DataArray::uninitialized("Normals", ScalarType::Float32, 3, points);
     this->normals = normal_array_.values<float>().data();
     has_normals_ = true;
   }

@@ -454,10 +454,14 @@ PolyData contour_one(const ImageData& img, const T* values, double iso, const Co
   const RowCounts total = c.offsets();
   const auto npts = static_cast<std::size_t>(total.x);
   const auto ntris = static_cast<std::size_t>(total.tris);
-  out.points = Points(npts);
+  // Outputs are allocated uninitialized and first touched by the parallel passes below.
+  out.points = Points(DataArray::uninitialized("Points", ScalarType::Float32, 3, npts));
   out.polys.offsets().resize(ntris + 1);
-  for (std::size_t t = 0; t <= ntris; ++t) out.polys.offsets()[t] = static_cast<Index>(3 * t);
   out.polys.connectivity().resize(3 * ntris);
+  Index* offsets = out.polys.offsets().data();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ntris + 1, 1 << 16), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t t = r.begin(); t != r.end(); ++t) offsets[t] = static_cast<Index>(3 * t);
+  });
   InterpolatedArrays arrays(img.point_data, img.cell_data, npts, ntris, opt.interpolate_attributes,
                             opt.normals == ContourNormals::Gradient);
   c.set_arrays(&arrays);

@@ -6,7 +6,7 @@
 
 namespace isoforge {
 
-CellArray::CellArray(std::vector<Index> offsets, std::vector<Index> connectivity)
+CellArray::CellArray(Buffer<Index> offsets, Buffer<Index> connectivity)
     : offsets_(std::move(offsets)), connectivity_(std::move(connectivity)) {
   if (offsets_.empty() || offsets_.front() != 0) {
     throw Error("CellArray: offsets must start with 0");

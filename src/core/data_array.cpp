@@ -10,18 +10,29 @@ constexpr std::string_view kNames[] = {"Int8",   "UInt8",  "Int16", "UInt16",  "
                                        "UInt32", "Int64",  "UInt64", "Float32", "Float64"};
 constexpr std::size_t kSizes[] = {1, 1, 2, 2, 4, 4, 8, 8, 4, 8};
 
-DataArray::Storage make_storage(ScalarType type, std::size_t n) {
+template <class T>
+Buffer<T> make_buffer(std::size_t n, bool zero) {
+  Buffer<T> b;
+  if (zero) {
+    b.resize(n, T{});
+  } else {
+    b.resize(n);
+  }
+  return b;
+}
+
+DataArray::Storage make_storage(ScalarType type, std::size_t n, bool zero) {
   switch (type) {
-    case ScalarType::Int8: return std::vector<std::int8_t>(n);
-    case ScalarType::UInt8: return std::vector<std::uint8_t>(n);
-    case ScalarType::Int16: return std::vector<std::int16_t>(n);
-    case ScalarType::UInt16: return std::vector<std::uint16_t>(n);
-    case ScalarType::Int32: return std::vector<std::int32_t>(n);
-    case ScalarType::UInt32: return std::vector<std::uint32_t>(n);
-    case ScalarType::Int64: return std::vector<std::int64_t>(n);
-    case ScalarType::UInt64: return std::vector<std::uint64_t>(n);
-    case ScalarType::Float32: return std::vector<float>(n);
-    case ScalarType::Float64: return std::vector<double>(n);
+    case ScalarType::Int8: return make_buffer<std::int8_t>(n, zero);
+    case ScalarType::UInt8: return make_buffer<std::uint8_t>(n, zero);
+    case ScalarType::Int16: return make_buffer<std::int16_t>(n, zero);
+    case ScalarType::UInt16: return make_buffer<std::uint16_t>(n, zero);
+    case ScalarType::Int32: return make_buffer<std::int32_t>(n, zero);
+    case ScalarType::UInt32: return make_buffer<std::uint32_t>(n, zero);
+    case ScalarType::Int64: return make_buffer<std::int64_t>(n, zero);
+    case ScalarType::UInt64: return make_buffer<std::uint64_t>(n, zero);
+    case ScalarType::Float32: return make_buffer<float>(n, zero);
+    case ScalarType::Float64: return make_buffer<double>(n, zero);
   }
   throw Error("DataArray: invalid scalar type");
 }
@@ -41,7 +52,16 @@ ScalarType scalar_type_from_name(std::string_view name) {
 DataArray::DataArray(std::string name, ScalarType type, int components, std::size_t tuples)
     : name_(std::move(name)), components_(components) {
   if (components < 1) throw Error("DataArray '" + name_ + "': components must be >= 1");
-  storage_ = make_storage(type, tuples * static_cast<std::size_t>(components));
+  storage_ = make_storage(type, tuples * static_cast<std::size_t>(components), true);
+}
+
+DataArray DataArray::uninitialized(std::string name, ScalarType type, int components, std::size_t tuples) {
+  DataArray a;
+  a.name_ = std::move(name);
+  if (components < 1) throw Error("DataArray '" + a.name_ + "': components must be >= 1");
+  a.components_ = components;
+  a.storage_ = make_storage(type, tuples * static_cast<std::size_t>(components), false);
+  return a;
 }
 
 std::size_t DataArray::size() const {
@@ -49,7 +69,12 @@ std::size_t DataArray::size() const {
 }
 
 void DataArray::resize(std::size_t tuples) {
-  std::visit([&](auto& v) { v.resize(tuples * static_cast<std::size_t>(components_)); }, storage_);
+  std::visit(
+      [&](auto& v) {
+        using T = typename std::decay_t<decltype(v)>::value_type;
+        v.resize(tuples * static_cast<std::size_t>(components_), T{});
+      },
+      storage_);
 }
 
 void DataArray::reserve(std::size_t tuples) {

@@ -516,7 +516,7 @@ class Reader {
   void read_attributes(pugi::xml_node el, const Where& w, std::optional<std::uint64_t> tuples,
                        Attributes& out);
   Points read_points(pugi::xml_node piece, const Where& w, std::uint64_t np);
-  std::vector<Index> read_index_array(pugi::xml_node el, const Where& w, std::uint64_t count);
+  Buffer<Index> read_index_array(pugi::xml_node el, const Where& w, std::uint64_t count);
   CellArray read_cells(pugi::xml_node el, const Where& w, std::uint64_t ncells, std::uint64_t np);
 
   Extent read_extent(pugi::xml_node el, const char* name, const Where& w, bool allow_empty);
@@ -915,10 +915,10 @@ Points Reader::read_points(pugi::xml_node piece, const Where& w, std::uint64_t n
   return pts;
 }
 
-std::vector<Index> Reader::read_index_array(pugi::xml_node el, const Where& w,
-                                            std::uint64_t count) {
+Buffer<Index> Reader::read_index_array(pugi::xml_node el, const Where& w,
+                                       std::uint64_t count) {
   auto arr = read_array(el, w, ArrayRequest{count, 1, false});
-  std::vector<Index> out;
+  Buffer<Index> out;
   arr->visit([&](const auto& v) {
     using T = typename std::decay_t<decltype(v)>::value_type;
     if constexpr (std::is_floating_point_v<T>) {
@@ -954,7 +954,7 @@ CellArray Reader::read_cells(pugi::xml_node el, const Where& w, std::uint64_t nc
   if (ncells == 0 && !off_el && !conn_el) return CellArray();
   if (!off_el) w.fail("missing DataArray 'offsets' for " + num(ncells) + " cells");
   const Where ow = w.child(off_el, "DataArray 'offsets'");
-  std::vector<Index> ends = read_index_array(off_el, ow, ncells);
+  Buffer<Index> ends = read_index_array(off_el, ow, ncells);
   Index prev = 0;
   for (std::size_t c = 0; c < ends.size(); ++c) {
     if (ends[c] < prev) {
@@ -964,7 +964,7 @@ CellArray Reader::read_cells(pugi::xml_node el, const Where& w, std::uint64_t nc
     prev = ends[c];
   }
   const auto nconn = static_cast<std::uint64_t>(prev);
-  std::vector<Index> conn;
+  Buffer<Index> conn;
   if (!conn_el) {
     if (nconn != 0) w.fail("missing DataArray 'connectivity'");
   } else {
@@ -980,7 +980,7 @@ CellArray Reader::read_cells(pugi::xml_node el, const Where& w, std::uint64_t nc
       }
     }
   }
-  std::vector<Index> offsets;
+  Buffer<Index> offsets;
   offsets.reserve(ends.size() + 1);
   offsets.push_back(0);
   offsets.insert(offsets.end(), ends.begin(), ends.end());
@@ -1354,7 +1354,7 @@ UnstructuredGrid Reader::read_unstructured(pugi::xml_node ds, const Where& w) {
         if (nc != 0) cw.fail("missing DataArray 'types'");
       } else {
         const Where tw = cw.child(tel, "DataArray 'types'");
-        const std::vector<Index> t = read_index_array(tel, tw, nc);
+        const Buffer<Index> t = read_index_array(tel, tw, nc);
         up.types.resize(t.size());
         for (std::size_t c = 0; c < t.size(); ++c) {
           if (t[c] < 0 || t[c] > 255 || !is_valid_cell_type(static_cast<int>(t[c]))) {
@@ -1716,10 +1716,9 @@ class Writer {
     x_ += "      </Points>\n";
   }
   void cell_arrays(const CellArray& c, int level) {
-    array(DataArray::from_vector("connectivity", 1, std::vector<Index>(c.connectivity())), level,
-          false);
-    std::vector<Index> ends(c.offsets().begin() + 1, c.offsets().end());
-    array(DataArray::from_vector("offsets", 1, std::move(ends)), level, false);
+    array(DataArray::from_buffer("connectivity", 1, Buffer<Index>(c.connectivity())), level, false);
+    Buffer<Index> ends(c.offsets().begin() + 1, c.offsets().end());
+    array(DataArray::from_buffer("offsets", 1, std::move(ends)), level, false);
   }
   void cells(const char* tag, const CellArray& c) {
     x_ += "      <";

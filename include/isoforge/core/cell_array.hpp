@@ -8,6 +8,8 @@
 #include <span>
 #include <vector>
 
+#include "isoforge/core/buffer.hpp"
+
 namespace isoforge {
 
 /// Point index type used by all connectivity.
@@ -20,7 +22,10 @@ class CellArray {
   CellArray() = default;
   /// Adopts offsets + connectivity. \throw Error if offsets are not a valid prefix sum of
   /// connectivity (first 0, non-decreasing, last == connectivity.size()).
-  CellArray(std::vector<Index> offsets, std::vector<Index> connectivity);
+  CellArray(Buffer<Index> offsets, Buffer<Index> connectivity);
+  CellArray(const std::vector<Index>& offsets, const std::vector<Index>& connectivity)
+      : CellArray(Buffer<Index>(offsets.begin(), offsets.end()),
+                  Buffer<Index>(connectivity.begin(), connectivity.end())) {}
 
   [[nodiscard]] std::size_t size() const { return offsets_.size() - 1; }
   [[nodiscard]] bool empty() const { return size() == 0; }
@@ -39,11 +44,12 @@ class CellArray {
   void reserve(std::size_t cells, std::size_t ids);
   void clear();
 
-  [[nodiscard]] const std::vector<Index>& offsets() const { return offsets_; }
-  [[nodiscard]] const std::vector<Index>& connectivity() const { return connectivity_; }
-  /// Direct access for bulk builders; call `validate` afterwards.
-  [[nodiscard]] std::vector<Index>& offsets() { return offsets_; }
-  [[nodiscard]] std::vector<Index>& connectivity() { return connectivity_; }
+  [[nodiscard]] const Buffer<Index>& offsets() const { return offsets_; }
+  [[nodiscard]] const Buffer<Index>& connectivity() const { return connectivity_; }
+  /// Direct access for bulk builders; call `validate` afterwards. Note that `resize(n)` leaves
+  /// new ids uninitialized (see Buffer): write every one, or use `resize(n, 0)`.
+  [[nodiscard]] Buffer<Index>& offsets() { return offsets_; }
+  [[nodiscard]] Buffer<Index>& connectivity() { return connectivity_; }
 
   /// Checks the offsets invariant and that every id is in [0, num_points).
   /// \throw Error mentioning `what` (e.g. "polys") and the first bad cell.
@@ -52,8 +58,8 @@ class CellArray {
   friend bool operator==(const CellArray&, const CellArray&) = default;
 
  private:
-  std::vector<Index> offsets_{0};
-  std::vector<Index> connectivity_;
+  Buffer<Index> offsets_{0};
+  Buffer<Index> connectivity_;
 };
 
 }  // namespace isoforge

@@ -12,6 +12,7 @@
 #include <variant>
 #include <vector>
 
+#include "isoforge/core/buffer.hpp"
 #include "isoforge/core/error.hpp"
 
 namespace isoforge {
@@ -58,11 +59,10 @@ template <> struct ScalarTypeOf<double> { static constexpr ScalarType value = Sc
 /// type; generic code uses `visit` or the `get`/`set` double accessors.
 class DataArray {
  public:
-  using Storage = std::variant<std::vector<std::int8_t>, std::vector<std::uint8_t>,
-                               std::vector<std::int16_t>, std::vector<std::uint16_t>,
-                               std::vector<std::int32_t>, std::vector<std::uint32_t>,
-                               std::vector<std::int64_t>, std::vector<std::uint64_t>,
-                               std::vector<float>, std::vector<double>>;
+  using Storage = std::variant<Buffer<std::int8_t>, Buffer<std::uint8_t>, Buffer<std::int16_t>,
+                               Buffer<std::uint16_t>, Buffer<std::int32_t>, Buffer<std::uint32_t>,
+                               Buffer<std::int64_t>, Buffer<std::uint64_t>, Buffer<float>,
+                               Buffer<double>>;
 
   DataArray() = default;
   /// A zero-filled array.
@@ -72,7 +72,7 @@ class DataArray {
   /// Takes ownership of `values` (size must be a multiple of `components`).
   /// \throw Error if components < 1 or the size is not a multiple of it.
   template <class T>
-  static DataArray from_vector(std::string name, int components, std::vector<T> values) {
+  static DataArray from_buffer(std::string name, int components, Buffer<T> values) {
     DataArray a;
     a.name_ = std::move(name);
     if (components < 1) throw Error("DataArray '" + a.name_ + "': components must be >= 1");
@@ -84,6 +84,15 @@ class DataArray {
     a.storage_ = std::move(values);
     return a;
   }
+  /// Copies `values` (size must be a multiple of `components`). \throw Error as from_buffer.
+  template <class T>
+  static DataArray from_vector(std::string name, int components, const std::vector<T>& values) {
+    return from_buffer(std::move(name), components, Buffer<T>(values.begin(), values.end()));
+  }
+  /// An array whose values are left uninitialized, for algorithms that write every value.
+  /// \throw Error if components < 1.
+  [[nodiscard]] static DataArray uninitialized(std::string name, ScalarType type, int components,
+                                               std::size_t tuples);
 
   [[nodiscard]] const std::string& name() const { return name_; }
   void set_name(std::string name) { name_ = std::move(name); }
@@ -102,20 +111,20 @@ class DataArray {
   /// Typed view. \throw Error if T is not the stored type.
   template <class T>
   [[nodiscard]] std::span<T> values() {
-    auto* v = std::get_if<std::vector<T>>(&storage_);
+    auto* v = std::get_if<Buffer<T>>(&storage_);
     if (!v) type_mismatch(ScalarTypeOf<T>::value);
     return {v->data(), v->size()};
   }
   template <class T>
   [[nodiscard]] std::span<const T> values() const {
-    auto* v = std::get_if<std::vector<T>>(&storage_);
+    auto* v = std::get_if<Buffer<T>>(&storage_);
     if (!v) type_mismatch(ScalarTypeOf<T>::value);
     return {v->data(), v->size()};
   }
-  /// Typed vector (for push_back). \throw Error if T is not the stored type.
+  /// Typed storage (for push_back). \throw Error if T is not the stored type.
   template <class T>
-  [[nodiscard]] std::vector<T>& vector() {
-    auto* v = std::get_if<std::vector<T>>(&storage_);
+  [[nodiscard]] Buffer<T>& vector() {
+    auto* v = std::get_if<Buffer<T>>(&storage_);
     if (!v) type_mismatch(ScalarTypeOf<T>::value);
     return *v;
   }
@@ -131,7 +140,7 @@ class DataArray {
   /// Appends one tuple given as doubles (size must equal components()).
   void push_back(std::span<const double> tuple);
 
-  /// Calls f(std::vector<T>&) with the concrete storage.
+  /// Calls f(Buffer<T>&) with the concrete storage.
   template <class F>
   decltype(auto) visit(F&& f) {
     return std::visit(std::forward<F>(f), storage_);
@@ -159,7 +168,7 @@ class DataArray {
 
   std::string name_;
   int components_ = 1;
-  Storage storage_ = std::vector<float>{};
+  Storage storage_ = Buffer<float>{};
   std::string lookup_table_;
 };
 
