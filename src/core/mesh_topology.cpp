@@ -4,23 +4,14 @@
 #include "isoforge/core/mesh_topology.hpp"
 
 #include <algorithm>
-#include <numeric>
 #include <tuple>
 #include <unordered_map>
+
+#include "core/union_find.hpp"
 
 namespace isoforge {
 
 namespace {
-
-struct UnionFind {
-  std::vector<std::size_t> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  std::size_t find(std::size_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void unite(std::size_t a, std::size_t b) { parent[find(a)] = find(b); }
-};
 
 struct HalfEdge {
   Index lo, hi;  // undirected key
@@ -74,8 +65,8 @@ SurfaceTopology analyze_topology(const PolyData& mesh) {
     return std::tie(x.lo, x.hi, x.face, x.corner_from) < std::tie(y.lo, y.hi, y.face, y.corner_from);
   });
 
-  UnionFind corners(3 * nf);
-  UnionFind face_sets(nf);
+  UnionFind<> corners(3 * nf);
+  UnionFind<> face_sets(nf);
   struct EdgeInfo {
     Index lo, hi;
     std::size_t count, first;
@@ -150,7 +141,7 @@ SurfaceTopology analyze_topology(const PolyData& mesh) {
       border_vertex.try_emplace(e.hi, border_vertex.size());
     }
   }
-  UnionFind loops(border_vertex.size());
+  UnionFind<> loops(border_vertex.size());
   for (const auto& e : edges) {
     if (e.count == 1) loops.unite(border_vertex[e.lo], border_vertex[e.hi]);
   }
