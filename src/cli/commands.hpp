@@ -24,5 +24,6 @@ void add_info_command(CLI::App& app, Context& ctx);
 void add_convert_command(CLI::App& app, Context& ctx);
 void add_sample_command(CLI::App& app, Context& ctx);
 void add_select_command(CLI::App& app, Context& ctx);
+void add_contour_command(CLI::App& app, Context& ctx);
 
 }  // namespace isoforge::cli

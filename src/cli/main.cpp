@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   add_convert_command(app, ctx);
   add_sample_command(app, ctx);
   add_select_command(app, ctx);
+  add_contour_command(app, ctx);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
