@@ -75,8 +75,28 @@ cp "$tmp/fran.vtp" "$tmp/keep.vtp"
 cmp -s "$tmp/fran.vtp" "$tmp/keep.vtp" || fail "a failed convert changed the existing output file"
 ls -A "$tmp" | grep -q '\.tmp\.' && fail "temporary files left behind: $(ls -A "$tmp")"
 
+# ---- sample, select, contour ----
+expect_ok sample_vti "wrote .*16 x 16 x 16 samples" "$bin" sample -f 'sphere(r=0.8)' -b -1 1 -1 1 -1 1 -d 16 -o "$tmp/sphere.vti"
+expect_ok sample_vti_info "dimensions: 16 x 16 x 16" "$bin" info "$tmp/sphere.vti"
+expect_ok sample_vdb "active" "$bin" sample -f 'icecream()' -b -0.1 2 -0.7 0.7 -0.7 0.7 -d 128 -o "$tmp/ice.vdb"
+expect_ok sample_vdb_info "class level set" "$bin" info "$tmp/ice.vdb"
+expect_ok contour_dense "wrote .*sphere.vtp" "$bin" contour "$tmp/sphere.vti" -v 0 --normals gradient -o "$tmp/sphere.vtp"
+expect_ok contour_dense_info "'Normals'" "$bin" info "$tmp/sphere.vtp"
+expect_ok contour_sparse "wrote .*ice.ply" "$bin" contour "$tmp/ice.vdb" -v 0 -o "$tmp/ice.ply"
+expect_ok contour_range "IsovalueIndex.*\[0, 2\]" bash -c "'$bin' contour '$tmp/sphere.vti' --range -0.2 0.2 3 -o '$tmp/shells.vtp' && '$bin' info '$tmp/shells.vtp'"
+"$bin" sample -f 'union(sphere(center=[-0.5,0,0], r=0.3), sphere(center=[0.5,0,0], r=0.2))' -b -1 1 -1 1 -1 1 -d 32 -o "$tmp/two.vti" >/dev/null 2>&1
+expect_ok contour_largest "kept from 2 connected pieces" "$bin" contour "$tmp/two.vti" -v 0 --largest -o "$tmp/one.vtp"
+expect_ok select_cells "wrote .*of 3375 cells" "$bin" select "$tmp/sphere.vti" -f 'sphere(r=0.5)' -o "$tmp/inside.vtu"
+expect_ok select_ids "'OriginalCellIds'" "$bin" info "$tmp/inside.vtu"
+expect_ok select_shrink "wrote" "$bin" select "$tmp/sphere.vti" -f 'sphere(r=0.5)' --shrink 0.5 -o "$tmp/shrunk.vtu"
+expect_error bad_function "column 11: expected '\)'" "$bin" sample -f 'sphere(r=1' -b 0 1 0 1 0 1 -o "$tmp/x.vti"
+expect_error bad_parameter "'r' \(radius\) is negative" "$bin" sample -f 'sphere(r=-1)' -b 0 1 0 1 0 1 -o "$tmp/x.vti"
+expect_error no_values "at least one value" "$bin" contour "$tmp/sphere.vti" -o "$tmp/x.vtp"
+expect_error missing_array "no point array named 'nope'" "$bin" contour "$tmp/sphere.vti" -v 0 -a nope -o "$tmp/x.vtp"
+expect_error contour_to_vti "holds|not" "$bin" contour "$tmp/sphere.vti" -v 0 -o "$tmp/x.vti"
+
 # ---- help: every subcommand has examples ----
-for sub in info convert; do
+for sub in info convert sample select contour; do
   expect_ok "help_$sub" "Examples:" "$bin" "$sub" --help
 done
 out=$("$bin" 2>&1); [ $? -ne 0 ] || fail "no subcommand should be an error"
