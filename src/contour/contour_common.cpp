@@ -159,7 +159,7 @@ PolyData append_polydata(std::vector<PolyData> parts) {
     const std::size_t tb = scalar_size(merged.type()) * static_cast<std::size_t>(merged.components());
     for (const auto& p : parts) {
       const DataArray& src = p.point_data.get(merged.name());
-      std::memcpy(merged.bytes() + at * tb, src.bytes(), src.size_bytes());
+      if (src.size_bytes() > 0) std::memcpy(merged.bytes() + at * tb, src.bytes(), src.size_bytes());  // empty: null data
       at += src.tuples();
     }
     out.point_data.add(std::move(merged));
@@ -182,7 +182,7 @@ PolyData append_polydata(std::vector<PolyData> parts) {
         const std::size_t sizes[4] = {p.verts.size(), p.lines.size(), p.polys.size(), p.strips.size()};
         for (int q = 0; q < kind; ++q) start += sizes[q];
         count = sizes[kind];
-        std::memcpy(merged.bytes() + at * tb, src.bytes() + start * tb, count * tb);
+        if (count > 0) std::memcpy(merged.bytes() + at * tb, src.bytes() + start * tb, count * tb);
         at += count;
       }
     }
