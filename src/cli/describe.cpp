@@ -57,14 +57,14 @@ void describe_attributes(std::string& out, const Attributes& at, const char* wha
 
 }  // namespace
 
-std::string describe(const Dataset& ds) {
+std::string describe(DatasetRef ds) {
   std::string out;
   out += fmt::format("type: {}\n", dataset_type_name(ds));
-  if (const auto* img = std::get_if<ImageData>(&ds)) {
+  if (const auto* img = ds.get_if<ImageData>()) {
     out += fmt::format("dimensions: {} x {} x {}\n", img->dims[0], img->dims[1], img->dims[2]);
     out += fmt::format("origin: {} {} {}\nspacing: {} {} {}\n", img->origin.x, img->origin.y,
                        img->origin.z, img->spacing.x, img->spacing.y, img->spacing.z);
-  } else if (const auto* sg = std::get_if<StructuredGrid>(&ds)) {
+  } else if (const auto* sg = ds.get_if<StructuredGrid>()) {
     out += fmt::format("dimensions: {} x {} x {}\n", sg->dims[0], sg->dims[1], sg->dims[2]);
   }
   out += fmt::format("points: {}\n", num_points(ds));

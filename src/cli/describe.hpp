@@ -9,6 +9,6 @@ namespace isoforge::cli {
 
 /// Multi-line description: type, dimensions, counts (with a cell-type histogram), bounds, and
 /// every point/cell/field array with its type, components, role and range per component.
-[[nodiscard]] std::string describe(const Dataset& ds);
+[[nodiscard]] std::string describe(DatasetRef ds);
 
 }  // namespace isoforge::cli

@@ -6,10 +6,10 @@
 
 namespace isoforge {
 
-PolyData contour(const Dataset& input, const ContourOptions& options, ContourStats* stats) {
+PolyData contour(DatasetRef input, const ContourOptions& options, ContourStats* stats) {
   using namespace contour_detail;
-  if (const auto* img = std::get_if<ImageData>(&input)) return contour_image(*img, options, stats);
-  if (const auto* pd = std::get_if<PolyData>(&input)) return contour_polydata(*pd, options, stats);
+  if (const auto* img = input.get_if<ImageData>()) return contour_image(*img, options, stats);
+  if (const auto* pd = input.get_if<PolyData>()) return contour_polydata(*pd, options, stats);
   return contour_cells(input, options, stats);
 }
 

@@ -905,12 +905,12 @@ PolyData contour_cell_runs(const Points& points, const Attributes& point_data,
   return out;
 }
 
-PolyData contour_cells(const Dataset& input, const ContourOptions& options, ContourStats* stats) {
-  if (const auto* img = std::get_if<ImageData>(&input)) return contour_image(*img, options, stats);
-  if (const auto* pd = std::get_if<PolyData>(&input)) return contour_polydata(*pd, options, stats);
-  if (const auto* sg = std::get_if<StructuredGrid>(&input))
+PolyData contour_cells(DatasetRef input, const ContourOptions& options, ContourStats* stats) {
+  if (const auto* img = input.get_if<ImageData>()) return contour_image(*img, options, stats);
+  if (const auto* pd = input.get_if<PolyData>()) return contour_polydata(*pd, options, stats);
+  if (const auto* sg = input.get_if<StructuredGrid>())
     return contour_structured_grid(*sg, options, stats);
-  const auto& ug = std::get<UnstructuredGrid>(input);
+  const auto& ug = *input.get_if<UnstructuredGrid>();
   ug.validate();
   const CellRun run{&ug.cells, &ug.types, CellType::Empty, 0};
   return contour_cell_runs(ug.points, ug.point_data, ug.cell_data,

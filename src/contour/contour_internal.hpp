@@ -70,7 +70,7 @@ void finish_output(PolyData& pd, const ContourOptions& options);
 
 /// Marching cells on structured and unstructured grids (contour_cells.cpp): 3D cells give
 /// triangles, 2D cells polylines, 1D cells vertices; points merged by cell edge.
-[[nodiscard]] PolyData contour_cells(const Dataset& input, const ContourOptions& options,
+[[nodiscard]] PolyData contour_cells(DatasetRef input, const ContourOptions& options,
                                      ContourStats* stats);
 
 /// Isolines of polygons and crossing points of lines of polygonal data (contour_lines.cpp).

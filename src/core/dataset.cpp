@@ -221,50 +221,48 @@ void UnstructuredGrid::validate() const {
 
 // ---- Dataset ----
 
-std::string_view dataset_type_name(const Dataset& ds) {
-  return std::visit(Overloaded{[](const ImageData&) { return std::string_view("image data"); },
+std::string_view dataset_type_name(DatasetRef ds) {
+  return ds.visit(Overloaded{[](const ImageData&) { return std::string_view("image data"); },
                                [](const StructuredGrid&) { return std::string_view("structured grid"); },
                                [](const PolyData&) { return std::string_view("polygonal data"); },
                                [](const UnstructuredGrid&) {
                                  return std::string_view("unstructured grid");
-                               }},
-                    ds);
+                               }});
 }
 
-std::size_t num_points(const Dataset& ds) {
-  return std::visit([](const auto& d) { return d.num_points(); }, ds);
+std::size_t num_points(DatasetRef ds) {
+  return ds.visit([](const auto& d) { return d.num_points(); });
 }
-std::size_t num_cells(const Dataset& ds) {
-  return std::visit([](const auto& d) { return d.num_cells(); }, ds);
+std::size_t num_cells(DatasetRef ds) {
+  return ds.visit([](const auto& d) { return d.num_cells(); });
 }
-Bounds bounds(const Dataset& ds) {
-  return std::visit([](const auto& d) { return d.bounds(); }, ds);
+Bounds bounds(DatasetRef ds) {
+  return ds.visit([](const auto& d) { return d.bounds(); });
 }
-Vec3 point(const Dataset& ds, Index id) {
-  return std::visit(Overloaded{[id](const ImageData& d) { return d.point(id); },
-                               [id](const auto& d) { return d.points[static_cast<std::size_t>(id)]; }},
-                    ds);
+Vec3 point(DatasetRef ds, Index id) {
+  return ds.visit(Overloaded{[id](const ImageData& d) { return d.point(id); },
+                               [id](const auto& d) { return d.points[static_cast<std::size_t>(id)]; }});
 }
-const Attributes& point_data(const Dataset& ds) {
-  return std::visit([](const auto& d) -> const Attributes& { return d.point_data; }, ds);
+const Attributes& point_data(DatasetRef ds) {
+  return ds.visit([](const auto& d) -> const Attributes& { return d.point_data; });
 }
 Attributes& point_data(Dataset& ds) {
   return std::visit([](auto& d) -> Attributes& { return d.point_data; }, ds);
 }
-const Attributes& cell_data(const Dataset& ds) {
-  return std::visit([](const auto& d) -> const Attributes& { return d.cell_data; }, ds);
+const Attributes& cell_data(DatasetRef ds) {
+  return ds.visit([](const auto& d) -> const Attributes& { return d.cell_data; });
 }
 Attributes& cell_data(Dataset& ds) {
   return std::visit([](auto& d) -> Attributes& { return d.cell_data; }, ds);
 }
-const Attributes& field_data(const Dataset& ds) {
-  return std::visit([](const auto& d) -> const Attributes& { return d.field_data; }, ds);
+const Attributes& field_data(DatasetRef ds) {
+  return ds.visit([](const auto& d) -> const Attributes& { return d.field_data; });
 }
 Attributes& field_data(Dataset& ds) {
   return std::visit([](auto& d) -> Attributes& { return d.field_data; }, ds);
 }
-void validate(const Dataset& ds) {
-  std::visit([](const auto& d) { d.validate(); }, ds);
+void validate(DatasetRef ds) {
+  ds.visit([](const auto& d) { d.validate(); });
 }
 
 namespace {
@@ -280,9 +278,8 @@ const CellArray& poly_locate(const PolyData& pd, Index& cell, int& which) {
 }
 }  // namespace
 
-CellType cell_type(const Dataset& ds, Index cell) {
-  return std::visit(
-      Overloaded{[](const ImageData& d) { return structured_cell_type(d.dims, true); },
+CellType cell_type(DatasetRef ds, Index cell) {
+  return ds.visit(Overloaded{[](const ImageData& d) { return structured_cell_type(d.dims, true); },
                  [](const StructuredGrid& d) { return structured_cell_type(d.dims, false); },
                  [cell](const PolyData& d) {
                    Index local = cell;
@@ -298,12 +295,11 @@ CellType cell_type(const Dataset& ds, Index cell) {
                      default: return CellType::TriangleStrip;
                    }
                  },
-                 [cell](const UnstructuredGrid& d) { return d.types[static_cast<std::size_t>(cell)]; }},
-      ds);
+                 [cell](const UnstructuredGrid& d) { return d.types[static_cast<std::size_t>(cell)]; }});
 }
 
-void cell_point_ids(const Dataset& ds, Index cell, std::vector<Index>& ids) {
-  std::visit(Overloaded{[&](const ImageData& d) { structured_cell_ids(d.dims, cell, true, ids); },
+void cell_point_ids(DatasetRef ds, Index cell, std::vector<Index>& ids) {
+  ds.visit(Overloaded{[&](const ImageData& d) { structured_cell_ids(d.dims, cell, true, ids); },
                         [&](const StructuredGrid& d) {
                           structured_cell_ids(d.dims, cell, false, ids);
                         },
@@ -316,21 +312,19 @@ void cell_point_ids(const Dataset& ds, Index cell, std::vector<Index>& ids) {
                         [&](const UnstructuredGrid& d) {
                           auto c = d.cells.cell(static_cast<std::size_t>(cell));
                           ids.assign(c.begin(), c.end());
-                        }},
-             ds);
+                        }});
 }
 
-UnstructuredGrid to_unstructured(const Dataset& ds) {
-  if (const auto* ug = std::get_if<UnstructuredGrid>(&ds)) return *ug;
+UnstructuredGrid to_unstructured(DatasetRef ds) {
+  if (const auto* ug = ds.get_if<UnstructuredGrid>()) return *ug;
   UnstructuredGrid out;
   const std::size_t np = num_points(ds);
-  if (const auto* img = std::get_if<ImageData>(&ds)) {
+  if (const auto* img = ds.get_if<ImageData>()) {
     out.points = Points(np);
     for (std::size_t i = 0; i < np; ++i) out.points.set(i, img->point(static_cast<Index>(i)));
   } else {
-    out.points = std::visit(Overloaded{[](const ImageData&) { return Points(); },
-                                       [](const auto& d) { return d.points; }},
-                            ds);
+    out.points = ds.visit(Overloaded{[](const ImageData&) { return Points(); },
+                                       [](const auto& d) { return d.points; }});
   }
   const std::size_t nc = num_cells(ds);
   out.types.reserve(nc);

@@ -27,7 +27,7 @@ void copy_tuple(const Attributes& src, std::size_t from, Attributes& dst, std::s
   }
 }
 
-UnstructuredGrid subset_cells(const Dataset& input, const std::vector<Index>& cells,
+UnstructuredGrid subset_cells(DatasetRef input, const std::vector<Index>& cells,
                               bool original_ids) {
   const std::size_t np = num_points(input);
   std::vector<Index> map(np, -1);
@@ -44,15 +44,13 @@ UnstructuredGrid subset_cells(const Dataset& input, const std::vector<Index>& ce
     }
   }
   UnstructuredGrid out;
-  const bool doubles = std::visit(
-      [](const auto& d) {
+  const bool doubles = input.visit([](const auto& d) {
         if constexpr (std::is_same_v<std::decay_t<decltype(d)>, ImageData>) {
           return false;
         } else {
           return d.points.type() == ScalarType::Float64;
         }
-      },
-      input);
+      });
   out.points = Points(used.size(), doubles ? ScalarType::Float64 : ScalarType::Float32);
   for (std::size_t i = 0; i < used.size(); ++i) out.points.set(i, point(input, used[i]));
   out.types.reserve(cells.size());

@@ -11,7 +11,7 @@ namespace isoforge {
 /// The cells `cells` (increasing ids) of `input`, with only the points they use, renumbered in
 /// increasing original id; point and cell data carried; optionally "OriginalPointIds" and
 /// "OriginalCellIds" (Int64).
-[[nodiscard]] UnstructuredGrid subset_cells(const Dataset& input, const std::vector<Index>& cells,
+[[nodiscard]] UnstructuredGrid subset_cells(DatasetRef input, const std::vector<Index>& cells,
                                             bool original_ids);
 
 /// Copies tuple `from` of every array in `src` to tuple `to` of the same-named array in `dst`

@@ -6,7 +6,7 @@
 
 namespace isoforge {
 
-UnstructuredGrid shrink(const Dataset& input, double factor) {
+UnstructuredGrid shrink(DatasetRef input, double factor) {
   if (!(factor >= 0 && factor <= 1)) {
     throw Error("shrink: factor must be in [0, 1], got " + std::to_string(factor));
   }

@@ -165,7 +165,7 @@ ImageData sample_image(const ImplicitFunction& f, const GridSpec& grid, const Sa
   return img;
 }
 
-DataArray sample_points(const ImplicitFunction& f, const Dataset& ds, const std::string& name,
+DataArray sample_points(const ImplicitFunction& f, DatasetRef ds, const std::string& name,
                         ScalarType type) {
   if (type != ScalarType::Float32 && type != ScalarType::Float64) {
     throw Error("sample_points: value type must be Float32 or Float64");

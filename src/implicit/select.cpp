@@ -10,7 +10,7 @@
 
 namespace isoforge {
 
-UnstructuredGrid extract_cells(const Dataset& input, const ImplicitFunction& f,
+UnstructuredGrid extract_cells(DatasetRef input, const ImplicitFunction& f,
                                const SelectOptions& options) {
   validate(input);
   const std::size_t np = num_points(input);

@@ -24,9 +24,9 @@ std::string lower_extension(const std::filesystem::path& path) {
   return ext;
 }
 
-const PolyData& require_poly(const Dataset& ds, const std::filesystem::path& path,
+const PolyData& require_poly(DatasetRef ds, const std::filesystem::path& path,
                              std::string_view format) {
-  if (const auto* pd = std::get_if<PolyData>(&ds)) return *pd;
+  if (const auto* pd = ds.get_if<PolyData>()) return *pd;
   throw Error(path.string() + ": " + std::string(format) + " holds polygonal data only, not " +
               std::string(dataset_type_name(ds)) + " (try .vtk or " +
               std::string(vtk_xml_extension(ds)) + ")");
@@ -120,7 +120,7 @@ Dataset read(const std::filesystem::path& path, const ReadOptions& options) {
   throw Error(path.string() + ": unsupported format");
 }
 
-void write(const Dataset& ds, const std::filesystem::path& path, const WriteOptions& options) {
+void write(DatasetRef ds, const std::filesystem::path& path, const WriteOptions& options) {
   const FileFormat format = format_from_path(path);
   switch (format) {
     case FileFormat::VtkLegacy: {
@@ -149,7 +149,7 @@ void write(const Dataset& ds, const std::filesystem::path& path, const WriteOpti
     case FileFormat::Obj: write_obj(require_poly(ds, path, "OBJ"), path); return;
     case FileFormat::Off: write_off(require_poly(ds, path, "OFF"), path); return;
     case FileFormat::Vdb: {
-      const auto* img = std::get_if<ImageData>(&ds);
+      const auto* img = ds.get_if<ImageData>();
       if (!img) {
         throw Error(path.string() + ": .vdb holds volumes (image data) only, not " +
                     std::string(dataset_type_name(ds)));

@@ -1059,7 +1059,7 @@ std::vector<AttributeRole> roles_of(const Attributes& attrs, const std::string& 
 
 /// Throws (naming `target`) for everything the legacy format cannot hold, before any byte is
 /// written.
-void check_writable(const Dataset& ds, const VtkLegacyWriteOptions& options,
+void check_writable(DatasetRef ds, const VtkLegacyWriteOptions& options,
                     const std::string& target) {
   auto fail = [&](const std::string& what) { throw Error(target + ": " + what); };
   if (options.version != "4.2" && options.version != "5.1") {
@@ -1071,9 +1071,8 @@ void check_writable(const Dataset& ds, const VtkLegacyWriteOptions& options,
     fail("cannot write invalid " + std::string(dataset_type_name(ds)) + ": " + e.what());
   }
   const Points* pts =
-      std::visit(Overloaded{[](const ImageData&) -> const Points* { return nullptr; },
-                            [](const auto& d) -> const Points* { return &d.points; }},
-                 ds);
+      ds.visit(Overloaded{[](const ImageData&) -> const Points* { return nullptr; },
+                            [](const auto& d) -> const Points* { return &d.points; }});
   if (pts != nullptr) {
     const std::size_t bad = pts->first_non_finite();
     if (bad < pts->size()) {
@@ -1120,8 +1119,8 @@ class LegacyWriter {
            (binary_ ? "BINARY\n" : "ASCII\n");
   }
 
-  void write(const Dataset& ds) {
-    std::visit([&](const auto& d) { write_geometry(d); }, ds);
+  void write(DatasetRef ds) {
+    ds.visit([&](const auto& d) { write_geometry(d); });
     write_attributes(cell_data(ds), "CELL_DATA", num_cells(ds));
     write_attributes(point_data(ds), "POINT_DATA", num_points(ds));
     flush();
@@ -1351,7 +1350,7 @@ Dataset read_vtk_legacy(std::span<const std::byte> data, std::string_view name) 
   }
 }
 
-void write_vtk_legacy(const Dataset& ds, const std::filesystem::path& path,
+void write_vtk_legacy(DatasetRef ds, const std::filesystem::path& path,
                       const VtkLegacyWriteOptions& options) {
   check_writable(ds, options, path.string());
   AtomicFile file(path);
@@ -1359,7 +1358,7 @@ void write_vtk_legacy(const Dataset& ds, const std::filesystem::path& path,
   file.commit();
 }
 
-void write_vtk_legacy(const Dataset& ds, std::ostream& out, const VtkLegacyWriteOptions& options) {
+void write_vtk_legacy(DatasetRef ds, std::ostream& out, const VtkLegacyWriteOptions& options) {
   check_writable(ds, options, "VTK legacy writer");
   LegacyWriter(out, options).write(ds);
   if (!out) throw Error("VTK legacy writer: writing to the stream failed");

@@ -1567,19 +1567,18 @@ class Writer {
   explicit Writer(const VtkXmlWriteOptions& o)
       : enc_(o.encoding), compress_(o.encoding != VtkXmlEncoding::Ascii && o.compress) {}
 
-  void write(const Dataset& ds, std::ostream& os) {
+  void write(DatasetRef ds, std::ostream& os) {
     x_ = "<?xml version=\"1.0\"?>\n<VTKFile type=\"";
     const char* type =
-        std::visit(Overloaded{[](const ImageData&) { return "ImageData"; },
+        ds.visit(Overloaded{[](const ImageData&) { return "ImageData"; },
                               [](const StructuredGrid&) { return "StructuredGrid"; },
                               [](const PolyData&) { return "PolyData"; },
-                              [](const UnstructuredGrid&) { return "UnstructuredGrid"; }},
-                   ds);
+                              [](const UnstructuredGrid&) { return "UnstructuredGrid"; }});
     x_ += type;
     x_ += "\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\"";
     if (compress_) x_ += " compressor=\"vtkZLibDataCompressor\"";
     x_ += ">\n";
-    std::visit([&](const auto& d) { body(d); }, ds);
+    ds.visit([&](const auto& d) { body(d); });
     if (enc_ == VtkXmlEncoding::Appended) {
       x_ += "  <AppendedData encoding=\"raw\">\n   _";
       os.write(x_.data(), static_cast<std::streamsize>(x_.size()));
@@ -1858,15 +1857,14 @@ Dataset read_vtk_xml(const std::filesystem::path& path) {
   return read_vtk_xml(bytes, path.string());
 }
 
-std::string_view vtk_xml_extension(const Dataset& ds) {
-  return std::visit(Overloaded{[](const ImageData&) { return std::string_view(".vti"); },
+std::string_view vtk_xml_extension(DatasetRef ds) {
+  return ds.visit(Overloaded{[](const ImageData&) { return std::string_view(".vti"); },
                                [](const StructuredGrid&) { return std::string_view(".vts"); },
                                [](const PolyData&) { return std::string_view(".vtp"); },
-                               [](const UnstructuredGrid&) { return std::string_view(".vtu"); }},
-                    ds);
+                               [](const UnstructuredGrid&) { return std::string_view(".vtu"); }});
 }
 
-void write_vtk_xml(const Dataset& ds, std::ostream& out, const VtkXmlWriteOptions& options) {
+void write_vtk_xml(DatasetRef ds, std::ostream& out, const VtkXmlWriteOptions& options) {
   try {
     validate(ds);
   } catch (const Error& e) {
@@ -1878,7 +1876,7 @@ void write_vtk_xml(const Dataset& ds, std::ostream& out, const VtkXmlWriteOption
   if (!out) throw Error("VTK XML writer: writing to the stream failed");
 }
 
-void write_vtk_xml(const Dataset& ds, const std::filesystem::path& path,
+void write_vtk_xml(DatasetRef ds, const std::filesystem::path& path,
                    const VtkXmlWriteOptions& options) {
   const std::string want(vtk_xml_extension(ds));
   const std::string ext = lower(path.extension().string());

@@ -57,7 +57,7 @@ struct ContourStats {
 /// `options.values` each point belongs to), the interpolated input point arrays and, with
 /// normals, "Normals". \throw Error if the array is missing or has more than one component, the
 /// values are empty or not finite, or the dataset is invalid.
-[[nodiscard]] PolyData contour(const Dataset& input, const ContourOptions& options = {},
+[[nodiscard]] PolyData contour(DatasetRef input, const ContourOptions& options = {},
                                ContourStats* stats = nullptr);
 
 /// Marching cubes on a 3D image (every dimension ≥ 2), in the multi-pass, lock-free style of

@@ -126,30 +126,68 @@ struct UnstructuredGrid {
   friend bool operator==(const UnstructuredGrid&, const UnstructuredGrid&) = default;
 };
 
-/// Any dataset. Algorithms that accept any dataset take `const Dataset&` and `std::visit`.
+/// Any dataset (owning). Readers return it; algorithms that accept any dataset take a
+/// `DatasetRef`, which binds to a `Dataset` or to any concrete dataset without copying it.
 using Dataset = std::variant<ImageData, StructuredGrid, PolyData, UnstructuredGrid>;
 
-/// "image data", "structured grid", "polygonal data", "unstructured grid".
-[[nodiscard]] std::string_view dataset_type_name(const Dataset& ds);
+/// A non-owning reference to any dataset: constructible (implicitly, for free) from
+/// `ImageData`, `StructuredGrid`, `PolyData`, `UnstructuredGrid` or `Dataset`. Passing a concrete
+/// dataset where a `const Dataset&` was expected would copy it into a temporary variant; a
+/// `DatasetRef` never copies. The referenced dataset must outlive the reference.
+class DatasetRef {
+ public:
+  DatasetRef(const ImageData& d) : p_(&d) {}         // NOLINT(google-explicit-constructor)
+  DatasetRef(const StructuredGrid& d) : p_(&d) {}    // NOLINT(google-explicit-constructor)
+  DatasetRef(const PolyData& d) : p_(&d) {}          // NOLINT(google-explicit-constructor)
+  DatasetRef(const UnstructuredGrid& d) : p_(&d) {}  // NOLINT(google-explicit-constructor)
+  DatasetRef(const Dataset& d)                       // NOLINT(google-explicit-constructor)
+      : p_(std::visit([](const auto& x) -> Pointer { return &x; }, d)) {}
 
-[[nodiscard]] std::size_t num_points(const Dataset& ds);
-[[nodiscard]] std::size_t num_cells(const Dataset& ds);
-[[nodiscard]] Bounds bounds(const Dataset& ds);
-[[nodiscard]] Vec3 point(const Dataset& ds, Index id);
-[[nodiscard]] const Attributes& point_data(const Dataset& ds);
+  /// 0 image data, 1 structured grid, 2 polygonal data, 3 unstructured grid (as `Dataset`).
+  [[nodiscard]] std::size_t index() const { return p_.index(); }
+  /// The dataset if it is a T, else nullptr.
+  template <class T>
+  [[nodiscard]] const T* get_if() const {
+    const T* const* p = std::get_if<const T*>(&p_);
+    return p ? *p : nullptr;
+  }
+  /// Calls f(const T&) with the concrete dataset.
+  template <class F>
+  decltype(auto) visit(F&& f) const {
+    return std::visit([&f](const auto* p) -> decltype(auto) { return f(*p); }, p_);
+  }
+  /// A copy as an owning `Dataset`.
+  [[nodiscard]] Dataset copy() const {
+    return visit([](const auto& d) { return Dataset(d); });
+  }
+
+ private:
+  using Pointer = std::variant<const ImageData*, const StructuredGrid*, const PolyData*,
+                               const UnstructuredGrid*>;
+  Pointer p_;
+};
+
+/// "image data", "structured grid", "polygonal data", "unstructured grid".
+[[nodiscard]] std::string_view dataset_type_name(DatasetRef ds);
+
+[[nodiscard]] std::size_t num_points(DatasetRef ds);
+[[nodiscard]] std::size_t num_cells(DatasetRef ds);
+[[nodiscard]] Bounds bounds(DatasetRef ds);
+[[nodiscard]] Vec3 point(DatasetRef ds, Index id);
+[[nodiscard]] const Attributes& point_data(DatasetRef ds);
 [[nodiscard]] Attributes& point_data(Dataset& ds);
-[[nodiscard]] const Attributes& cell_data(const Dataset& ds);
+[[nodiscard]] const Attributes& cell_data(DatasetRef ds);
 [[nodiscard]] Attributes& cell_data(Dataset& ds);
-[[nodiscard]] const Attributes& field_data(const Dataset& ds);
+[[nodiscard]] const Attributes& field_data(DatasetRef ds);
 [[nodiscard]] Attributes& field_data(Dataset& ds);
-void validate(const Dataset& ds);
+void validate(DatasetRef ds);
 
 /// Type of cell `cell` of any dataset (voxel/pixel/line/vertex for image data).
-[[nodiscard]] CellType cell_type(const Dataset& ds, Index cell);
+[[nodiscard]] CellType cell_type(DatasetRef ds, Index cell);
 /// Point ids of cell `cell`, written into `ids` (cleared first), in VTK order for its type.
-void cell_point_ids(const Dataset& ds, Index cell, std::vector<Index>& ids);
+void cell_point_ids(DatasetRef ds, Index cell, std::vector<Index>& ids);
 
 /// Converts any dataset to an unstructured grid with the same points, cells and attributes.
-[[nodiscard]] UnstructuredGrid to_unstructured(const Dataset& ds);
+[[nodiscard]] UnstructuredGrid to_unstructured(DatasetRef ds);
 
 }  // namespace isoforge

@@ -11,6 +11,6 @@ namespace isoforge {
 /// the centroid is the mean of the cell's points. factor 1 leaves cells unchanged, 0.5 halves
 /// them, 0 collapses each to its centroid. Point data is copied to the duplicated points, cell
 /// data is carried. \throw Error if factor is not in [0, 1].
-[[nodiscard]] UnstructuredGrid shrink(const Dataset& input, double factor);
+[[nodiscard]] UnstructuredGrid shrink(DatasetRef input, double factor);
 
 }  // namespace isoforge

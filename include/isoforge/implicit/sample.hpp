@@ -43,7 +43,7 @@ struct SampleOptions {
 
 /// Values of `f` at the points of any dataset, as a 1-component array named `name`.
 /// This is what cutting contours. Multi-threaded, deterministic.
-[[nodiscard]] DataArray sample_points(const ImplicitFunction& f, const Dataset& ds,
+[[nodiscard]] DataArray sample_points(const ImplicitFunction& f, DatasetRef ds,
                                       const std::string& name = "F",
                                       ScalarType type = ScalarType::Float32);
 

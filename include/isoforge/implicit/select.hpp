@@ -24,7 +24,7 @@ struct SelectOptions {
 /// with `original_ids` the Int64 arrays "OriginalPointIds" (point data) and "OriginalCellIds"
 /// (cell data) are added. Image data yields voxels (pixels in 2D). A point exactly on the
 /// surface (F = 0) counts as inside.
-[[nodiscard]] UnstructuredGrid extract_cells(const Dataset& input, const ImplicitFunction& f,
+[[nodiscard]] UnstructuredGrid extract_cells(DatasetRef input, const ImplicitFunction& f,
                                              const SelectOptions& options = {});
 
 }  // namespace isoforge

@@ -74,7 +74,7 @@ struct WriteOptions {
 
 /// Writes `ds` atomically in the format given by the extension. \throw Error if the format
 /// cannot hold this dataset type (e.g. an unstructured grid to .ply) or on I/O failure.
-void write(const Dataset& ds, const std::filesystem::path& path, const WriteOptions& options = {});
+void write(DatasetRef ds, const std::filesystem::path& path, const WriteOptions& options = {});
 
 /// Reads a whole file into memory. \throw Error naming the path if it cannot be read.
 [[nodiscard]] std::vector<std::byte> read_file_bytes(const std::filesystem::path& path);

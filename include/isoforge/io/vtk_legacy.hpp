@@ -30,9 +30,9 @@ struct VtkLegacyWriteOptions {
 };
 
 /// Writes atomically. \throw Error on invalid datasets or I/O failure.
-void write_vtk_legacy(const Dataset& ds, const std::filesystem::path& path,
+void write_vtk_legacy(DatasetRef ds, const std::filesystem::path& path,
                       const VtkLegacyWriteOptions& options = {});
 /// Writes to a stream (no atomicity).
-void write_vtk_legacy(const Dataset& ds, std::ostream& out, const VtkLegacyWriteOptions& options = {});
+void write_vtk_legacy(DatasetRef ds, std::ostream& out, const VtkLegacyWriteOptions& options = {});
 
 }  // namespace isoforge

@@ -32,13 +32,13 @@ struct VtkXmlWriteOptions {
 };
 
 /// The extension a dataset type is written with (".vti", ".vts", ".vtp", ".vtu").
-[[nodiscard]] std::string_view vtk_xml_extension(const Dataset& ds);
+[[nodiscard]] std::string_view vtk_xml_extension(DatasetRef ds);
 
 /// Writes atomically. \throw Error if the extension does not match the dataset type, or on
 /// I/O failure.
-void write_vtk_xml(const Dataset& ds, const std::filesystem::path& path,
+void write_vtk_xml(DatasetRef ds, const std::filesystem::path& path,
                    const VtkXmlWriteOptions& options = {});
 /// Writes to a stream (no atomicity, no extension check).
-void write_vtk_xml(const Dataset& ds, std::ostream& out, const VtkXmlWriteOptions& options = {});
+void write_vtk_xml(DatasetRef ds, std::ostream& out, const VtkXmlWriteOptions& options = {});
 
 }  // namespace isoforge
