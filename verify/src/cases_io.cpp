@@ -21,7 +21,10 @@ void io_case(CaseResult& r, const std::string& file, std::size_t points, std::si
   r.equal("degenerate faces (exact)", ref.degenerate_faces, std::size_t{0});
   const auto dir = std::filesystem::temp_directory_path() / "isoforge-verify-io";
   std::filesystem::create_directories(dir);
-  struct Target { const char* ext; WriteOptions options; };
+  struct Target {
+    const char* ext;
+    WriteOptions options;
+  };
   WriteOptions ascii;
   ascii.binary = false;
   WriteOptions legacy51;
@@ -30,7 +33,8 @@ void io_case(CaseResult& r, const std::string& file, std::size_t points, std::si
                             {".ply", {}}, {".ply", ascii},    {".off", {}}};
   int n = 0;
   for (const auto& t : targets) {
-    const auto out = dir / (std::filesystem::path(file).stem().string() + "_" + std::to_string(n++) + t.ext);
+    const auto out =
+        dir / (std::filesystem::path(file).stem().string() + "_" + std::to_string(n++) + t.ext);
     write(mesh, out, t.options);
     const auto back = std::get<PolyData>(read(out));
     std::filesystem::remove(out);
@@ -56,8 +60,8 @@ void add_io_cases(std::vector<Case>& cases) {
                    true, [](CaseResult& r) { io_case(r, "fran_cut.vtk", 2205, 4224); }});
   cases.push_back({"io/torso", "Torso.vtp (12015 points, quads + triangles) through 6 writers",
                    true, [](CaseResult& r) { io_case(r, "Torso.vtp", 12015, 11314 * 2 + 1134); }});
-  cases.push_back({"io/bunny", "bunny.ply (35947 points, 69451 triangles) through 6 writers",
-                   false, [](CaseResult& r) { io_case(r, "bunny.ply", 35947, 69451); }});
+  cases.push_back({"io/bunny", "bunny.ply (35947 points, 69451 triangles) through 6 writers", false,
+                   [](CaseResult& r) { io_case(r, "bunny.ply", 35947, 69451); }});
 }
 
 }  // namespace isoforge::verify

@@ -17,21 +17,29 @@ struct Check {
   bool pass = false;
 };
 
+/// A measured figure reported without a requirement (sizes, timings, context for the checks).
+struct Note {
+  std::string name;
+  std::string value;
+};
+
 struct CaseResult {
   std::string name;
   std::string description;
   std::vector<Check> checks;
+  std::vector<Note> notes;
   double seconds = 0;
   std::string error;  ///< an exception stopped the case (counts as a failure)
   [[nodiscard]] bool pass() const {
     if (!error.empty() || checks.empty()) return false;
-    for (const auto& c : checks) if (!c.pass) return false;
+    for (const auto& c : checks)
+      if (!c.pass) return false;
     return true;
   }
 
   void equal(const std::string& what, auto measured, auto expected) {
-    checks.push_back({what, fmt::format("{}", measured), fmt::format("= {}", expected),
-                      measured == expected});
+    checks.push_back(
+        {what, fmt::format("{}", measured), fmt::format("= {}", expected), measured == expected});
   }
   void at_most(const std::string& what, double measured, double limit) {
     checks.push_back({what, fmt::format("{:.6g}", measured), fmt::format("<= {:.6g}", limit),
@@ -44,6 +52,13 @@ struct CaseResult {
   void is_true(const std::string& what, bool value) {
     checks.push_back({what, value ? "yes" : "no", "yes", value});
   }
+  /// measured in [lo, hi].
+  void within(const std::string& what, double measured, double lo, double hi) {
+    checks.push_back({what, fmt::format("{:.4g}", measured),
+                      fmt::format("in [{:.4g}, {:.4g}]", lo, hi),
+                      measured >= lo && measured <= hi});
+  }
+  void note(const std::string& what, const std::string& value) { notes.push_back({what, value}); }
 };
 
 struct Case {
@@ -55,5 +70,8 @@ struct Case {
 
 /// Registration functions, one per group of cases.
 void add_io_cases(std::vector<Case>& cases);
+void add_shape_cases(std::vector<Case>& cases);   ///< shape/, convergence/, dense-vs-sparse/
+void add_volume_cases(std::vector<Case>& cases);  ///< random/, real/
+void add_select_cases(std::vector<Case>& cases);  ///< select/, side/
 
 }  // namespace isoforge::verify

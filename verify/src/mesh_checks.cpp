@@ -1,9 +1,11 @@
 // Mesh checks for the verification suite (see mesh_checks.hpp).
 //
 // Combinatorics (edges, fans, components, Euler characteristic) come from the library's
-// analyze_topology (exact integer work). Geometry uses CGAL 5.5: exact predicates (Epick: exact predicates, inexact
-// constructions) for collinearity, Polygon Mesh Processing for self-intersections
-// (box-intersection filtered, exact triangle-triangle predicates) and outward orientation.
+// analyze_topology (exact integer work). Geometry uses CGAL 5.5 with the Epick kernel (exact
+// predicates, inexact constructions; only predicates are used): collinearity for degenerate
+// faces, Polygon Mesh Processing self_intersections (box-intersection filter, exact
+// triangle-triangle predicates) and volume_connected_components (is_outward_oriented per
+// component plus exact nesting) for outward orientation.
 
 #include "mesh_checks.hpp"
 
@@ -17,6 +19,7 @@
 
 #include <algorithm>
 #include <array>
+#include <functional>
 #include <tuple>
 
 namespace isoforge::verify {
@@ -28,7 +31,9 @@ using Point = Kernel::Point_3;
 using Mesh = CGAL::Surface_mesh<Point>;
 namespace PMP = CGAL::Polygon_mesh_processing;
 
-Point to_point(const Vec3& v) { return {v.x, v.y, v.z}; }
+Point to_point(const Vec3& v) {
+  return {v.x, v.y, v.z};
+}
 
 }  // namespace
 
@@ -50,6 +55,7 @@ MeshReport check_mesh(const PolyData& mesh, const MeshCheckOptions& options) {
   r.closed = topo.closed();
   r.manifold = topo.manifold();
   r.oriented = topo.oriented();
+  r.self_intersection_requested = options.self_intersections;
 
   // Points as stored (float or double) converted exactly to double.
   std::vector<Point> pts(mesh.points.size());
@@ -93,7 +99,8 @@ MeshReport check_mesh(const PolyData& mesh, const MeshCheckOptions& options) {
   }
 
   // Geometry with CGAL on the non-degenerate faces.
-  if (options.self_intersections || (r.closed && r.manifold && r.oriented)) {
+  const bool orientable = r.closed && r.manifold && r.oriented && r.degenerate_faces == 0;
+  if (options.self_intersections || orientable) {
     std::vector<Point> soup_points = pts;
     std::vector<std::vector<std::size_t>> soup;
     soup.reserve(nf);
@@ -102,9 +109,11 @@ MeshReport check_mesh(const PolyData& mesh, const MeshCheckOptions& options) {
       soup.push_back({static_cast<std::size_t>(tris[f][0]), static_cast<std::size_t>(tris[f][1]),
                       static_cast<std::size_t>(tris[f][2])});
     }
-    // Orienting the soup duplicates points at non-manifold vertices, which keeps the geometry
-    // and lets CGAL build a halfedge mesh of any input.
-    PMP::orient_polygon_soup(soup_points, soup);
+    // A valid surface becomes a halfedge mesh as it is, keeping every face's orientation. Any
+    // other soup is oriented first, which duplicates points at non-manifold vertices and edges
+    // (keeping the geometry), so self-intersections can be tested on any input.
+    const bool as_is = PMP::is_polygon_soup_a_polygon_mesh(soup);
+    if (!as_is) PMP::orient_polygon_soup(soup_points, soup);
     if (PMP::is_polygon_soup_a_polygon_mesh(soup)) {
       Mesh sm;
       PMP::polygon_soup_to_polygon_mesh(soup_points, soup, sm);
@@ -114,8 +123,24 @@ MeshReport check_mesh(const PolyData& mesh, const MeshCheckOptions& options) {
         r.self_intersections = pairs.size();
         r.self_intersection_checked = true;
       }
-      if (r.closed && r.manifold && r.oriented && r.degenerate_faces == 0) {
-        r.outward = PMP::is_outward_oriented(sm);
+      if (orientable && as_is) {
+        // Outward, exactly: for every surface component, CGAL's is_outward_oriented (the
+        // orientation of the faces at its lexicographically extreme vertex, decided by exact
+        // orientation predicates), compared with its nesting level (side_of_triangle_mesh, exact
+        // ray/triangle predicates): components at even levels bound a volume from outside and
+        // must face outward, those at odd levels bound a cavity and must face inward.
+        auto volume_id = sm.add_property_map<Mesh::Face_index, std::size_t>("f:volume", 0).first;
+        std::vector<std::size_t> nesting;
+        std::vector<bool> outward;
+        PMP::volume_connected_components(sm, volume_id,
+                                         CGAL::parameters::nesting_levels(std::ref(nesting))
+                                             .is_cc_outward_oriented(std::ref(outward))
+                                             .do_orientation_tests(true));
+        r.inward_components = 0;
+        for (std::size_t c = 0; c < outward.size() && c < nesting.size(); ++c) {
+          if (outward[c] != (nesting[c] % 2 == 0)) ++r.inward_components;
+        }
+        r.outward = !outward.empty() && r.inward_components == 0;
       }
     }
   }
@@ -130,15 +155,18 @@ std::string format_report(const MeshReport& r) {
                    r.manifold ? "yes" : "no", r.non_manifold_edges, r.non_manifold_vertices);
   s += fmt::format("consistently oriented: {} ({} inconsistent edges)\n", r.oriented ? "yes" : "no",
                    r.inconsistent_edges);
-  if (r.closed && r.manifold && r.oriented) {
-    s += fmt::format("outward oriented (exact): {}\n", r.outward ? "yes" : "no");
+  if (r.closed && r.manifold && r.oriented && r.degenerate_faces == 0) {
+    s += fmt::format("outward oriented (exact): {} ({} components facing the wrong way)\n",
+                     r.outward ? "yes" : "no", r.inward_components);
   }
   s += fmt::format("degenerate faces (exact): {}\n", r.degenerate_faces);
   s += fmt::format("duplicate points: {}\n", r.duplicate_points);
   if (r.self_intersection_checked) {
     s += fmt::format("self-intersecting face pairs (exact): {}\n", r.self_intersections);
+  } else if (r.self_intersection_requested) {
+    s += "self-intersections: not checked (the faces do not form a polygon mesh)\n";
   } else {
-    s += "self-intersections: not checked (not representable as a polygon mesh)\n";
+    s += "self-intersections: not checked (skipped)\n";
   }
   s += fmt::format("area {:.9g}  signed volume {:.9g}\n", r.area, r.volume);
   s += fmt::format("components: {}\n", r.components.size());

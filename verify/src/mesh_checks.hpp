@@ -26,10 +26,15 @@ struct MeshReport {
   std::size_t duplicate_points = 0;       ///< distinct ids with identical coordinates
   std::size_t self_intersections = 0;     ///< intersecting pairs of non-adjacent faces (exact)
   bool self_intersection_checked = false;
-  bool closed = false;            ///< no border edges
-  bool manifold = false;          ///< no non-manifold edges or vertices
-  bool oriented = false;          ///< no inconsistent edges
-  bool outward = false;           ///< closed, oriented and enclosing positive volume (exact test)
+  bool self_intersection_requested = false;  ///< MeshCheckOptions::self_intersections
+  bool closed = false;                       ///< no border edges
+  bool manifold = false;                     ///< no non-manifold edges or vertices
+  bool oriented = false;                     ///< no inconsistent edges
+  /// Closed, manifold, oriented, no degenerate faces, and every component faces away from the
+  /// volume it bounds (exact: CGAL's is_outward_oriented per component and exact nesting; a
+  /// component inside another one bounds a cavity and must face inward).
+  bool outward = false;
+  std::size_t inward_components = 0;  ///< components facing the wrong way (when tested)
   double area = 0;
   double volume = 0;  ///< signed, from the divergence theorem (meaningful when closed)
   std::vector<ComponentReport> components;

@@ -43,8 +43,8 @@ PolyData torus(int n, int m) {
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < m; ++j) {
       double u = 2 * pi * i / n, v = 2 * pi * j / m;
-      pd.points.push_back({(2 + 0.5 * std::cos(v)) * std::cos(u), (2 + 0.5 * std::cos(v)) * std::sin(u),
-                           0.5 * std::sin(v)});
+      pd.points.push_back({(2 + 0.5 * std::cos(v)) * std::cos(u),
+                           (2 + 0.5 * std::cos(v)) * std::sin(u), 0.5 * std::sin(v)});
     }
   auto id = [&](int i, int j) { return Index((i % n) * m + (j % m)); };
   for (int i = 0; i < n; ++i)
@@ -139,8 +139,8 @@ TEST(MeshChecks, NonManifoldVertexWhereTwoTetrahedraTouch) {
 
 TEST(MeshChecks, DegenerateAndDuplicatePoints) {
   PolyData pd = tetra();
-  pd.points.push_back({0.5, 0, 0});    // 4: on edge 0-1 -> collinear with 0 and 1
-  pd.points.push_back({0, 0, 1});      // 5: same coordinates as 3
+  pd.points.push_back({0.5, 0, 0});  // 4: on edge 0-1 -> collinear with 0 and 1
+  pd.points.push_back({0, 0, 1});    // 5: same coordinates as 3
   pd.polys.add({0, 4, 1});
   pd.polys.add({2, 2, 5});
   const MeshReport r = check_mesh(pd);
@@ -184,4 +184,64 @@ TEST(MeshChecks, NoFacesIsAnError) {
   EXPECT_THROW((void)check_mesh(pd), Error);
   pd.polys.add({0, 1, 2});  // ids out of range
   EXPECT_THROW((void)check_mesh(pd), Error);
+}
+
+namespace {
+
+// Tetrahedron scaled by s about (0.1, 0.1, 0.1) and shifted by d, outward unless `inward`.
+void add_tetra(PolyData& pd, double s, const Vec3& d, bool inward) {
+  const PolyData t = tetra();
+  const Index base = static_cast<Index>(pd.points.size());
+  for (std::size_t i = 0; i < t.points.size(); ++i) {
+    pd.points.push_back((t.points[i] - Vec3{0.1, 0.1, 0.1}) * s + Vec3{0.1, 0.1, 0.1} + d);
+  }
+  for (std::size_t c = 0; c < t.polys.size(); ++c) {
+    auto ids = t.polys.cell(c);
+    if (inward) {
+      pd.polys.add({base + ids[0], base + ids[2], base + ids[1]});
+    } else {
+      pd.polys.add({base + ids[0], base + ids[1], base + ids[2]});
+    }
+  }
+}
+
+}  // namespace
+
+TEST(MeshChecks, OutwardAccountsForNesting) {
+  // A hollow tetrahedron: the cavity's surface must face inward (into the cavity).
+  PolyData hollow;
+  add_tetra(hollow, 1.0, {0, 0, 0}, false);
+  add_tetra(hollow, 0.3, {0, 0, 0}, true);
+  MeshReport r = check_mesh(hollow);
+  EXPECT_TRUE(r.valid_closed_surface());
+  EXPECT_TRUE(r.outward);
+  EXPECT_EQ(r.inward_components, 0u);
+  // The cavity facing outward is wrong although every component alone looks outward.
+  PolyData wrong;
+  add_tetra(wrong, 1.0, {0, 0, 0}, false);
+  add_tetra(wrong, 0.3, {0, 0, 0}, false);
+  r = check_mesh(wrong);
+  EXPECT_FALSE(r.outward);
+  EXPECT_EQ(r.inward_components, 1u);
+  // Two separate solids, both outward; then one of them flipped.
+  PolyData two;
+  add_tetra(two, 1.0, {0, 0, 0}, false);
+  add_tetra(two, 1.0, {3, 0, 0}, false);
+  r = check_mesh(two);
+  EXPECT_TRUE(r.outward);
+  PolyData one_flipped;
+  add_tetra(one_flipped, 1.0, {0, 0, 0}, false);
+  add_tetra(one_flipped, 1.0, {3, 0, 0}, true);
+  r = check_mesh(one_flipped);
+  EXPECT_FALSE(r.outward);
+  EXPECT_EQ(r.inward_components, 1u);
+}
+
+TEST(MeshChecks, OutwardNeedsAValidClosedSurface) {
+  // An open surface is never "outward", whatever its faces do.
+  PolyData open;
+  const PolyData t = tetra();
+  open.points = t.points;
+  for (std::size_t c = 0; c < 3; ++c) open.polys.add(t.polys.cell(c));
+  EXPECT_FALSE(check_mesh(open).outward);
 }
