@@ -1,4 +1,5 @@
 #include "isoforge/implicit/select.hpp"
+#include "isoforge/filters/shrink.hpp"
 
 #include <gtest/gtest.h>
 
@@ -111,4 +112,43 @@ TEST(Select, WorksOnUnstructuredAndPolyData) {
   const UnstructuredGrid out = extract_cells(pd, F::plane({1.5, 0, 0}, {1, 0, 0}));
   EXPECT_EQ(out.num_cells(), 1u);  // only the segment 0-1 lies at x <= 1.5
   EXPECT_EQ(out.num_points(), 2u);
+}
+
+TEST(Select, Figure124bVoxelsInTheUnionOfTwoEllipsoidsShrunk) {
+  // 20^3 voxels on [-1, 1]^3; the union of two ellipsoids (scaled unit spheres) crossing at the
+  // origin, as in the chapter's Fig. 1.24b; selected voxels shrunk 50%.
+  ImageData img;
+  img.dims = {21, 21, 21};
+  img.origin = {-1, -1, -1};
+  img.spacing = {0.1, 0.1, 0.1};
+  const Vec3 a{0.83, 0.41, 0.41}, b{0.41, 0.83, 0.41};
+  const F both = F::sphere({0, 0, 0}, 1).transformed(Affine::scaling(a)) |
+                 F::sphere({0, 0, 0}, 1).transformed(Affine::scaling(b));
+  auto inside = [](const Vec3& p, const Vec3& s) {
+    return (p.x / s.x) * (p.x / s.x) + (p.y / s.y) * (p.y / s.y) + (p.z / s.z) * (p.z / s.z) <= 1;
+  };
+  std::size_t expected = 0;
+  for (Index k = 0; k < 20; ++k)
+    for (Index j = 0; j < 20; ++j)
+      for (Index i = 0; i < 20; ++i) {
+        bool all = true;
+        for (int c = 0; c < 8; ++c) {
+          const Vec3 p = img.point(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1));
+          all = all && (inside(p, a) || inside(p, b));
+        }
+        expected += all ? 1 : 0;
+      }
+  const UnstructuredGrid selected = extract_cells(img, both);
+  EXPECT_EQ(selected.num_cells(), expected);
+  EXPECT_GT(expected, 100u);
+  const UnstructuredGrid shrunk = shrink(selected, 0.5);
+  ASSERT_EQ(shrunk.num_cells(), expected);
+  EXPECT_EQ(shrunk.num_points(), 8 * expected);
+  for (std::size_t c = 0; c < shrunk.num_cells(); ++c) {
+    Bounds cb;
+    for (Index id : shrunk.cells.cell(c)) cb.extend(shrunk.points[static_cast<std::size_t>(id)]);
+    EXPECT_NEAR(cb.size().x, 0.05, 1e-6);  // half of the 0.1 spacing (float32 points)
+    EXPECT_NEAR(cb.size().y, 0.05, 1e-6);
+    EXPECT_NEAR(cb.size().z, 0.05, 1e-6);
+  }
 }
