@@ -75,16 +75,35 @@ void sample_slab(const ImplicitFunction::Node& node, const GridSpec& g, Index k0
       const Index ni = std::min(kBx, nx - i0), nj = std::min(kBy, ny - j0), nkk = std::min(kBz, nk - kk0);
       const double* xr = xs.data() + i0;
       std::size_t n = 0;
-      for (Index k = kk0; k < kk0 + nkk; ++k) {
-        const double zk = zs[static_cast<std::size_t>(k)];
-        for (Index j = j0; j < j0 + nj; ++j) {
-          const double yj = ys[static_cast<std::size_t>(j)];
-          for (Index i = 0; i < ni; ++i) {
-            x[n + static_cast<std::size_t>(i)] = xr[i];
-            y[n + static_cast<std::size_t>(i)] = yj;
-            z[n + static_cast<std::size_t>(i)] = zk;
+      if (ni == kBx && nj == kBy && nkk == kBz) {
+        // A full brick: fixed trip counts, so the fills vectorize.
+        for (Index k = 0; k < kBz; ++k) {
+          const double zk = zs[static_cast<std::size_t>(kk0 + k)];
+          for (Index j = 0; j < kBy; ++j) {
+            const double yj = ys[static_cast<std::size_t>(j0 + j)];
+            double* xd = x + n;
+            double* yd = y + n;
+            double* zd = z + n;
+            for (Index i = 0; i < kBx; ++i) {
+              xd[i] = xr[i];
+              yd[i] = yj;
+              zd[i] = zk;
+            }
+            n += static_cast<std::size_t>(kBx);
           }
-          n += static_cast<std::size_t>(ni);
+        }
+      } else {
+        for (Index k = kk0; k < kk0 + nkk; ++k) {
+          const double zk = zs[static_cast<std::size_t>(k)];
+          for (Index j = j0; j < j0 + nj; ++j) {
+            const double yj = ys[static_cast<std::size_t>(j)];
+            for (Index i = 0; i < ni; ++i) {
+              x[n + static_cast<std::size_t>(i)] = xr[i];
+              y[n + static_cast<std::size_t>(i)] = yj;
+              z[n + static_cast<std::size_t>(i)] = zk;
+            }
+            n += static_cast<std::size_t>(ni);
+          }
         }
       }
       Bounds box;
@@ -92,11 +111,22 @@ void sample_slab(const ImplicitFunction::Node& node, const GridSpec& g, Index k0
       box.max = {x[n - 1], y[n - 1], z[n - 1]};
       eval_pruned(node, box, x, y, z, n, v);
       n = 0;
-      for (Index k = kk0; k < kk0 + nkk; ++k) {
-        for (Index j = j0; j < j0 + nj; ++j) {
-          T* dst = out + (k * ny + j) * nx + i0;
-          for (Index i = 0; i < ni; ++i) dst[i] = static_cast<T>(v[n + static_cast<std::size_t>(i)]);
-          n += static_cast<std::size_t>(ni);
+      if (ni == kBx) {
+        for (Index k = kk0; k < kk0 + nkk; ++k) {
+          for (Index j = j0; j < j0 + nj; ++j) {
+            T* dst = out + (k * ny + j) * nx + i0;
+            const double* src = v + n;
+            for (Index i = 0; i < kBx; ++i) dst[i] = static_cast<T>(src[i]);
+            n += static_cast<std::size_t>(kBx);
+          }
+        }
+      } else {
+        for (Index k = kk0; k < kk0 + nkk; ++k) {
+          for (Index j = j0; j < j0 + nj; ++j) {
+            T* dst = out + (k * ny + j) * nx + i0;
+            for (Index i = 0; i < ni; ++i) dst[i] = static_cast<T>(v[n + static_cast<std::size_t>(i)]);
+            n += static_cast<std::size_t>(ni);
+          }
         }
       }
     }
@@ -116,7 +146,7 @@ ImageData sample_image(const ImplicitFunction& f, const GridSpec& grid, const Sa
   img.origin = grid.origin;
   img.spacing = grid.spacing;
   const std::size_t np = img.num_points();
-  DataArray values(options.name, options.type, 1, np);
+  DataArray values = DataArray::uninitialized(options.name, options.type, 1, np);  // all written
 
   // Slabs of z-slices, so progress is reported (and cancellation honoured) from this thread.
   const Index nz = grid.dims[2];
