@@ -57,6 +57,16 @@ inline Index rank(const Word* mask, const Index* prefix, Index i) {
   return prefix[w] + std::popcount(mask[w] & ((Word{1} << (i & 63)) - 1));
 }
 
+/// Stores the unit vector of g (zero if g is zero or not finite), negated when `flip`.
+inline void store_normal(float* n, Vec3 g, bool flip) {
+  const double len = norm(g);
+  g = len > 0 && std::isfinite(len) ? g / len : Vec3{0, 0, 0};
+  if (flip) g = -g;
+  n[0] = static_cast<float>(g.x);
+  n[1] = static_cast<float>(g.y);
+  n[2] = static_cast<float>(g.z);
+}
+
 /// Bit i of a row.
 inline unsigned bit_at(const Word* row, Index i) {
   return static_cast<unsigned>((row[i >> 6] >> (i & 63)) & 1u);
