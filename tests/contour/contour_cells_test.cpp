@@ -13,12 +13,16 @@
 #include <random>
 #include <set>
 
+#include "support/surface_checks.hpp"
 #include "contour/tables.hpp"
 #include "isoforge/contour/contour.hpp"
 #include "isoforge/core/mesh_topology.hpp"
 #include "isoforge/io/io.hpp"
 
 using namespace isoforge;
+using isoforge::test::cube_grid;
+using isoforge::test::expect_closed_manifold;
+using isoforge::test::signed_volume;
 
 namespace {
 
@@ -26,24 +30,7 @@ std::size_t sz(Index i) {
   return static_cast<std::size_t>(i);
 }
 
-void expect_closed_manifold(const PolyData& pd, const std::string& what) {
-  const SurfaceTopology t = analyze_topology(pd);
-  EXPECT_EQ(t.border_edges, 0u) << what;
-  EXPECT_EQ(t.non_manifold_edges, 0u) << what;
-  EXPECT_EQ(t.non_manifold_vertices, 0u) << what;
-  EXPECT_EQ(t.inconsistent_edges, 0u) << what;
-  EXPECT_EQ(t.repeated_vertex_faces, 0u) << what;
-  EXPECT_EQ(t.vertices, pd.points.size()) << what;
-}
 
-double signed_volume(const PolyData& pd) {
-  double v = 0;
-  for (std::size_t c = 0; c < pd.polys.size(); ++c) {
-    auto ids = pd.polys.cell(c);
-    v += dot(pd.points[sz(ids[0])], cross(pd.points[sz(ids[1])], pd.points[sz(ids[2])])) / 6;
-  }
-  return v;
-}
 
 double triple(const Vec3& a, const Vec3& b, const Vec3& c) {
   return dot(a, cross(b, c));

@@ -6,11 +6,15 @@
 #include <numbers>
 #include <random>
 
+#include "support/surface_checks.hpp"
 #include "isoforge/contour/contour.hpp"
 #include "isoforge/core/mesh_topology.hpp"
 #include "isoforge/implicit/sample.hpp"
 
 using namespace isoforge;
+using isoforge::test::cube_grid;
+using isoforge::test::expect_closed_manifold;
+using isoforge::test::signed_volume;
 using F = ImplicitFunction;
 
 namespace {
@@ -24,26 +28,7 @@ ImageData image_of(Dims dims, const std::vector<float>& values, Vec3 spacing = {
 }
 
 // Every closed-surface property the contour promises.
-void expect_closed_manifold(const PolyData& pd, const std::string& what) {
-  const SurfaceTopology t = analyze_topology(pd);
-  EXPECT_EQ(t.border_edges, 0u) << what;
-  EXPECT_EQ(t.non_manifold_edges, 0u) << what;
-  EXPECT_EQ(t.non_manifold_vertices, 0u) << what;
-  EXPECT_EQ(t.inconsistent_edges, 0u) << what;
-  EXPECT_EQ(t.repeated_vertex_faces, 0u) << what;
-  // Every point is used (one point per crossed edge, no strays).
-  EXPECT_EQ(t.vertices, pd.points.size()) << what;
-}
 
-double signed_volume(const PolyData& pd) {
-  double v = 0;
-  for (std::size_t c = 0; c < pd.polys.size(); ++c) {
-    auto ids = pd.polys.cell(c);
-    v += dot(pd.points[static_cast<std::size_t>(ids[0])],
-             cross(pd.points[static_cast<std::size_t>(ids[1])], pd.points[static_cast<std::size_t>(ids[2])])) / 6;
-  }
-  return v;
-}
 
 PolyData contour_function(const F& f, double lo, double hi, Index n, ContourOptions o = {}) {
   Bounds b;

@@ -1,3 +1,4 @@
+#include "support/surface_checks.hpp"
 #include "isoforge/contour/contour_sparse.hpp"
 
 #include <gtest/gtest.h>
@@ -15,16 +16,13 @@
 #include "isoforge/io/vdb.hpp"
 
 using namespace isoforge;
+using isoforge::test::cube_grid;
+using isoforge::test::expect_closed_manifold;
+using isoforge::test::signed_volume;
 using F = ImplicitFunction;
 
 namespace {
 
-GridSpec cube_grid(double lo, double hi, Index n) {
-  Bounds b;
-  b.extend({lo, lo, lo});
-  b.extend({hi, hi, hi});
-  return GridSpec::from_bounds(b, {n, n, n});
-}
 
 GridSpec cone_grid(Index nx) {
   // The ice cream cone's natural bounds [-0.1, 2.0] x [-0.7, 0.7]², cubic voxels.
@@ -88,17 +86,6 @@ void expect_same_surface(const PolyData& sparse, const PolyData& dense, const st
   EXPECT_TRUE(ts == td) << what << ": triangle sets differ";
 }
 
-double signed_volume(const PolyData& pd) {
-  double v = 0;
-  for (std::size_t c = 0; c < pd.polys.size(); ++c) {
-    auto ids = pd.polys.cell(c);
-    v += dot(pd.points[static_cast<std::size_t>(ids[0])],
-             cross(pd.points[static_cast<std::size_t>(ids[1])],
-                   pd.points[static_cast<std::size_t>(ids[2])])) /
-         6;
-  }
-  return v;
-}
 
 void expect_closed_genus(const PolyData& pd, long genus, const std::string& what) {
   const SurfaceTopology t = analyze_topology(pd);

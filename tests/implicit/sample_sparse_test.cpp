@@ -1,3 +1,4 @@
+#include "support/surface_checks.hpp"
 #include "isoforge/implicit/sample_sparse.hpp"
 
 #include <gtest/gtest.h>
@@ -6,16 +7,13 @@
 #include <cmath>
 
 using namespace isoforge;
+using isoforge::test::cube_grid;
+using isoforge::test::expect_closed_manifold;
+using isoforge::test::signed_volume;
 using F = ImplicitFunction;
 
 namespace {
 
-GridSpec cube_grid(double lo, double hi, Index n) {
-  Bounds b;
-  b.extend({lo, lo, lo});
-  b.extend({hi, hi, hi});
-  return GridSpec::from_bounds(b, {n, n, n});
-}
 
 }  // namespace
 
