@@ -156,11 +156,13 @@ class LatticeContourer {
         if (!b10 || !b01) continue;
         const Word* b11 = row_bits(j + 1, k + 1);
         for (Index w = 0; w < words_; ++w) {
-          Word active = mixed_cells(b00, b10, b01, b11, w);
+          const CellWords cw = cell_words(b00, b10, b01, b11, w);
+          Word active = cw.mixed(valid_bits(w, nx_ - 1));
           while (active) {
-            const Index i = 64 * w + std::countr_zero(active);
+            const int bit = std::countr_zero(active);
+            const Index i = 64 * w + bit;
             active &= active - 1;
-            const CaseTable::Case& c = table.at(case_index(b00, b10, b01, b11, i));
+            const CaseTable::Case& c = table.at(cw.case_at(bit));
             unsigned vb = 0;
             if (c.ambiguous) {
               vb = variant_bits(c, i, j, k);
@@ -268,11 +270,13 @@ class LatticeContourer {
         Index t = tri_offset_[ur];
         Index center = p;  // the row's cell-interior points follow its edge points
         for (Index w = 0; w < words_; ++w) {
-          Word active = mixed_cells(b00, b10, b01, b11, w);
+          const CellWords cw = cell_words(b00, b10, b01, b11, w);
+          Word active = cw.mixed(valid_bits(w, nx_ - 1));
           while (active) {
-            const Index i = 64 * w + std::countr_zero(active);
+            const int bit = std::countr_zero(active);
+            const Index i = 64 * w + bit;
             active &= active - 1;
-            const CaseTable::Case& c = table.at(case_index(b00, b10, b01, b11, i));
+            const CaseTable::Case& c = table.at(cw.case_at(bit));
             const unsigned vb = c.ambiguous ? variant_bits(c, i, j, k) : 0u;
             const CaseTable::Variant& var = table.variant(c, vb);
             for (unsigned q = 0; q < var.centers; ++q) {
@@ -316,19 +320,25 @@ class LatticeContourer {
   [[nodiscard]] double value(Index i, Index j, Index k) const { return static_cast<double>(v_[id(i, j, k)]); }
   [[nodiscard]] const Word* row_bits(Index j, Index k) const { return bits_.data() + (j + ny_ * k) * words_; }
 
-  // Cells of word w whose 8 corners are not all on one side.
-  [[nodiscard]] Word mixed_cells(const Word* b00, const Word* b10, const Word* b01, const Word* b11,
-                                 Index w) const {
-    const Word a = b00[w];
-    const Word diff = (a ^ shifted(b00, w, words_)) | (a ^ b10[w]) | (a ^ shifted(b10, w, words_)) |
-                      (a ^ b01[w]) | (a ^ shifted(b01, w, words_)) | (a ^ b11[w]) |
-                      (a ^ shifted(b11, w, words_));
-    return diff & valid_bits(w, nx_ - 1);
-  }
-
-  static unsigned case_index(const Word* b00, const Word* b10, const Word* b01, const Word* b11, Index i) {
-    return bit_at(b00, i) | bit_at(b00, i + 1) << 1 | bit_at(b10, i) << 2 | bit_at(b10, i + 1) << 3 |
-           bit_at(b01, i) << 4 | bit_at(b01, i + 1) << 5 | bit_at(b11, i) << 6 | bit_at(b11, i + 1) << 7;
+  // The eight corner bits of the cells of word w: rows 00 10 01 11 at i and (shifted) at i + 1.
+  struct CellWords {
+    Word c[8];  // voxel corner order: 00@i, 00@i+1, 10@i, 10@i+1, 01@i, 01@i+1, 11@i, 11@i+1
+    /// Cells whose 8 corners are not all on one side.
+    [[nodiscard]] Word mixed(Word valid) const {
+      const Word a = c[0];
+      return ((a ^ c[1]) | (a ^ c[2]) | (a ^ c[3]) | (a ^ c[4]) | (a ^ c[5]) | (a ^ c[6]) | (a ^ c[7])) &
+             valid;
+    }
+    [[nodiscard]] unsigned case_at(int b) const {
+      unsigned cs = 0;
+      for (int q = 0; q < 8; ++q) cs |= static_cast<unsigned>((c[q] >> b) & 1u) << q;
+      return cs;
+    }
+  };
+  [[nodiscard]] CellWords cell_words(const Word* b00, const Word* b10, const Word* b01, const Word* b11,
+                                     Index w) const {
+    return {{b00[w], shifted(b00, w, words_), b10[w], shifted(b10, w, words_), b01[w],
+             shifted(b01, w, words_), b11[w], shifted(b11, w, words_)}};
   }
 
   // Variant bits of an ambiguous case: the asymptotic decider on each ambiguous face.
