@@ -25,5 +25,9 @@ void add_convert_command(CLI::App& app, Context& ctx);
 void add_sample_command(CLI::App& app, Context& ctx);
 void add_select_command(CLI::App& app, Context& ctx);
 void add_contour_command(CLI::App& app, Context& ctx);
+void add_distance_command(CLI::App& app, Context& ctx);
+void add_offset_command(CLI::App& app, Context& ctx);
+void add_csg_command(CLI::App& app, Context& ctx);
+void add_attractor_command(CLI::App& app, Context& ctx);
 
 }  // namespace isoforge::cli

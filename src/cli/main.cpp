@@ -33,6 +33,10 @@ int main(int argc, char** argv) {
   add_sample_command(app, ctx);
   add_select_command(app, ctx);
   add_contour_command(app, ctx);
+  add_distance_command(app, ctx);
+  add_offset_command(app, ctx);
+  add_csg_command(app, ctx);
+  add_attractor_command(app, ctx);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

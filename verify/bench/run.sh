@@ -26,6 +26,19 @@ for s in $sections; do
       ISOFORGE_BENCH_FIELDS="$out/fields" "$build/verify/bench/bench_contour" --benchmark_format=json > "$out/contour_isoforge.json"
       if [ $have_vtk = 1 ]; then /usr/bin/python3 "$here/peers/vtk_contour.py" "$out/fields" 256 512 > "$out/contour_vtk.json"; else echo '{}' > "$out/contour_vtk.json"; fi
       ;;
+    model)
+      # Dense modeller cases and the attractor in one process (the dense results go to
+      # model_fields/ for the peer to compare); each narrow-band case in its own process, so that
+      # its peak memory is its own.
+      mkdir -p "$out/model_fields"
+      ISOFORGE_BENCH_OUT="$out/model_fields" "$build/verify/bench/bench_model" \
+        --benchmark_filter='^(modeller|attractor)' --benchmark_format=json > "$out/model_isoforge.json"
+      for nb in 512/0 512/1 1024/0 1024/1; do
+        "$build/verify/bench/bench_model" --benchmark_filter="^narrowband/${nb}/" \
+          --benchmark_format=json > "$out/model_nb_${nb/\//_}.json"
+      done
+      if [ $have_vtk = 1 ]; then /usr/bin/python3 "$here/peers/vtk_model.py" "$root/data" "$out/model_fields" > "$out/model_vtk.json"; else echo '{}' > "$out/model_vtk.json"; fi
+      ;;
     *) echo "unknown section $s"; exit 2 ;;
   esac
   /usr/bin/python3 "$here/report.py" "$out" "$s"

@@ -1,0 +1,468 @@
+#include "isoforge/model/distance.hpp"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "isoforge/core/cell.hpp"
+#include "isoforge/core/mesh_topology.hpp"
+#include "isoforge/io/io.hpp"
+
+using namespace isoforge;
+
+namespace {
+
+// A mixed input: a vertex cell of two points, a polyline, a line, a quad, a triangle and a strip.
+PolyData mixed_input() {
+  PolyData pd;
+  const std::vector<Vec3> p{{0.1, 0.2, 0.3}, {0.9, 0.1, 0.2},  {0.5, 0.8, 0.1}, {0.2, 0.7, 0.9},
+                            {0.8, 0.8, 0.8}, {0.3, 0.3, 0.6},  {0.6, 0.2, 0.9}, {0.7, 0.5, 0.4},
+                            {0.1, 0.9, 0.5}, {0.45, 0.5, 0.5}, {0.2, 0.1, 0.8}, {0.9, 0.6, 0.1}};
+  for (const Vec3& q : p) pd.points.push_back(q);
+  pd.verts.add({9, 11});
+  pd.lines.add({0, 1, 2});
+  pd.lines.add({3, 4});
+  pd.polys.add({5, 6, 7, 8});
+  pd.polys.add({0, 10, 3});
+  pd.strips.add({1, 11, 4, 7, 6});
+  return pd;
+}
+
+// Brute-force exact distance with the independent kernels of core/cell.hpp (Ericson).
+double brute_distance(const PolyData& pd, const Vec3& x) {
+  double best = 1e300;
+  for (std::size_t c = 0; c < pd.verts.size(); ++c) {
+    for (Index id : pd.verts.cell(c)) best = std::min(best, norm2(x - pd.points[id]));
+  }
+  for (std::size_t c = 0; c < pd.lines.size(); ++c) {
+    const auto ids = pd.lines.cell(c);
+    for (std::size_t k = 0; k + 1 < ids.size(); ++k) {
+      const std::array<Vec3, 2> s{pd.points[ids[k]], pd.points[ids[k + 1]]};
+      best = std::min(best, locate_in_cell(CellType::Line, s, x).dist2);
+    }
+  }
+  for (const auto& t : triangulate_faces(pd)) {
+    const std::array<Vec3, 3> tri{pd.points[t[0]], pd.points[t[1]], pd.points[t[2]]};
+    best = std::min(best, locate_in_cell(CellType::Triangle, tri, x).dist2);
+  }
+  return std::sqrt(best);
+}
+
+GridSpec cube_grid(double lo, double hi, Index n) {
+  Bounds b;
+  b.extend({lo, lo, lo});
+  b.extend({hi, hi, hi});
+  return GridSpec::from_bounds(b, {n, n, n});
+}
+
+// A closed, outward-oriented UV sphere of radius r (poles at ±z).
+PolyData uv_sphere(double r, int rings, int segments, Vec3 center = {}) {
+  PolyData pd;
+  pd.points.push_back(center + Vec3{0, 0, -r});
+  for (int i = 1; i < rings; ++i) {
+    const double th = std::numbers::pi * i / rings;
+    for (int j = 0; j < segments; ++j) {
+      const double ph = 2 * std::numbers::pi * j / segments;
+      pd.points.push_back(center + Vec3{r * std::sin(th) * std::cos(ph),
+                                        r * std::sin(th) * std::sin(ph), -r * std::cos(th)});
+    }
+  }
+  pd.points.push_back(center + Vec3{0, 0, r});
+  const auto ring = [&](int i, int j) { return Index(1 + (i - 1) * segments + (j % segments)); };
+  const Index top = Index(pd.points.size() - 1);
+  for (int j = 0; j < segments; ++j) pd.polys.add({0, ring(1, j + 1), ring(1, j)});
+  for (int i = 1; i + 1 < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      pd.polys.add({ring(i, j), ring(i, j + 1), ring(i + 1, j + 1)});
+      pd.polys.add({ring(i, j), ring(i + 1, j + 1), ring(i + 1, j)});
+    }
+  for (int j = 0; j < segments; ++j)
+    pd.polys.add({ring(rings - 1, j), ring(rings - 1, j + 1), top});
+  return pd;
+}
+
+// A closed cube [-0.5, 0.5]^3 made of 12 outward triangles.
+PolyData cube_mesh() {
+  PolyData pd;
+  for (int i = 0; i < 8; ++i)
+    pd.points.push_back({(i & 1) - 0.5, ((i >> 1) & 1) - 0.5, ((i >> 2) & 1) - 0.5});
+  const int q[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                       {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& f : q) {
+    pd.polys.add({f[0], f[1], f[2]});
+    pd.polys.add({f[0], f[2], f[3]});
+  }
+  return pd;
+}
+
+double box_signed_distance(const Vec3& p) {
+  const Vec3 q{std::abs(p.x) - 0.5, std::abs(p.y) - 0.5, std::abs(p.z) - 0.5};
+  const Vec3 o{std::max(q.x, 0.0), std::max(q.y, 0.0), std::max(q.z, 0.0)};
+  return norm(o) + std::min(std::max({q.x, q.y, q.z}), 0.0);
+}
+
+template <class T>
+std::vector<T> values(const ImageData& img) {
+  const auto v = img.point_data.scalars()->values<T>();
+  return {v.begin(), v.end()};
+}
+
+}  // namespace
+
+TEST(Distance, RandomBandSamplesAreExact) {
+  const PolyData pd = mixed_input();
+  const GridSpec g = cube_grid(-0.3, 1.3, 61);
+  DistanceOptions o;
+  o.max_distance = 0.2;
+  DistanceStats stats;
+  const ImageData img = distance_image(pd, g, o, ScalarType::Float64, &stats);
+  EXPECT_EQ(stats.points, 2u);
+  EXPECT_EQ(stats.segments, 3u);
+  EXPECT_EQ(stats.triangles, 2u + 1u + 3u);
+  const auto v = values<double>(img);
+  std::mt19937 rng(5);
+  const double diag = std::sqrt(3.0) * 1.6;
+  int in_band = 0;
+  for (int t = 0; t < 4000; ++t) {
+    const Index id = Index(rng() % v.size());
+    const double ref = brute_distance(pd, img.point(id));
+    if (ref < o.max_distance) {
+      ++in_band;
+      ASSERT_NEAR(v[std::size_t(id)], ref, 1e-5 * diag);
+      ASSERT_NEAR(v[std::size_t(id)], ref, 1e-12);  // in fact exact up to rounding
+    } else {
+      ASSERT_EQ(v[std::size_t(id)], o.max_distance);
+    }
+  }
+  EXPECT_GT(in_band, 500);
+}
+
+TEST(Distance, SparseBandIsExactlyTheSamplesWithinTheMaximumDistance) {
+  const PolyData pd = mixed_input();
+  const GridSpec g = cube_grid(-0.3, 1.3, 49);
+  DistanceOptions o;
+  o.max_distance = 0.15;
+  DistanceStats stats;
+  const auto grid = distance_grid(pd, g, o, &stats);
+  EXPECT_EQ(grid->getGridClass(), openvdb::GRID_UNKNOWN);
+  EXPECT_FLOAT_EQ(grid->background(), 0.15f);
+  auto acc = grid->getConstAccessor();
+  std::size_t expected = 0;
+  for (Index k = 0; k < g.dims[2]; ++k)
+    for (Index j = 0; j < g.dims[1]; ++j)
+      for (Index i = 0; i < g.dims[0]; ++i) {
+        const Vec3 x{g.coordinate(0, i), g.coordinate(1, j), g.coordinate(2, k)};
+        const double ref = brute_distance(pd, x);
+        const openvdb::Coord c{int(i), int(j), int(k)};
+        if (std::abs(ref - o.max_distance) < 1e-9) continue;  // a tie with the band edge
+        const bool in_band = ref < o.max_distance;
+        ASSERT_EQ(acc.isValueOn(c), in_band) << i << " " << j << " " << k << " d=" << ref;
+        if (in_band) {
+          ++expected;
+          ASSERT_NEAR(acc.getValue(c), ref, 1e-6);
+        } else {
+          ASSERT_EQ(acc.getValue(c), 0.15f);
+        }
+      }
+  EXPECT_EQ(grid->activeVoxelCount(), expected);
+  EXPECT_EQ(stats.active_voxels, expected);
+  // Nothing outside the grid's dims.
+  const openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();
+  EXPECT_GE(box.min().x(), 0);
+  EXPECT_LT(box.max().x(), 49);
+}
+
+TEST(Distance, ScatterAndGatherAreBitIdentical) {
+  const PolyData pd = mixed_input();
+  GridSpec g = cube_grid(-0.3, 1.3, 57);
+  g.spacing.y *= 0.9;  // per-axis spacing on the dense path
+  DistanceOptions o;
+  o.max_distance = 0.3;
+  o.strategy = DistanceStrategy::Scatter;
+  DistanceStats s1, s2;
+  const auto a = values<double>(distance_image(pd, g, o, ScalarType::Float64, &s1));
+  o.strategy = DistanceStrategy::Gather;
+  const auto b = values<double>(distance_image(pd, g, o, ScalarType::Float64, &s2));
+  EXPECT_EQ(s1.strategy, DistanceStrategy::Scatter);
+  EXPECT_EQ(s2.strategy, DistanceStrategy::Gather);
+  EXPECT_EQ(s1.active_voxels, s2.active_voxels);
+  ASSERT_EQ(a, b);
+}
+
+TEST(Distance, BunnyStrategiesAgreeAndMatchBruteForce) {
+  const PolyData bunny = std::get<PolyData>(read(ISOFORGE_DATA_DIR "/bunny.ply"));
+  const Bounds b = bunny.bounds();
+  const GridSpec g = GridSpec::from_bounds(b, {24, 24, 20});
+  DistanceOptions o;
+  o.max_distance = 0.1 * b.diagonal();
+  o.strategy = DistanceStrategy::Scatter;
+  const auto a = values<float>(distance_image(bunny, g, o));
+  o.strategy = DistanceStrategy::Gather;
+  const ImageData img = distance_image(bunny, g, o);
+  const auto c = values<float>(img);
+  ASSERT_EQ(a, c);
+  std::mt19937 rng(2);
+  for (int t = 0; t < 60; ++t) {
+    const Index id = Index(rng() % c.size());
+    const double ref = brute_distance(bunny, img.point(id));
+    ASSERT_NEAR(c[std::size_t(id)], std::min(ref, o.max_distance), 1e-5 * b.diagonal());
+  }
+}
+
+TEST(Distance, DenseAndSparseAgreeBitForBitOnTheBand) {
+  const PolyData pd = mixed_input();
+  const GridSpec g = cube_grid(-0.25, 1.25, 64);
+  DistanceOptions o;
+  o.max_distance = 0.12;
+  const ImageData dense = distance_image(pd, g, o);
+  const auto grid = distance_grid(pd, g, o);
+  const auto v = values<float>(dense);
+  auto acc = grid->getConstAccessor();
+  std::size_t active = 0;
+  for (Index k = 0; k < g.dims[2]; ++k)
+    for (Index j = 0; j < g.dims[1]; ++j)
+      for (Index i = 0; i < g.dims[0]; ++i) {
+        const openvdb::Coord c{int(i), int(j), int(k)};
+        const float d = v[std::size_t(dense.point_id(i, j, k))];
+        ASSERT_EQ(acc.getValue(c), d);
+        if (acc.isValueOn(c)) {
+          ++active;
+        } else {
+          ASSERT_EQ(d, 0.12f);
+        }
+      }
+  EXPECT_EQ(active, grid->activeVoxelCount());
+}
+
+TEST(Distance, DeterministicForAnyThreadCount) {
+  const PolyData pd = uv_sphere(0.4, 24, 48, {0.5, 0.5, 0.5});
+  const GridSpec g = cube_grid(0, 1, 70);
+  DistanceOptions o;
+  o.max_distance = 0.1;
+  for (auto s : {DistanceStrategy::Scatter, DistanceStrategy::Gather}) {
+    o.strategy = s;
+    std::vector<float> one;
+    {
+      tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+      one = values<float>(distance_image(pd, g, o));
+    }
+    ASSERT_EQ(one, values<float>(distance_image(pd, g, o)));
+  }
+}
+
+TEST(Distance, SignedDistanceOfAClosedMesh) {
+  const PolyData cube = cube_mesh();
+  const GridSpec g = cube_grid(-1, 1, 41);
+  DistanceOptions o;
+  o.max_distance = 0.3;
+  o.signed_distance = true;
+  for (auto s : {DistanceStrategy::Scatter, DistanceStrategy::Gather}) {
+    o.strategy = s;
+    const ImageData img = distance_image(cube, g, o, ScalarType::Float64);
+    const auto v = values<double>(img);
+    for (std::size_t id = 0; id < v.size(); ++id) {
+      const double ref = box_signed_distance(img.point(Index(id)));
+      if (std::abs(ref) < o.max_distance) {
+        ASSERT_NEAR(v[id], ref, 1e-12) << id;
+      } else {
+        // Beyond the band: ±max by the side (flood fill).
+        ASSERT_EQ(v[id], ref < 0 ? -0.3 : 0.3) << id;
+      }
+    }
+    // The sparse level set: same band values, inactive values ±background.
+    const auto grid = distance_grid(cube, g, o);
+    EXPECT_EQ(grid->getGridClass(), openvdb::GRID_LEVEL_SET);
+    auto acc = grid->getConstAccessor();
+    EXPECT_FLOAT_EQ(acc.getValue(openvdb::Coord(20, 20, 20)), -0.3f);  // the center
+    EXPECT_FLOAT_EQ(acc.getValue(openvdb::Coord(0, 0, 0)), 0.3f);
+    for (auto it = grid->cbeginValueOn(); it; ++it) {
+      const openvdb::Coord c = it.getCoord();
+      ASSERT_FLOAT_EQ(*it, static_cast<float>(v[std::size_t(img.point_id(c.x(), c.y(), c.z()))]));
+    }
+  }
+}
+
+TEST(Distance, SignedDistanceOfASphereAndAnInwardOrientedOne) {
+  PolyData sphere = uv_sphere(0.6, 30, 60);
+  const GridSpec g = cube_grid(-1, 1, 33);
+  DistanceOptions o;
+  o.max_distance = 0.25;
+  o.signed_distance = true;
+  const auto out = values<double>(distance_image(sphere, g, o, ScalarType::Float64));
+  // Reverse every triangle: the mesh encloses a negative volume and is flipped back.
+  PolyData inward = sphere;
+  inward.polys.clear();
+  for (std::size_t c = 0; c < sphere.polys.size(); ++c) {
+    const auto ids = sphere.polys.cell(c);
+    inward.polys.add({ids[0], ids[2], ids[1]});
+  }
+  const auto in = values<double>(distance_image(inward, g, o, ScalarType::Float64));
+  ASSERT_EQ(out.size(), in.size());
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    ASSERT_NEAR(out[i], in[i], 1e-12) << i;  // the same up to the kernel's vertex order
+  }
+  const ImageData img = distance_image(sphere, g, o, ScalarType::Float64);
+  for (std::size_t id = 0; id < out.size(); ++id) {
+    const double r = norm(img.point(Index(id)));
+    if (std::abs(r - 0.6) < 0.2) {
+      ASSERT_NEAR(out[id], r - 0.6, 0.01) << id;  // polygonal sphere
+    }
+    if (r < 0.3) {
+      ASSERT_EQ(out[id], -0.25);
+    }
+  }
+}
+
+TEST(Distance, SignedDistanceRejectsMeshesWithoutAnInside) {
+  DistanceOptions o;
+  o.max_distance = 0.3;
+  o.signed_distance = true;
+  const GridSpec g = cube_grid(-1, 1, 9);
+  const auto expect_error = [&](const PolyData& pd, const char* what) {
+    try {
+      (void)distance_image(pd, g, o);
+      FAIL() << "no error for " << what;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  PolyData open = cube_mesh();
+  open.polys.clear();
+  const PolyData cube = cube_mesh();
+  for (std::size_t c = 1; c < cube.polys.size(); ++c) open.polys.add(cube.polys.cell(c));
+  expect_error(open, "open");
+  PolyData nonmanifold = cube_mesh();
+  nonmanifold.points.push_back({0, 0, 2});
+  nonmanifold.polys.add({0, 2, 8});  // a fin on the edge 0-2: three faces
+  expect_error(nonmanifold, "non-manifold");
+  PolyData flipped = cube_mesh();
+  flipped.polys.clear();
+  for (std::size_t c = 0; c < cube.polys.size(); ++c) {
+    const auto ids = cube.polys.cell(c);
+    if (c == 0) {
+      flipped.polys.add({ids[0], ids[2], ids[1]});
+    } else {
+      flipped.polys.add(ids);
+    }
+  }
+  expect_error(flipped, "inconsistent orientation");
+  PolyData lines = cube_mesh();
+  lines.lines.add({0, 7});
+  expect_error(lines, "closed triangle mesh");
+  // The documented fallback: the pseudonormal sign without the topology check.
+  o.require_closed = false;
+  EXPECT_NO_THROW((void)distance_image(open, g, o));
+}
+
+TEST(Distance, PointsWithRadiiAreBalls) {
+  PolyData pd;
+  pd.points.push_back({0, 0, 0});
+  pd.points.push_back({0.6, 0, 0});
+  pd.verts.add({0});
+  pd.verts.add({1});
+  pd.point_data.add(DataArray::from_vector<double>("r", 1, {0.2, 0.1}));
+  const GridSpec g = cube_grid(-0.5, 1, 31);
+  DistanceOptions o;
+  o.max_distance = 0.15;
+  o.radius_array = "r";
+  const ImageData img = distance_image(pd, g, o, ScalarType::Float64);
+  const auto v = values<double>(img);
+  for (std::size_t id = 0; id < v.size(); ++id) {
+    const Vec3 x = img.point(Index(id));
+    const double ref = std::min(norm(x - pd.points[0]) - 0.2, norm(x - pd.points[1]) - 0.1);
+    ASSERT_NEAR(v[id], ref < 0.15 ? ref : 0.15, 1e-12);
+  }
+  o.strategy = DistanceStrategy::Gather;
+  EXPECT_THROW((void)distance_image(pd, g, o), Error);
+  o.strategy = DistanceStrategy::Auto;
+  o.radius_array = "missing";
+  EXPECT_THROW((void)distance_image(pd, g, o), Error);
+}
+
+TEST(Distance, MemoryScalesWithAreaNotVolume) {
+  const PolyData sphere = uv_sphere(0.7, 40, 80);
+  DistanceStats s1, s2;
+  DistanceOptions o;
+  o.max_distance = 3 * 2.0 / 128;  // three voxels at 129³
+  (void)distance_grid(sphere, cube_grid(-1, 1, 129), o, &s1);
+  o.max_distance = 3 * 2.0 / 256;  // three voxels at 257³
+  (void)distance_grid(sphere, cube_grid(-1, 1, 257), o, &s2);
+  const double ratio = double(s2.active_voxels) / double(s1.active_voxels);
+  EXPECT_GT(ratio, 3.5);  // doubling the resolution: area x4 (volume would be x8)
+  EXPECT_LT(ratio, 4.5);
+  EXPECT_LT(double(s2.memory_bytes) / double(s1.memory_bytes), 5.0);
+}
+
+TEST(Distance, OpenVdbMeshToVolumeAgreesNearTheSurface) {
+  const PolyData sphere = uv_sphere(0.6, 30, 60);
+  const GridSpec g = cube_grid(-1, 1, 65);
+  const auto vdb = openvdb_mesh_to_volume(sphere, g, 3, true);
+  DistanceOptions o;
+  o.max_distance = 3 * g.spacing.x;
+  o.signed_distance = true;
+  const auto ours = distance_grid(sphere, g, o);
+  auto a = vdb->getConstAccessor();
+  std::size_t compared = 0;
+  for (auto it = ours->cbeginValueOn(); it; ++it) {
+    if (std::abs(*it) > g.spacing.x) continue;  // meshToVolume is exact next to triangles
+    ASSERT_NEAR(a.getValue(it.getCoord()), *it, 1e-4) << it.getCoord();
+    ++compared;
+  }
+  EXPECT_GT(compared, 1000u);
+}
+
+TEST(Distance, BadInputIsAnErrorNamingTheProblem) {
+  const auto expect_error = [](auto&& f, const char* what) {
+    try {
+      f();
+      FAIL() << "no error, expected " << what;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  const PolyData pd = mixed_input();
+  const GridSpec g = cube_grid(0, 1, 8);
+  DistanceOptions o;
+  o.max_distance = 0.1;
+  expect_error([&] { (void)distance_image(PolyData{}, g, o); }, "empty");
+  PolyData points_only;
+  points_only.points.push_back({0, 0, 0});
+  expect_error([&] { (void)distance_image(points_only, g, o); }, "empty");
+  for (double bad : {0.0, -1.0, std::nan(""), double(INFINITY)}) {
+    DistanceOptions b = o;
+    b.max_distance = bad;
+    expect_error([&] { (void)distance_image(pd, g, b); }, "max_distance");
+    expect_error([&] { (void)distance_grid(pd, g, b); }, "max_distance");
+  }
+  PolyData nan = pd;
+  nan.points.set(4, {0, std::nan(""), 0});
+  expect_error([&] { (void)distance_image(nan, g, o); }, "point 4 is not finite");
+  GridSpec zero = g;
+  zero.dims[1] = 0;
+  expect_error([&] { (void)distance_image(pd, zero, o); }, "dimension 1");
+  GridSpec flat = g;
+  flat.spacing.z = 0;
+  expect_error([&] { (void)distance_image(pd, flat, o); }, "spacing");
+  GridSpec uneven = g;
+  uneven.spacing.y *= 2;
+  expect_error([&] { (void)distance_grid(pd, uneven, o); }, "cubes");
+  expect_error([&] { (void)distance_image(pd, g, o, ScalarType::Int32); }, "float32 or float64");
+}
+
+TEST(Distance, CubicGridCoversTheBox) {
+  Bounds b;
+  b.extend({0, 0, 0});
+  b.extend({1, 0.5, 0.25});
+  const GridSpec g = cubic_grid(b, 0.1, 0.2);
+  EXPECT_DOUBLE_EQ(g.origin.x, -0.2);
+  EXPECT_EQ(g.dims[0], 15);
+  EXPECT_EQ(g.dims[1], 10);
+  EXPECT_EQ(g.dims[2], 8);  // 0.65 / 0.1 rounded up, plus the first sample
+  EXPECT_GE(g.coordinate(2, g.dims[2] - 1), 0.45 - 1e-12);
+  EXPECT_THROW((void)cubic_grid(b, 0, 0), Error);
+}
