@@ -95,8 +95,14 @@ expect_error no_values "at least one value" "$bin" contour "$tmp/sphere.vti" -o 
 expect_error missing_array "no point array named 'nope'" "$bin" contour "$tmp/sphere.vti" -v 0 -a nope -o "$tmp/x.vtp"
 expect_error contour_to_vti "holds|not" "$bin" contour "$tmp/sphere.vti" -v 0 -o "$tmp/x.vti"
 
+# ---- implicit modeling ----
+expect_ok offset_hello "5 connected surfaces" "$bin" offset "$data/hello.vtk" -d 0.25 --dims 110 40 20 --bounds -1 10 -1 3 -1 1 -o "$tmp/hello.vtp"
+expect_ok offset_hello_info "cells: [0-9]+ \\([0-9]+ triangle\\)" "$bin" info "$tmp/hello.vtp"
+expect_error distance_open "open" "$bin" distance "$data/bunny.ply" --signed -m 0.01 -d 16 -o "$tmp/b.vti"
+expect_ok attractor "discarded" "$bin" attractor --steps 100000 --dims 50 -o "$tmp/l.vtp"
+
 # ---- help: every subcommand has examples ----
-for sub in info convert sample select contour; do
+for sub in info convert sample select contour distance offset csg attractor; do
   expect_ok "help_$sub" "Examples:" "$bin" "$sub" --help
 done
 out=$("$bin" 2>&1); [ $? -ne 0 ] || fail "no subcommand should be an error"
