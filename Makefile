@@ -68,6 +68,16 @@ demo: build
 	echo "==== data/combxyz.bin + data/combq.bin (PLOT3D combustor)"; \
 	$(BUILD)/src/isoforge info data/combxyz.bin --q data/combq.bin; \
 	$(BUILD)/src/isoforge convert data/combxyz.bin --q data/combq.bin out/demo/combustor --vtk-xml
+	@echo "==== algorithms of the chapter (results in out/demo/)"
+	$(BUILD)/src/isoforge sample -f 'icecream()' -b -0.1 2 -0.7 0.7 -0.7 0.7 -d 128 -o out/demo/icecream.vti
+	$(BUILD)/src/isoforge contour out/demo/icecream.vti -v 0 --normals gradient -o out/demo/fig_1_23c_icecream.vtp
+	$(BUILD)/src/isoforge select out/demo/icecream.vti \
+	  -f 'union(scale(sphere(), [0.8, 0.4, 0.4]), scale(sphere(), [0.4, 0.8, 0.4]))' --shrink 0.5 \
+	  -o out/demo/fig_1_24b_selected.vtu
+	$(BUILD)/src/isoforge attractor -o out/demo/fig_1_25_lorenz.vtp
+	$(BUILD)/src/isoforge offset data/hello.vtk -d 0.25 --dims 110 40 20 --bounds -1 10 -1 3 -1 1 \
+	  -o out/demo/fig_1_28_hello.vtp
+	$(BUILD)/src/isoforge contour data/headsq/quarter.nhdr -v 1150 --flip --largest -o out/demo/head_skin.vtp
 	@echo "demo results: out/demo/ (open in ParaView)"
 
 test: build
