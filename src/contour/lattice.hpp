@@ -191,8 +191,9 @@ class LatticeContourer {
     return total;
   }
 
-  /// Pass 4 into preallocated outputs (3 floats per point, 3 ids per triangle).
-  void generate(float* pts, Index* conn, const InterpolatedArrays& arrays) const {
+  /// Pass 4 into preallocated outputs (3 floats per point, 3 ids per triangle, and the cell
+  /// offsets 3 t for triangle t: `offsets[0]` is set by the caller).
+  void generate(float* pts, Index* conn, Index* offsets, const InterpolatedArrays& arrays) const {
     const CaseTable& table = voxel_table();
     // Cell edge e -> (crossing mask, offset along x); masks 0-3 are the x-edges of sample rows
     // 00 10 01 11, 4-5 the y-edges of rows 00 01, 6-7 the z-edges of rows 00 10.
@@ -303,6 +304,7 @@ class LatticeContourer {
               tri[0] = edge_id(edges[e]);
               tri[1] = edge_id(edges[mirrored ? e + 2 : e + 1]);
               tri[2] = edge_id(edges[mirrored ? e + 1 : e + 2]);
+              offsets[t + 1] = 3 * (t + 1);
               if (arrays.cell_data) arrays.copy_cell(static_cast<std::size_t>(t), static_cast<std::size_t>(cell));
               ++t;
             }
@@ -432,13 +434,10 @@ PolyData contour_lattice_value(const Geometry& geometry, const Dims& dims, const
   out.points = Points(DataArray::uninitialized("Points", ScalarType::Float32, 3, npts));
   out.polys.offsets().resize(ntris + 1);
   out.polys.connectivity().resize(3 * ntris);
-  Index* offsets = out.polys.offsets().data();
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ntris + 1, 1 << 16), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t t = r.begin(); t != r.end(); ++t) offsets[t] = static_cast<Index>(3 * t);
-  });
+  out.polys.offsets()[0] = 0;
   InterpolatedArrays arrays(point_data, cell_data, npts, ntris, options.interpolate_attributes,
                             options.normals == ContourNormals::Gradient);
-  c.generate(out.points.floats().data(), out.polys.connectivity().data(), arrays);
+  c.generate(out.points.floats().data(), out.polys.connectivity().data(), out.polys.offsets().data(), arrays);
   arrays.move_into(out.point_data, out.cell_data);
   stats.points += npts;
   stats.cells += ntris;
