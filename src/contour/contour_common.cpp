@@ -4,6 +4,9 @@
 #include <cmath>
 #include <cstring>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "contour_internal.hpp"
 
 namespace isoforge::contour_detail {
@@ -122,8 +125,13 @@ void InterpolatedArrays::move_into(Attributes& point_data, Attributes& cell_data
 }
 
 void add_isovalue_index(PolyData& pd, int index) {
-  pd.point_data.add(DataArray::from_vector<std::int32_t>(
-      "IsovalueIndex", 1, std::vector<std::int32_t>(pd.points.size(), index)));
+  DataArray a = DataArray::uninitialized("IsovalueIndex", ScalarType::Int32, 1, pd.points.size());
+  std::int32_t* v = a.values<std::int32_t>().data();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pd.points.size(), 1 << 16),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      std::fill(v + r.begin(), v + r.end(), static_cast<std::int32_t>(index));
+                    });
+  pd.point_data.add(std::move(a));
 }
 
 PolyData append_polydata(std::vector<PolyData> parts) {
