@@ -12,6 +12,15 @@ def load(name):
     return json.load(open(path)) if os.path.exists(path) else {}
 
 
+def runs(doc, prefix):
+    """The benchmarks of doc named prefix*: medians when repetitions were run, else the runs."""
+    bs = [b for b in doc.get("benchmarks", []) if b["name"].startswith(prefix)]
+    med = [b for b in bs if b.get("aggregate_name") == "median"]
+    if med:
+        return med
+    return [b for b in bs if b.get("run_type", "iteration") == "iteration"]
+
+
 def write(title, lines):
     text = f"# {title}\n\n" + "\n".join(lines) + "\n"
     open(os.path.join(out, f"{section}.md"), "w").write(text)
@@ -33,9 +42,7 @@ elif section == "implicit":
     lines = ["## Dense sampling of the ice cream cone (float32 output)", "",
              "| grid | threads | isoforge ms | isoforge Mevals/s | per core | vtkSampleFunction ms | Mevals/s | per core | speed-up per core |",
              "|---|---|---|---|---|---|---|---|---|"]
-    for b in ours.get("benchmarks", []):
-        if not b["name"].startswith("dense_icecream"):
-            continue
+    for b in runs(ours, "dense_icecream"):
         n = b["name"].split("/")[1]
         thr = int(b["threads"])
         peer = vtk.get(f"dense_icecream/{n}/{thr}")
@@ -50,9 +57,7 @@ elif section == "implicit":
               "## Sparse narrow band (half width 3 voxels) into OpenVDB", "",
               "| effective resolution | time ms | active voxels | tree MB | dense float volume MB | evaluated fraction | peak RSS MB |",
               "|---|---|---|---|---|---|---|"]
-    for b in ours.get("benchmarks", []):
-        if not b["name"].startswith("sparse_icecream"):
-            continue
+    for b in runs(ours, "sparse_icecream"):
         n = b["name"].split("/")[1]
         lines.append(f"| {n}³ | {b['real_time']:.0f} | {b['active_voxels']:.0f} | {b['tree_MB']:.1f} | "
                      f"{b['dense_MB']:.0f} | {b['evaluated_fraction']:.4f} | {b['peak_rss_MB']:.0f} |")
@@ -61,7 +66,7 @@ elif section == "contour":
     ours, vtk = load("contour_isoforge.json"), load("contour_vtk.json")
     lines = ["| field | n³ | threads | isoforge Mvox/s | triangles | vtkFlyingEdges3D Mvox/s | triangles | speed-up vs FE | vtkMarchingCubes Mvox/s (1 thread) | speed-up vs MC |",
              "|---|---|---|---|---|---|---|---|---|---|"]
-    for b in ours.get("benchmarks", []):
+    for b in runs(ours, "contour_dense"):
         name, n, thr = b["label"].split("/")
         fe = vtk.get(f"flying_edges/{name}/{n}/{thr}") or (vtk.get(f"flying_edges/{name}/{n}/{int(b['threads'])}"))
         mc = vtk.get(f"marching_cubes/{name}/{n}/1")

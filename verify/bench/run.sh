@@ -18,12 +18,14 @@ for s in $sections; do
       if [ $have_vtk = 1 ]; then /usr/bin/python3 "$here/peers/vtk_io.py" "$root/data" 5 > "$out/io_vtk.json"; else echo '{}' > "$out/io_vtk.json"; fi
       ;;
     implicit)
-      "$build/verify/bench/bench_implicit" --benchmark_format=json > "$out/implicit_isoforge.json"
+      "$build/verify/bench/bench_implicit" --benchmark_format=json --benchmark_repetitions=3 \
+        --benchmark_report_aggregates_only=true > "$out/implicit_isoforge.json"
       if [ $have_vtk = 1 ]; then /usr/bin/python3 "$here/peers/vtk_sample.py" 256 512 > "$out/implicit_vtk.json"; else echo '{}' > "$out/implicit_vtk.json"; fi
       ;;
     contour)
       /usr/bin/python3 "$here/peers/make_fields.py" "$out/fields" 256 512
-      ISOFORGE_BENCH_FIELDS="$out/fields" "$build/verify/bench/bench_contour" --benchmark_format=json > "$out/contour_isoforge.json"
+      ISOFORGE_BENCH_FIELDS="$out/fields" "$build/verify/bench/bench_contour" --benchmark_format=json \
+        --benchmark_repetitions=3 --benchmark_report_aggregates_only=true > "$out/contour_isoforge.json"
       if [ $have_vtk = 1 ]; then /usr/bin/python3 "$here/peers/vtk_contour.py" "$out/fields" 256 512 > "$out/contour_vtk.json"; else echo '{}' > "$out/contour_vtk.json"; fi
       ;;
     model)
