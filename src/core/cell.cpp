@@ -507,6 +507,28 @@ void jacobian(CellType type, std::span<const Vec3> pts, const Vec3& pc, Vec3 col
 }
 
 // Newton iteration for X(pc) = x on a 3D cell, from the parametric center, with step halving.
+// Backtracking along a Newton step: halves `delta` until the merit (|f| or |f|^2) of the
+// residual at pc + lambda delta drops below `merit`. On success sets pc, f and merit to the new
+// point and returns true; returns false (leaving them alone) when no halving helps.
+template <class Residual, class Merit>
+bool halving_step(Vec3& pc, const Vec3& delta, Vec3& f, double& merit, Residual&& residual,
+                  Merit&& merit_of) {
+  double lambda = 1;
+  for (int h = 0; h < kMaxStepHalvings; ++h) {
+    const Vec3 pn = pc + lambda * delta;
+    const Vec3 fn = residual(pn);
+    const double mn = merit_of(fn);
+    if (mn < merit) {
+      pc = pn;
+      f = fn;
+      merit = mn;
+      return true;
+    }
+    lambda *= 0.5;
+  }
+  return false;
+}
+
 NewtonResult newton_3d(CellType type, std::span<const Vec3> pts, const Vec3& x) {
   NewtonResult res;
   Vec3 pc = center_of(type);
@@ -530,28 +552,12 @@ NewtonResult newton_3d(CellType type, std::span<const Vec3> pts, const Vec3& x) 
       res.converged = true;
       break;
     }
-    double lambda = 1;
-    bool decreased = false;
-    Vec3 pn, fnew;
-    double fnn = 0;
-    for (int h = 0; h < kMaxStepHalvings; ++h) {
-      pn = pc + lambda * delta;
-      fnew = location_fixed(type, pts, pn) - x;
-      fnn = norm(fnew);
-      if (fnn < fn) {
-        decreased = true;
-        break;
-      }
-      lambda *= 0.5;
-    }
-    if (!decreased) {
+    if (!halving_step(pc, delta, f, fn, [&](const Vec3& p) { return location_fixed(type, pts, p) - x; },
+                      [](const Vec3& r) { return norm(r); })) {
       // At the rounding floor of the residual (converged) or at a non-zero local minimum.
       res.converged = step <= kNewtonStalled;
       break;
     }
-    pc = pn;
-    f = fnew;
-    fn = fnn;
     if (max_abs(pc) > kDiverged) break;
   }
   res.pc = pc;
@@ -593,27 +599,11 @@ NewtonResult newton_quad_from(std::span<const Vec3> q, const Vec3& x, Vec3 pc) {
       res.converged = true;
       break;
     }
-    double lambda = 1;
-    bool decreased = false;
-    Vec3 pn, fnew;
-    double phin = 0;
-    for (int h = 0; h < kMaxStepHalvings; ++h) {
-      pn = pc + lambda * delta;
-      fnew = x - location_fixed(CellType::Quad, q, pn);
-      phin = norm2(fnew);
-      if (phin < phi) {
-        decreased = true;
-        break;
-      }
-      lambda *= 0.5;
-    }
-    if (!decreased) {
+    if (!halving_step(pc, delta, f, phi, [&](const Vec3& p) { return x - location_fixed(CellType::Quad, q, p); },
+                      [](const Vec3& r) { return norm2(r); })) {
       res.converged = step <= kNewtonStalled;
       break;
     }
-    pc = pn;
-    f = fnew;
-    phi = phin;
     if (max_abs(pc) > kDiverged) break;
   }
   res.pc = pc;
