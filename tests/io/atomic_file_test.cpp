@@ -15,18 +15,10 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path scratch(const std::string& name) {
-  fs::path dir = fs::path(ISOFORGE_TEST_TMP) / "atomic" / isoforge::test::current_test_id() / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return isoforge::test::scratch_dir("atomic", name);
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using isoforge::test::slurp;
 
 std::size_t entries(const fs::path& dir) {
   return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}));

@@ -38,12 +38,7 @@ std::vector<std::byte> bytes_of(const std::string& s) {
   return b;
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using isoforge::test::slurp;
 
 std::size_t entries(const fs::path& dir) {
   return static_cast<std::size_t>(

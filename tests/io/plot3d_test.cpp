@@ -27,10 +27,7 @@ fs::path data(const std::string& name) {
 }
 
 fs::path scratch(const std::string& name) {
-  fs::path dir = fs::path(ISOFORGE_TEST_TMP) / "plot3d" / isoforge::test::current_test_id() / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return isoforge::test::scratch_dir("plot3d", name);
 }
 
 void write_bytes(const fs::path& p, const std::vector<std::byte>& b) {

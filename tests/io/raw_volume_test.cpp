@@ -27,10 +27,7 @@ fs::path data(const std::string& name) {
 }
 
 fs::path scratch(const std::string& name) {
-  fs::path dir = fs::path(ISOFORGE_TEST_TMP) / "raw_volume" / isoforge::test::current_test_id() / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return isoforge::test::scratch_dir("raw_volume", name);
 }
 
 std::vector<std::byte> bytes_of(const std::string& s) {

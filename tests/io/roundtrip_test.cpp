@@ -18,10 +18,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path scratch(const std::string& name) {
-  fs::path dir = fs::path(ISOFORGE_TEST_TMP) / "roundtrip" / isoforge::test::current_test_id() / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return isoforge::test::scratch_dir("roundtrip", name);
 }
 
 std::string error_of(auto&& f) {

@@ -36,18 +36,10 @@ namespace {
 // ---------------------------------------------------------------------------------------------
 
 fs::path scratch(const std::string& name) {
-  fs::path dir = fs::path(ISOFORGE_TEST_TMP) / "vtk_xml" / isoforge::test::current_test_id() / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return isoforge::test::scratch_dir("vtk_xml", name);
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using isoforge::test::slurp;
 
 void spit(const fs::path& p, const std::string& s) {
   std::ofstream out(p, std::ios::binary);
