@@ -3,14 +3,29 @@
 /// `Buffer<T>`: the contiguous storage of arrays and cell lists — a std::vector whose
 /// `resize(n)` leaves new trivial elements uninitialized, so algorithms that write every element
 /// (in parallel) do not pay for zero-filling first. `resize(n, T{})` still zero-fills.
+///
+/// Blocks of `kLargeBlockBytes` or more are mapped directly from the kernel, 2 MiB aligned, and
+/// marked for transparent huge pages: a 100 MB mesh is then first touched with ~50 page faults
+/// instead of ~25 000, which is a third of the time of a large contour on Linux.
 
 #include <algorithm>
+#include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <type_traits>
 #include <utility>
 #include <vector>
 
 namespace isoforge {
+
+namespace detail {
+/// Blocks at least this large bypass malloc (see the file comment).
+inline constexpr std::size_t kLargeBlockBytes = std::size_t{4} << 20;
+/// A `bytes`-long block, 2 MiB aligned, huge-page advised. \throw std::bad_alloc.
+void* allocate_large_block(std::size_t bytes);
+/// Releases a block from allocate_large_block with the same `bytes`.
+void deallocate_large_block(void* p, std::size_t bytes) noexcept;
+}  // namespace detail
 
 /// std::allocator that default-initializes instead of value-initializing.
 template <class T>
@@ -23,6 +38,17 @@ struct DefaultInitAllocator : std::allocator<T> {
   struct rebind {
     using other = DefaultInitAllocator<U>;
   };
+  [[nodiscard]] T* allocate(std::size_t n) {
+    if (n >= detail::kLargeBlockBytes / sizeof(T) && n <= SIZE_MAX / sizeof(T))
+      return static_cast<T*>(detail::allocate_large_block(n * sizeof(T)));
+    return std::allocator<T>::allocate(n);
+  }
+  void deallocate(T* p, std::size_t n) noexcept {
+    if (n >= detail::kLargeBlockBytes / sizeof(T))
+      detail::deallocate_large_block(p, n * sizeof(T));
+    else
+      std::allocator<T>::deallocate(p, n);
+  }
   template <class U>
   void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
     ::new (static_cast<void*>(p)) U;

@@ -1,0 +1,42 @@
+#include "isoforge/core/buffer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <numeric>
+
+namespace isoforge {
+namespace {
+
+TEST(Buffer, LargeBlocksAreHugePageAligned) {
+  Buffer<float> b;
+  b.resize(detail::kLargeBlockBytes / sizeof(float) + 3);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(b.data()) % (std::uintptr_t{2} << 20), 0u);
+  Buffer<float> small(16);
+  EXPECT_NE(small.data(), nullptr);
+}
+
+TEST(Buffer, ContentSurvivesGrowthAcrossTheLargeBlockThreshold) {
+  // Grows from malloc'ed blocks into mapped ones and copies back down again.
+  Buffer<std::int64_t> b;
+  const std::size_t n = 3 * detail::kLargeBlockBytes / sizeof(std::int64_t) + 17;
+  for (std::size_t i = 0; i < n; ++i) b.push_back(static_cast<std::int64_t>(i) * 7 - 3);
+  for (std::size_t i = 0; i < n; i += 4099) ASSERT_EQ(b[i], static_cast<std::int64_t>(i) * 7 - 3);
+  EXPECT_EQ(b.back(), static_cast<std::int64_t>(n - 1) * 7 - 3);
+
+  Buffer<std::int64_t> copy = b;
+  EXPECT_EQ(copy, b);
+  copy.resize(100);
+  copy.shrink_to_fit();
+  EXPECT_EQ(copy.size(), 100u);
+  EXPECT_EQ(copy[99], 99 * 7 - 3);
+}
+
+TEST(Buffer, ZeroFillingResizeStillZeroFillsLargeBlocks) {
+  Buffer<double> b;
+  b.resize(detail::kLargeBlockBytes / sizeof(double) * 2, 0.0);
+  EXPECT_EQ(std::accumulate(b.begin(), b.end(), 0.0), 0.0);
+}
+
+}  // namespace
+}  // namespace isoforge
