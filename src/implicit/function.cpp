@@ -312,7 +312,7 @@ namespace implicit_detail {
 
 // Cloned for AVX-512 and AVX2 (4 and 8 doubles per instruction), picked at load time by the CPU.
 // Without -ffp-contract the clones round exactly like the default one (no FMA contraction).
-__attribute__((target_clones("arch=skylake-avx512", "arch=haswell", "default")))
+__attribute__((target_clones("avx512f", "avx2", "default")))
 void eval_block(const Node& n, const double* x, const double* y, const double* z, std::size_t count,
                 double* out) {
   const auto& p = n.p;

@@ -52,83 +52,111 @@ void check_grid(const GridSpec& g) {
   }
 }
 
+// One brick of at most kBx x kBy x kBz samples at (i0, j0, kk0) of a slab: coordinates filled,
+// evaluated with eval_pruned over the brick's box (boolean branches that cannot matter there are
+// skipped), values stored. Inlined into the clones below, so fills and stores use the CPU's
+// widest vectors.
+constexpr Index kBx = 16, kBy = 8, kBz = static_cast<Index>(kBlock) / (kBx * kBy);
+static_assert(kBx * kBy * kBz == static_cast<Index>(kBlock));
+
+struct SlabAxes {
+  const double* xs;  // coordinates of the slab's columns, rows and slices
+  const double* ys;
+  const double* zs;
+  Index nx, ny, nk;
+};
+
+template <class T>
+[[gnu::always_inline]] inline void sample_brick_impl(const ImplicitFunction::Node& node, const SlabAxes& a,
+                                                     Index i0, Index j0, Index kk0, T* out) {
+  alignas(64) double x[kBlock], y[kBlock], z[kBlock], v[kBlock];
+  const Index ni = std::min(kBx, a.nx - i0), nj = std::min(kBy, a.ny - j0), nkk = std::min(kBz, a.nk - kk0);
+  const double* xr = a.xs + i0;
+  std::size_t n = 0;
+  if (ni == kBx && nj == kBy && nkk == kBz) {
+    // A full brick: fixed trip counts, so the fills and stores vectorize.
+    for (Index k = 0; k < kBz; ++k) {
+      const double zk = a.zs[kk0 + k];
+      for (Index j = 0; j < kBy; ++j) {
+        const double yj = a.ys[j0 + j];
+        for (Index i = 0; i < kBx; ++i) {
+          x[n + static_cast<std::size_t>(i)] = xr[i];
+          y[n + static_cast<std::size_t>(i)] = yj;
+          z[n + static_cast<std::size_t>(i)] = zk;
+        }
+        n += static_cast<std::size_t>(kBx);
+      }
+    }
+  } else {
+    for (Index k = kk0; k < kk0 + nkk; ++k) {
+      const double zk = a.zs[k];
+      for (Index j = j0; j < j0 + nj; ++j) {
+        const double yj = a.ys[j];
+        for (Index i = 0; i < ni; ++i) {
+          x[n + static_cast<std::size_t>(i)] = xr[i];
+          y[n + static_cast<std::size_t>(i)] = yj;
+          z[n + static_cast<std::size_t>(i)] = zk;
+        }
+        n += static_cast<std::size_t>(ni);
+      }
+    }
+  }
+  Bounds box;
+  box.min = {xr[0], a.ys[j0], a.zs[kk0]};
+  box.max = {xr[ni - 1], a.ys[j0 + nj - 1], a.zs[kk0 + nkk - 1]};
+  eval_pruned(node, box, x, y, z, n, v);
+  n = 0;
+  if (ni == kBx) {
+    for (Index k = kk0; k < kk0 + nkk; ++k) {
+      for (Index j = j0; j < j0 + nj; ++j) {
+        T* dst = out + (k * a.ny + j) * a.nx + i0;
+        const double* src = v + n;
+        for (Index i = 0; i < kBx; ++i) dst[i] = static_cast<T>(src[i]);
+        n += static_cast<std::size_t>(kBx);
+      }
+    }
+  } else {
+    for (Index k = kk0; k < kk0 + nkk; ++k) {
+      for (Index j = j0; j < j0 + nj; ++j) {
+        T* dst = out + (k * a.ny + j) * a.nx + i0;
+        for (Index i = 0; i < ni; ++i) dst[i] = static_cast<T>(v[n + static_cast<std::size_t>(i)]);
+        n += static_cast<std::size_t>(ni);
+      }
+    }
+  }
+}
+
+// Clones as for eval_block; without -ffp-contract there is no FMA, so every clone stores the
+// same values.
+__attribute__((target_clones("avx512f", "avx2", "default")))
+void sample_brick(const ImplicitFunction::Node& node, const SlabAxes& a, Index i0, Index j0, Index kk0,
+                  float* out) {
+  sample_brick_impl(node, a, i0, j0, kk0, out);
+}
+
+__attribute__((target_clones("avx512f", "avx2", "default")))
+void sample_brick(const ImplicitFunction::Node& node, const SlabAxes& a, Index i0, Index j0, Index kk0,
+                  double* out) {
+  sample_brick_impl(node, a, i0, j0, kk0, out);
+}
+
 // Samples z-slices [k0, k0 + nk) of the grid into `out` (the values of slice k0 first), in
-// bricks of 16 x 8 x 4 samples. Each brick is evaluated with eval_pruned over its box, so
-// boolean branches that cannot matter there are skipped.
+// bricks of kBx x kBy x kBz samples, bricks in parallel.
 // Coordinates always come from GridSpec::coordinate on the whole grid, so every sampler
 // (dense or sparse, any slab split, any thread count) computes bit-identical values.
 template <class T>
 void sample_slab(const ImplicitFunction::Node& node, const GridSpec& g, Index k0, Index nk, T* out) {
-  constexpr Index kBx = 16, kBy = 8, kBz = static_cast<Index>(kBlock) / (kBx * kBy);
-  static_assert(kBx * kBy * kBz == static_cast<Index>(kBlock));
   const Index nx = g.dims[0], ny = g.dims[1];
   std::vector<double> xs(static_cast<std::size_t>(nx)), ys(static_cast<std::size_t>(ny)),
       zs(static_cast<std::size_t>(nk));
   for (Index i = 0; i < nx; ++i) xs[static_cast<std::size_t>(i)] = g.coordinate(0, i);
   for (Index j = 0; j < ny; ++j) ys[static_cast<std::size_t>(j)] = g.coordinate(1, j);
   for (Index k = 0; k < nk; ++k) zs[static_cast<std::size_t>(k)] = g.coordinate(2, k0 + k);
+  const SlabAxes axes{xs.data(), ys.data(), zs.data(), nx, ny, nk};
   const Index bx = (nx + kBx - 1) / kBx, by = (ny + kBy - 1) / kBy, bz = (nk + kBz - 1) / kBz;
   tbb::parallel_for(tbb::blocked_range<Index>(0, bx * by * bz, 4), [&](const tbb::blocked_range<Index>& r) {
-    alignas(64) double x[kBlock], y[kBlock], z[kBlock], v[kBlock];
     for (Index b = r.begin(); b != r.end(); ++b) {
-      const Index i0 = (b % bx) * kBx, j0 = ((b / bx) % by) * kBy, kk0 = (b / (bx * by)) * kBz;
-      const Index ni = std::min(kBx, nx - i0), nj = std::min(kBy, ny - j0), nkk = std::min(kBz, nk - kk0);
-      const double* xr = xs.data() + i0;
-      std::size_t n = 0;
-      if (ni == kBx && nj == kBy && nkk == kBz) {
-        // A full brick: fixed trip counts, so the fills vectorize.
-        for (Index k = 0; k < kBz; ++k) {
-          const double zk = zs[static_cast<std::size_t>(kk0 + k)];
-          for (Index j = 0; j < kBy; ++j) {
-            const double yj = ys[static_cast<std::size_t>(j0 + j)];
-            double* xd = x + n;
-            double* yd = y + n;
-            double* zd = z + n;
-            for (Index i = 0; i < kBx; ++i) {
-              xd[i] = xr[i];
-              yd[i] = yj;
-              zd[i] = zk;
-            }
-            n += static_cast<std::size_t>(kBx);
-          }
-        }
-      } else {
-        for (Index k = kk0; k < kk0 + nkk; ++k) {
-          const double zk = zs[static_cast<std::size_t>(k)];
-          for (Index j = j0; j < j0 + nj; ++j) {
-            const double yj = ys[static_cast<std::size_t>(j)];
-            for (Index i = 0; i < ni; ++i) {
-              x[n + static_cast<std::size_t>(i)] = xr[i];
-              y[n + static_cast<std::size_t>(i)] = yj;
-              z[n + static_cast<std::size_t>(i)] = zk;
-            }
-            n += static_cast<std::size_t>(ni);
-          }
-        }
-      }
-      Bounds box;
-      box.min = {x[0], y[0], z[0]};
-      box.max = {x[n - 1], y[n - 1], z[n - 1]};
-      eval_pruned(node, box, x, y, z, n, v);
-      n = 0;
-      if (ni == kBx) {
-        for (Index k = kk0; k < kk0 + nkk; ++k) {
-          for (Index j = j0; j < j0 + nj; ++j) {
-            T* dst = out + (k * ny + j) * nx + i0;
-            const double* src = v + n;
-            for (Index i = 0; i < kBx; ++i) dst[i] = static_cast<T>(src[i]);
-            n += static_cast<std::size_t>(kBx);
-          }
-        }
-      } else {
-        for (Index k = kk0; k < kk0 + nkk; ++k) {
-          for (Index j = j0; j < j0 + nj; ++j) {
-            T* dst = out + (k * ny + j) * nx + i0;
-            for (Index i = 0; i < ni; ++i) dst[i] = static_cast<T>(v[n + static_cast<std::size_t>(i)]);
-            n += static_cast<std::size_t>(ni);
-          }
-        }
-      }
+      sample_brick(node, axes, (b % bx) * kBx, ((b / bx) % by) * kBy, (b / (bx * by)) * kBz, out);
     }
   });
 }
