@@ -40,6 +40,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <numbers>
@@ -58,6 +59,105 @@ namespace {
 using u32 = std::uint32_t;
 using u64 = std::uint64_t;
 constexpr u32 kNone = std::numeric_limits<u32>::max();
+
+// ---------------------------------------------------------------------------------------------
+// Row kernels of the Scatter strategy: plain loops the compiler vectorizes, cloned for AVX-512
+// and AVX2 (picked by CPU feature at load time). Without -ffp-contract there is no FMA, so every
+// clone computes the same bits as the scalar kernels in closest_point.hpp.
+// ---------------------------------------------------------------------------------------------
+
+#define ISOFORGE_ROW_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
+
+// A segment a + t u, t in [0, 1]; inv = 1 / |u|².
+struct SegmentRow {
+  double ax, ay, az, ux, uy, uz, inv;
+};
+
+// Squared distances from (x, y, z[m]) to c: exactly norm2(p - c).
+ISOFORGE_ROW_CLONES
+void point_row(const Vec3& c, double x, double y, const double* __restrict z, int n, double* __restrict out) {
+  const double dx = x - c.x, dy = y - c.y;
+  const double dxy = dx * dx + dy * dy;
+  for (int m = 0; m < n; ++m) {
+    const double dz = z[m] - c.z;
+    out[m] = dxy + dz * dz;
+  }
+}
+
+// d2[m] = min(d2[m], v[m]) with ties to the smaller id (who[m] follows); true if any changed.
+ISOFORGE_ROW_CLONES
+bool keep_min_row(const double* __restrict v, int n, double* __restrict d2, u32* __restrict who, u32 id) {
+  // Written without short-circuits and with one integer width per lane, so that it vectorizes.
+  std::int64_t changed = 0;
+  for (int m = 0; m < n; ++m) {
+    const double cur = d2[m], vm = v[m];
+    const std::uint64_t w = who[m];
+    const bool win = (vm < cur) | ((vm == cur) & (id < w));
+    d2[m] = win ? vm : cur;
+    who[m] = win ? id : static_cast<u32>(w);
+    changed += win;
+  }
+  return changed != 0;
+}
+
+// Squared distances from (x, y, z[m]) to the segment a + t u, t in [0, 1], exactly as
+// segment_distance2 (closest_on_segment) computes them, operation by operation, kept where
+// smaller than d2 (as keep_min_row, in the same pass).
+ISOFORGE_ROW_CLONES
+bool segment_min_row(const SegmentRow& s, double x, double y, const double* __restrict z, int n,
+                     double* __restrict d2, u32* __restrict who, u32 id) {
+  const double wx = x - s.ax, wy = y - s.ay;
+  const double wxy = wx * s.ux + wy * s.uy;
+  std::int64_t changed = 0;
+  for (int m = 0; m < n; ++m) {
+    double t = (wxy + (z[m] - s.az) * s.uz) * s.inv;
+    t = t < 0.0 ? 0.0 : t;
+    t = 1.0 < t ? 1.0 : t;
+    const double dx = x - (s.ax + s.ux * t), dy = y - (s.ay + s.uy * t), dz = z[m] - (s.az + s.uz * t);
+    const double vm = dx * dx + dy * dy + dz * dz;
+    const double cur = d2[m];
+    const std::uint64_t w = who[m];
+    const bool win = (vm < cur) | ((vm == cur) & (id < w));
+    d2[m] = win ? vm : cur;
+    who[m] = win ? id : static_cast<u32>(w);
+    changed += win;
+  }
+  return changed != 0;
+}
+
+// Unsigned values of a row without radii: value = sqrt(d2) where below maxd (active), else
+// maxd. Returns the number of active samples.
+ISOFORGE_ROW_CLONES
+int finish_row(const double* __restrict d2, int n, double maxd, double* __restrict value,
+               std::uint8_t* __restrict active) {
+  int count = 0;
+  for (int k = 0; k < n; ++k) {
+    const double v = std::sqrt(d2[k]);
+    const bool in = v < maxd;
+    value[k] = in ? v : maxd;
+    active[k] = static_cast<std::uint8_t>(in);
+    count += in;
+  }
+  return count;
+}
+
+// The largest of n >= 1 non-negative, non-NaN doubles (squared distances). For such values the
+// order of the bit patterns as integers is the order of the values, and an integer maximum
+// vectorizes (a floating-point one does not without -ffast-math).
+ISOFORGE_ROW_CLONES
+double max_nonnegative(const double* __restrict v, int n) {
+  std::uint64_t m = 0;
+  for (int k = 0; k < n; ++k) {
+    std::uint64_t b;
+    std::memcpy(&b, v + k, sizeof b);
+    m = b > m ? b : m;
+  }
+  double r;
+  std::memcpy(&r, &m, sizeof r);
+  return r;
+}
+
+#undef ISOFORGE_ROW_CLONES
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // Relative slack of every conservative (culling) test: culling never decides a value.
 constexpr double kSlack = 1e-9;
@@ -1001,6 +1101,15 @@ class Engine {
   // Values, band flags and signs of a block from its minimum squared distances.
   void finish(BlockOut& out, const double* d2, const double* rv, const u32* who) const {
     std::fill(out.active, out.active + 64 * kz_, std::uint8_t{0});
+    if (!signs_ && !rv) {
+      for (int i = 0; i < out.ni; ++i)
+        for (int j = 0; j < out.nj; ++j) {
+          const int off = (i * 8 + j) * kz_;
+          out.n_active += static_cast<std::size_t>(
+              finish_row(d2 + off, out.nk, maxd_, out.value + off, out.active + off));
+        }
+      return;
+    }
     for (int i = 0; i < out.ni; ++i)
       for (int j = 0; j < out.nj; ++j)
         for (int k = 0; k < out.nk; ++k) {
@@ -1039,10 +1148,7 @@ class Engine {
     const auto refresh_row = [&](Index i, Index j) {
       if (!out.row_dirty) return;
       const int r = static_cast<int>((i - blo[0]) * 8 + (j - blo[1]));
-      const double* v = d2 + r * kz_;
-      double m = 0;
-      for (int k = 0; k < out.nk; ++k) m = std::max(m, v[k]);
-      out.rowmax[r] = m;
+      out.rowmax[r] = max_nonnegative(d2 + r * kz_, out.nk);
     };
     // Runs `kernel` over the samples k of row (i, j) whose z lies in [zlo, zhi].
     const auto row = [&](Index i, Index j, double zlo, double zhi, auto&& kernel) {
@@ -1088,8 +1194,8 @@ class Engine {
       (void)base;
       return std::min(Rs, std::sqrt(out.rowmax[(i - blo[0]) * 8 + (j - blo[1])]) * (1 + kSlack));
     };
-    // The same for a kernel that computes a whole row at once (vectorizable loops):
-    // batch(x, y, z of the first sample, count, out).
+    // The same for a kernel that updates a whole row at once (vectorizable loops):
+    // batch(x, y, z of the first sample, count, d2 of the first, who of the first) -> changed.
     const auto row_batch = [&](Index i, Index j, double zlo, double zhi, auto&& batch) {
       Index k0, k1;
       if (!range(2, std::max(zlo, zmin_box), std::min(zhi, zmax_box), k0, k1)) return;
@@ -1097,24 +1203,18 @@ class Engine {
       k1 = std::min(k1, hi[2]);
       if (k1 < k0) return;
       const int n = static_cast<int>(k1 - k0 + 1);
-      double tmp[64];
-      batch(coord_[0][static_cast<std::size_t>(i)], coord_[1][static_cast<std::size_t>(j)],
-            &coord_[2][static_cast<std::size_t>(k0)], n, tmp);
       const int base = static_cast<int>(((i - blo[0]) * 8 + (j - blo[1])) * kz_ + (k0 - blo[2]));
-      out.row_dirty = false;
-      for (int m = 0; m < n; ++m) keep_min(tmp[m], base + m);
+      out.row_dirty = batch(coord_[0][static_cast<std::size_t>(i)], coord_[1][static_cast<std::size_t>(j)],
+                            &coord_[2][static_cast<std::size_t>(k0)], n, d2 + base, who + base);
       evals += static_cast<std::size_t>(n);
       refresh_row(i, j);
     };
-    // Squared distances to point c along a row: exactly norm2(p - c).
-    const auto point_batch = [](const Vec3& c) {
-      return [c](double x, double y, const double* z, int n, double* out) {
-        const double dx = x - c.x, dy = y - c.y;
-        const double dxy = dx * dx + dy * dy;
-        for (int m = 0; m < n; ++m) {
-          const double dz = z[m] - c.z;
-          out[m] = dxy + dz * dz;
-        }
+    // Squared distances to point c along a row (exactly norm2(p - c)), kept where smaller.
+    const auto point_batch = [id](const Vec3& c) {
+      return [c, id](double x, double y, const double* z, int n, double* d, u32* w) {
+        double tmp[64];
+        point_row(c, x, y, z, n, tmp);
+        return keep_min_row(tmp, n, d, w, id);
       };
     };
     if (id >= P_.tri_begin) {
@@ -1161,32 +1261,11 @@ class Engine {
       const Vec3 a = P_.pts[s[0]], bb = P_.pts[s[1]];
       const Vec3 u = bb - a;
       const double L2 = dot(u, u);
-      // Exactly segment_distance2 (closest_on_segment), operation by operation, along a row.
       const double inv = 1.0 / L2;
-      // Two samples per step (SSE2 lanes); the same operations as the scalar kernel, so the
-      // same bits.
-      const auto seg = [&](double x, double y, const double* z, int n, double* out) {
-        const double wx = x - a.x, wy = y - a.y;
-        const double wxy = wx * u.x + wy * u.y;
-        const v2d zero = {0.0, 0.0}, one = {1.0, 1.0};
-        for (int m = 0; m < n; m += 2) {
-          const v2d zz = {z[m], m + 1 < n ? z[m + 1] : z[m]};
-          v2d t = (wxy + (zz - a.z) * u.z) * inv;
-          t = t < zero ? zero : t;
-          t = one < t ? one : t;
-          const v2d dx = x - (a.x + u.x * t), dy = y - (a.y + u.y * t), dz = zz - (a.z + u.z * t);
-          const v2d r = dx * dx + dy * dy + dz * dz;
-          out[m] = r[0];
-          if (m + 1 < n) out[m + 1] = r[1];
-        }
-      };
+      const SegmentRow sr{a.x, a.y, a.z, u.x, u.y, u.z, inv};
       const auto pt = point_batch(a);  // a zero-length segment is its point
-      const auto kernel = [&](double x, double y, const double* z, int n, double* out) {
-        if (L2 > 0) {
-          seg(x, y, z, n, out);
-        } else {
-          pt(x, y, z, n, out);
-        }
+      const auto kernel = [&](double x, double y, const double* z, int n, double* d, u32* w) {
+        return L2 > 0 ? segment_min_row(sr, x, y, z, n, d, w, id) : pt(x, y, z, n, d, w);
       };
       const double alpha = L2 > 0 ? (u.x * u.x + u.y * u.y) / L2 : 1.0;
       const double inv2a = 0.5 / alpha;
