@@ -203,12 +203,14 @@ class LatticeContourer {
       std::vector<Word> masks(static_cast<std::size_t>(8 * words_));
       std::vector<Index> prefix(static_cast<std::size_t>(8 * (words_ + 1)));
       for (Index row = r.begin(); row != r.end(); ++row) {
+        if (row + kPrefetchRows < rows_) prefetch_row(row + kPrefetchRows);
         const Index j = row % ny_, k = row / ny_;
         const auto ur = static_cast<std::size_t>(row);
         const LatticeCounts& rc = counts_[ur];
         const Word* b00 = row_bits(j, k);
         // Points on this row's x-, y- and z-edges.
         Index p = point_offset_[ur];
+        if (rc.x + rc.y + rc.z + rc.tris == 0) continue;
         for (Index w = 0; w < words_; ++w) {
           Word m = (b00[w] ^ shifted(b00, w, words_)) & valid_bits(w, nx_ - 1);
           while (m) {
@@ -240,7 +242,9 @@ class LatticeContourer {
           }
         }
         ISOFORGE_ASSERT(p == point_offset_[ur] + rc.x + rc.y + rc.z);
-        if (j + 1 >= ny_ || k + 1 >= nz_) continue;
+        // Rows of cells without triangles (most of them, for a compact surface) skip the
+        // per-row set-up below.
+        if (j + 1 >= ny_ || k + 1 >= nz_ || rc.tris == 0) continue;
 
         // Triangles of the row of cells (j, k).
         const std::size_t r00 = ur, r10 = ur + 1, r01 = ur + static_cast<std::size_t>(ny_), r11 = r01 + 1;
@@ -321,6 +325,34 @@ class LatticeContourer {
   [[nodiscard]] Index id(Index i, Index j, Index k) const { return i + nx_ * (j + ny_ * k); }
   [[nodiscard]] double value(Index i, Index j, Index k) const { return static_cast<double>(v_[id(i, j, k)]); }
   [[nodiscard]] const Word* row_bits(Index j, Index k) const { return bits_.data() + (j + ny_ * k) * words_; }
+
+  // Pass 4 reads the samples at the ends of a row's crossed edges: few and scattered when the
+  // surface is sparse, so each would be a cache miss by then (the volume was streamed through
+  // once, in pass 1). Some rows ahead, the cache lines of the three sample rows (j, k),
+  // (j + 1, k) and (j, k + 1) that hold crossed edges' ends are prefetched.
+  static constexpr Index kPrefetchRows = 8;
+  void prefetch_row(Index row) const {
+    const LatticeCounts& rc = counts_[static_cast<std::size_t>(row)];
+    if (rc.x + rc.y + rc.z == 0) return;
+    const Index j = row % ny_, k = row / ny_;
+    const Word* b00 = row_bits(j, k);
+    const Word* b10 = j + 1 < ny_ ? row_bits(j + 1, k) : nullptr;
+    const Word* b01 = k + 1 < nz_ ? row_bits(j, k + 1) : nullptr;
+    constexpr Index kLine = 64 / static_cast<Index>(sizeof(T));  // samples per cache line
+    for (Index w = 0; w < words_; ++w) {
+      Word m = (b00[w] ^ shifted(b00, w, words_)) & valid_bits(w, nx_ - 1);
+      if (b10) m |= b00[w] ^ b10[w];
+      if (b01) m |= b00[w] ^ b01[w];
+      while (m) {
+        const Index g = std::countr_zero(m) / kLine * kLine;  // first sample of the line
+        m &= g + kLine >= 64 ? Word{0} : ~Word{0} << (g + kLine);
+        const Index i = 64 * w + g;
+        __builtin_prefetch(v_ + id(i, j, k));
+        if (b10) __builtin_prefetch(v_ + id(i, j + 1, k));
+        if (b01) __builtin_prefetch(v_ + id(i, j, k + 1));
+      }
+    }
+  }
 
   // The eight corner bits of the cells of word w: rows 00 10 01 11 at i and (shifted) at i + 1.
   struct CellWords {
