@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -33,9 +34,15 @@
 namespace isoforge::contour_detail {
 
 /// Per row of samples: crossings on its x-, y- and z-edges; per row of cells: interior points,
-/// triangles and ambiguous faces.
+/// triangles and ambiguous faces. Also the totals over all rows.
 struct LatticeCounts {
   Index x = 0, y = 0, z = 0, centers = 0, tris = 0, ambiguous = 0;
+};
+
+/// The same for one row, in 32 bits (a row has at most 5 triangles, 3 crossings and a few
+/// centres per sample): half the memory of the per-row table.
+struct RowCounts {
+  std::uint32_t x = 0, y = 0, z = 0, centers = 0, tris = 0, ambiguous = 0;
 };
 
 /// Whether a hexahedron given by its corners in voxel order is mirrored with respect to the voxel
@@ -133,18 +140,23 @@ class LatticeContourer {
   LatticeContourer(const Geometry& geometry, const Dims& dims, const T* values, double iso,
                    const ContourOptions& options)
       : geo_(geometry), v_(values), iso_(iso), opt_(options), nx_(dims[0]), ny_(dims[1]),
-        nz_(dims[2]), words_((nx_ + 63) / 64), rows_(ny_ * nz_) {}
+        nz_(dims[2]), words_((nx_ + 63) / 64), rows_(ny_ * nz_) {
+    if (nx_ > (Index{1} << 28)) {
+      throw Error("contour: rows of more than 2^28 samples along x are not supported (dims[0] = " +
+                  std::to_string(nx_) + ")");
+    }
+  }
 
   /// Passes 1-3. Returns the totals (x = all points, tris = all triangles).
   LatticeCounts count() {
     bits_.resize(static_cast<std::size_t>(rows_ * words_));
     classify_rows(v_, nx_, rows_, iso_, bits_.data());
-    counts_.assign(static_cast<std::size_t>(rows_), LatticeCounts{});
+    counts_.assign(static_cast<std::size_t>(rows_), RowCounts{});
     const CaseTable& table = voxel_table();
     tbb::parallel_for(tbb::blocked_range<Index>(0, rows_, 16), [&](const tbb::blocked_range<Index>& r) {
       for (Index row = r.begin(); row != r.end(); ++row) {
         const Index j = row % ny_, k = row / ny_;
-        LatticeCounts& rc = counts_[static_cast<std::size_t>(row)];
+        RowCounts& rc = counts_[static_cast<std::size_t>(row)];
         const Word* b00 = row_bits(j, k);
         for (Index w = 0; w < words_; ++w) {
           rc.x += std::popcount((b00[w] ^ shifted(b00, w, words_)) & valid_bits(w, nx_ - 1));
@@ -181,7 +193,7 @@ class LatticeContourer {
     tri_offset_[0] = 0;
     LatticeCounts total;
     for (std::size_t r = 0; r < static_cast<std::size_t>(rows_); ++r) {
-      const LatticeCounts& c = counts_[r];
+      const RowCounts& c = counts_[r];
       point_offset_[r + 1] = point_offset_[r] + c.x + c.y + c.z + c.centers;
       tri_offset_[r + 1] = tri_offset_[r] + c.tris;
       total.ambiguous += c.ambiguous;
@@ -206,7 +218,7 @@ class LatticeContourer {
         if (row + kPrefetchRows < rows_) prefetch_row(row + kPrefetchRows);
         const Index j = row % ny_, k = row / ny_;
         const auto ur = static_cast<std::size_t>(row);
-        const LatticeCounts& rc = counts_[ur];
+        const RowCounts& rc = counts_[ur];
         const Word* b00 = row_bits(j, k);
         // Points on this row's x-, y- and z-edges.
         Index p = point_offset_[ur];
@@ -341,7 +353,7 @@ class LatticeContourer {
 #endif
   }
   void prefetch_row(Index row) const {
-    const LatticeCounts& rc = counts_[static_cast<std::size_t>(row)];
+    const RowCounts& rc = counts_[static_cast<std::size_t>(row)];
     if (rc.x + rc.y + rc.z == 0) return;
     const Index j = row % ny_, k = row / ny_;
     const Word* b00 = row_bits(j, k);
@@ -457,7 +469,7 @@ class LatticeContourer {
   const ContourOptions& opt_;
   Index nx_, ny_, nz_, words_, rows_;
   Buffer<Word> bits_;
-  std::vector<LatticeCounts> counts_;
+  std::vector<RowCounts> counts_;
   std::vector<Index> point_offset_, tri_offset_;
 };
 

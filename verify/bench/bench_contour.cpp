@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <string>
 
 #include "isoforge/contour/contour.hpp"
 
@@ -63,7 +64,50 @@ void contour_dense(benchmark::State& state) {
   state.SetLabel(name + "/" + std::to_string(n) + "/" + std::to_string(threads));
 }
 
+long status_kb(const char* key) {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  const std::string k = key;
+  while (std::getline(in, line)) {
+    if (line.compare(0, k.size(), k) == 0) return std::atol(line.c_str() + k.size());
+  }
+  return -1;
+}
+
+// Peak memory of one contour (all threads) beyond its input, against input + output: the peak
+// resident set is reset (/proc/self/clear_refs) after the input is loaded, so the peak above the
+// resident set at the call is what the call itself held at once. Run once per process.
+// args: field (0 gyroid, 1 blobs), n
+void contour_memory(benchmark::State& state) {
+  const std::string name = state.range(0) == 0 ? "gyroid" : "blobs";
+  const Index n = state.range(1);
+  const ImageData& img = field(name, n);
+  ContourOptions o;
+  o.values = {name == "gyroid" ? 0.0 : 0.5};
+  o.interpolate_attributes = false;
+  double extra_mb = 0, io_mb = 0;
+  for (auto _ : state) {
+    { std::ofstream("/proc/self/clear_refs") << "5"; }
+    const long base = status_kb("VmRSS:");
+    PolyData pd = contour_image(img, o);
+    const long peak = status_kb("VmHWM:");
+    const double output = static_cast<double>(pd.points.size() * 3 * sizeof(float) +
+                                              (pd.polys.offsets().size() + pd.polys.connectivity().size()) *
+                                                  sizeof(Index));
+    const double input = static_cast<double>(n * n * n) * sizeof(float);
+    extra_mb = (static_cast<double>(peak - base) * 1024.0 - output) / 1048576.0;
+    io_mb = (input + output) / 1048576.0;
+    state.counters["output_MB"] = output / 1048576.0;
+  }
+  state.counters["input_MB"] = static_cast<double>(n * n * n) * sizeof(float) / 1048576.0;
+  state.counters["extra_MB"] = extra_mb;
+  state.counters["extra_fraction"] = io_mb > 0 ? extra_mb / io_mb : 0;
+  state.SetLabel(name + "/" + std::to_string(n));
+}
+
 }  // namespace
+
+BENCHMARK(contour_memory)->ArgsProduct({{0, 1}, {256, 512}})->Iterations(1)->Unit(benchmark::kMillisecond);
 
 BENCHMARK(contour_dense)
     ->ArgsProduct({{0, 1}, {256, 512}, {1, 0}})

@@ -74,6 +74,14 @@ elif section == "contour":
         fe_s = f"{fe['Mvoxels_per_s']:.0f} | {fe['triangles']} | {ours_rate / fe['Mvoxels_per_s']:.2f}x" if fe else "n/a | n/a | n/a"
         mc_s = f"{mc['Mvoxels_per_s']:.0f} | {ours_rate / mc['Mvoxels_per_s']:.1f}x" if (mc and int(b['threads']) == 1) else "| "
         lines.append(f"| {name} | {n} | {int(b['threads'])} | {ours_rate:.0f} | {int(b['triangles'])} | {fe_s} | {mc_s} |")
+    lines += ["", "## Peak memory of one contour (all threads), each case in its own process", "",
+              "| field | n³ | input MB | output MB | peak beyond input + output MB | fraction of input + output |",
+              "|---|---|---|---|---|---|"]
+    for m in ("0_256", "1_256", "0_512", "1_512"):
+        for b in load(f"contour_memory_{m}.json").get("benchmarks", []):
+            name, n = b["label"].split("/")
+            lines.append(f"| {name} | {n} | {b['input_MB']:.0f} | {b['output_MB']:.0f} | {b['extra_MB']:.1f} | "
+                         f"{100 * b['extra_fraction']:.1f}% |")
     write("Marching cubes: isoforge vs vtkFlyingEdges3D and vtkMarchingCubes (same volumes, same run)", lines)
 elif section == "model":
     ours, vtk = load("model_isoforge.json"), load("model_vtk.json")

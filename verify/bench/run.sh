@@ -25,7 +25,13 @@ for s in $sections; do
     contour)
       /usr/bin/python3 "$here/peers/make_fields.py" "$out/fields" 256 512
       ISOFORGE_BENCH_FIELDS="$out/fields" "$build/verify/bench/bench_contour" --benchmark_format=json \
-        --benchmark_repetitions=3 --benchmark_report_aggregates_only=true > "$out/contour_isoforge.json"
+        --benchmark_filter='^contour_dense' --benchmark_repetitions=3 \
+        --benchmark_report_aggregates_only=true > "$out/contour_isoforge.json"
+      # Peak memory: each case in its own process.
+      for m in 0/256 1/256 0/512 1/512; do
+        ISOFORGE_BENCH_FIELDS="$out/fields" "$build/verify/bench/bench_contour" --benchmark_format=json \
+          --benchmark_filter="^contour_memory/${m}/" > "$out/contour_memory_${m/\//_}.json"
+      done
       if [ $have_vtk = 1 ]; then /usr/bin/python3 "$here/peers/vtk_contour.py" "$out/fields" 256 512 > "$out/contour_vtk.json"; else echo '{}' > "$out/contour_vtk.json"; fi
       ;;
     model)
