@@ -14,6 +14,7 @@
 #include <limits>
 #include <numbers>
 
+#include "core/simd_clones.hpp"
 #include "function_node.hpp"
 #include "isoforge/core/error.hpp"
 
@@ -310,9 +311,9 @@ ImplicitFunction ice_cream_cone() {
 
 namespace implicit_detail {
 
-// Cloned for AVX-512 and AVX2 (4 and 8 doubles per instruction), picked at load time by the CPU.
-// Without -ffp-contract the clones round exactly like the default one (no FMA contraction).
-__attribute__((target_clones("avx512f", "avx2", "default")))
+// Cloned for AVX-512 and AVX2 (core/simd_clones.hpp): 8 and 4 doubles per instruction, the same
+// bits as the baseline.
+ISOFORGE_SIMD_CLONES
 void eval_block(const Node& n, const double* x, const double* y, const double* z, std::size_t count,
                 double* out) {
   const auto& p = n.p;

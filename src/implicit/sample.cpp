@@ -9,6 +9,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/simd_clones.hpp"
 #include "function_node.hpp"
 
 namespace isoforge {
@@ -126,15 +127,14 @@ template <class T>
   }
 }
 
-// Clones as for eval_block; without -ffp-contract there is no FMA, so every clone stores the
-// same values.
-__attribute__((target_clones("avx512f", "avx2", "default")))
+// Cloned as eval_block (core/simd_clones.hpp).
+ISOFORGE_SIMD_CLONES
 void sample_brick(const ImplicitFunction::Node& node, const SlabAxes& a, Index i0, Index j0, Index kk0,
                   float* out) {
   sample_brick_impl(node, a, i0, j0, kk0, out);
 }
 
-__attribute__((target_clones("avx512f", "avx2", "default")))
+ISOFORGE_SIMD_CLONES
 void sample_brick(const ImplicitFunction::Node& node, const SlabAxes& a, Index i0, Index j0, Index kk0,
                   double* out) {
   sample_brick_impl(node, a, i0, j0, kk0, out);

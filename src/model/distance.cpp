@@ -47,6 +47,7 @@
 #include <string>
 #include <vector>
 
+#include "core/simd_clones.hpp"
 #include "distance_internal.hpp"
 #include "isoforge/core/mesh_topology.hpp"
 #include "isoforge/io/vdb.hpp"
@@ -62,11 +63,9 @@ constexpr u32 kNone = std::numeric_limits<u32>::max();
 
 // ---------------------------------------------------------------------------------------------
 // Row kernels of the Scatter strategy: plain loops the compiler vectorizes, cloned for AVX-512
-// and AVX2 (picked by CPU feature at load time). Without -ffp-contract there is no FMA, so every
-// clone computes the same bits as the scalar kernels in closest_point.hpp.
+// and AVX2 (core/simd_clones.hpp); every clone computes the same bits as the scalar kernels in
+// closest_point.hpp.
 // ---------------------------------------------------------------------------------------------
-
-#define ISOFORGE_ROW_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
 
 // A segment a + t u, t in [0, 1]; inv = 1 / |u|².
 struct SegmentRow {
@@ -74,7 +73,7 @@ struct SegmentRow {
 };
 
 // Squared distances from (x, y, z[m]) to c: exactly norm2(p - c).
-ISOFORGE_ROW_CLONES
+ISOFORGE_SIMD_CLONES
 void point_row(const Vec3& c, double x, double y, const double* __restrict z, int n, double* __restrict out) {
   const double dx = x - c.x, dy = y - c.y;
   const double dxy = dx * dx + dy * dy;
@@ -85,7 +84,7 @@ void point_row(const Vec3& c, double x, double y, const double* __restrict z, in
 }
 
 // d2[m] = min(d2[m], v[m]) with ties to the smaller id (who[m] follows); true if any changed.
-ISOFORGE_ROW_CLONES
+ISOFORGE_SIMD_CLONES
 bool keep_min_row(const double* __restrict v, int n, double* __restrict d2, u32* __restrict who, u32 id) {
   // Written without short-circuits and with one integer width per lane, so that it vectorizes.
   std::int64_t changed = 0;
@@ -103,7 +102,7 @@ bool keep_min_row(const double* __restrict v, int n, double* __restrict d2, u32*
 // Squared distances from (x, y, z[m]) to the segment a + t u, t in [0, 1], exactly as
 // segment_distance2 (closest_on_segment) computes them, operation by operation, kept where
 // smaller than d2 (as keep_min_row, in the same pass).
-ISOFORGE_ROW_CLONES
+ISOFORGE_SIMD_CLONES
 bool segment_min_row(const SegmentRow& s, double x, double y, const double* __restrict z, int n,
                      double* __restrict d2, u32* __restrict who, u32 id) {
   const double wx = x - s.ax, wy = y - s.ay;
@@ -127,7 +126,7 @@ bool segment_min_row(const SegmentRow& s, double x, double y, const double* __re
 
 // Unsigned values of a row without radii: value = sqrt(d2) where below maxd (active), else
 // maxd. Returns the number of active samples.
-ISOFORGE_ROW_CLONES
+ISOFORGE_SIMD_CLONES
 int finish_row(const double* __restrict d2, int n, double maxd, double* __restrict value,
                std::uint8_t* __restrict active) {
   int count = 0;
@@ -144,7 +143,7 @@ int finish_row(const double* __restrict d2, int n, double maxd, double* __restri
 // The largest of n >= 1 non-negative, non-NaN doubles (squared distances). For such values the
 // order of the bit patterns as integers is the order of the values, and an integer maximum
 // vectorizes (a floating-point one does not without -ffast-math).
-ISOFORGE_ROW_CLONES
+ISOFORGE_SIMD_CLONES
 double max_nonnegative(const double* __restrict v, int n) {
   std::uint64_t m = 0;
   for (int k = 0; k < n; ++k) {
@@ -157,7 +156,6 @@ double max_nonnegative(const double* __restrict v, int n) {
   return r;
 }
 
-#undef ISOFORGE_ROW_CLONES
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // Relative slack of every conservative (culling) test: culling never decides a value.
 constexpr double kSlack = 1e-9;
