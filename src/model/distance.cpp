@@ -83,19 +83,22 @@ void point_row(const Vec3& c, double x, double y, const double* __restrict z, in
   }
 }
 
+// d = min(d, v) with ties to the smaller id (w follows); true if it changed. Written without
+// short-circuits and with one integer width per lane, so that the loops using it vectorize.
+[[gnu::always_inline]] inline bool keep_min_lane(double v, double& d, u32& w, u32 id) {
+  const double cur = d;
+  const std::uint64_t who = w;
+  const bool win = (v < cur) | ((v == cur) & (id < who));
+  d = win ? v : cur;
+  w = win ? id : static_cast<u32>(who);
+  return win;
+}
+
 // d2[m] = min(d2[m], v[m]) with ties to the smaller id (who[m] follows); true if any changed.
 ISOFORGE_SIMD_CLONES
 bool keep_min_row(const double* __restrict v, int n, double* __restrict d2, u32* __restrict who, u32 id) {
-  // Written without short-circuits and with one integer width per lane, so that it vectorizes.
   std::int64_t changed = 0;
-  for (int m = 0; m < n; ++m) {
-    const double cur = d2[m], vm = v[m];
-    const std::uint64_t w = who[m];
-    const bool win = (vm < cur) | ((vm == cur) & (id < w));
-    d2[m] = win ? vm : cur;
-    who[m] = win ? id : static_cast<u32>(w);
-    changed += win;
-  }
+  for (int m = 0; m < n; ++m) changed += keep_min_lane(v[m], d2[m], who[m], id);
   return changed != 0;
 }
 
@@ -113,13 +116,7 @@ bool segment_min_row(const SegmentRow& s, double x, double y, const double* __re
     t = t < 0.0 ? 0.0 : t;
     t = 1.0 < t ? 1.0 : t;
     const double dx = x - (s.ax + s.ux * t), dy = y - (s.ay + s.uy * t), dz = z[m] - (s.az + s.uz * t);
-    const double vm = dx * dx + dy * dy + dz * dz;
-    const double cur = d2[m];
-    const std::uint64_t w = who[m];
-    const bool win = (vm < cur) | ((vm == cur) & (id < w));
-    d2[m] = win ? vm : cur;
-    who[m] = win ? id : static_cast<u32>(w);
-    changed += win;
+    changed += keep_min_lane(dx * dx + dy * dy + dz * dz, d2[m], who[m], id);
   }
   return changed != 0;
 }
