@@ -152,7 +152,6 @@ class LatticeContourer {
     bits_.resize(static_cast<std::size_t>(rows_ * words_));
     classify_rows(v_, nx_, rows_, iso_, bits_.data());
     counts_.assign(static_cast<std::size_t>(rows_), RowCounts{});
-    const CaseTable& table = voxel_table();
     tbb::parallel_for(tbb::blocked_range<Index>(0, rows_, 16), [&](const tbb::blocked_range<Index>& r) {
       for (Index row = r.begin(); row != r.end(); ++row) {
         const Index j = row % ny_, k = row / ny_;
@@ -167,24 +166,12 @@ class LatticeContourer {
         if (b01) for (Index w = 0; w < words_; ++w) rc.z += std::popcount(b00[w] ^ b01[w]);
         if (!b10 || !b01) continue;
         const Word* b11 = row_bits(j + 1, k + 1);
-        for (Index w = 0; w < words_; ++w) {
-          const CellWords cw = cell_words(b00, b10, b01, b11, w);
-          Word active = cw.mixed(valid_bits(w, nx_ - 1));
-          while (active) {
-            const int bit = std::countr_zero(active);
-            const Index i = 64 * w + bit;
-            active &= active - 1;
-            const CaseTable::Case& c = table.at(cw.case_at(bit));
-            unsigned vb = 0;
-            if (c.ambiguous) {
-              vb = variant_bits(c, i, j, k);
-              rc.ambiguous += c.ambiguous;
-            }
-            const CaseTable::Variant& var = table.variant(c, vb);
-            rc.tris += var.triangles;
-            rc.centers += var.centers;
-          }
-        }
+        for_each_mixed_cell(b00, b10, b01, b11, j, k,
+                            [&](Index, const CaseTable::Case& c, const CaseTable::Variant& var) {
+                              rc.ambiguous += c.ambiguous;
+                              rc.tris += var.triangles;
+                              rc.centers += var.centers;
+                            });
       }
     });
     point_offset_.resize(static_cast<std::size_t>(rows_) + 1);
@@ -286,16 +273,8 @@ class LatticeContourer {
         const Index gbase[8] = {xb(r00), xb(r10), xb(r01), xb(r11), yb(r00), yb(r01), zb(r00), zb(r10)};
         Index t = tri_offset_[ur];
         Index center = p;  // the row's cell-interior points follow its edge points
-        for (Index w = 0; w < words_; ++w) {
-          const CellWords cw = cell_words(b00, b10, b01, b11, w);
-          Word active = cw.mixed(valid_bits(w, nx_ - 1));
-          while (active) {
-            const int bit = std::countr_zero(active);
-            const Index i = 64 * w + bit;
-            active &= active - 1;
-            const CaseTable::Case& c = table.at(cw.case_at(bit));
-            const unsigned vb = c.ambiguous ? variant_bits(c, i, j, k) : 0u;
-            const CaseTable::Variant& var = table.variant(c, vb);
+        for_each_mixed_cell(b00, b10, b01, b11, j, k,
+                            [&](Index i, const CaseTable::Case&, const CaseTable::Variant& var) {
             for (unsigned q = 0; q < var.centers; ++q) {
               emit_center(pts, arrays, center + static_cast<Index>(q), table.center_edges(var, q), i, j, k);
             }
@@ -325,8 +304,7 @@ class LatticeContourer {
               ++t;
             }
             center += var.centers;
-          }
-        }
+                            });
         ISOFORGE_ASSERT(t == tri_offset_[ur + 1]);
         ISOFORGE_ASSERT(center == point_offset_[ur + 1]);
       }
@@ -337,6 +315,27 @@ class LatticeContourer {
   [[nodiscard]] Index id(Index i, Index j, Index k) const { return i + nx_ * (j + ny_ * k); }
   [[nodiscard]] double value(Index i, Index j, Index k) const { return static_cast<double>(v_[id(i, j, k)]); }
   [[nodiscard]] const Word* row_bits(Index j, Index k) const { return bits_.data() + (j + ny_ * k) * words_; }
+
+  // Calls f(i, case, variant) for every cell (i, j, k) of the row of cells whose corners (sample
+  // rows b00 b10 b01 b11) are not all on one side, in increasing i; ambiguous faces are resolved
+  // by the asymptotic decider. Passes 2 and 4 walk the cells through this, so they agree.
+  template <class F>
+  void for_each_mixed_cell(const Word* b00, const Word* b10, const Word* b01, const Word* b11, Index j, Index k,
+                           F&& f) const {
+    const CaseTable& table = voxel_table();
+    for (Index w = 0; w < words_; ++w) {
+      const CellWords cw = cell_words(b00, b10, b01, b11, w);
+      Word active = cw.mixed(valid_bits(w, nx_ - 1));
+      while (active) {
+        const int bit = std::countr_zero(active);
+        const Index i = 64 * w + bit;
+        active &= active - 1;
+        const CaseTable::Case& c = table.at(cw.case_at(bit));
+        const unsigned vb = c.ambiguous ? variant_bits(c, i, j, k) : 0u;
+        f(i, c, table.variant(c, vb));
+      }
+    }
+  }
 
   // Pass 4 reads the samples at the ends of a row's crossed edges: few and scattered when the
   // surface is sparse, so each would be a cache miss by then (the volume was streamed through
