@@ -15,6 +15,7 @@
 #include "isoforge/contour/contour.hpp"
 #include "isoforge/core/mesh_topology.hpp"
 #include "isoforge/implicit/sample.hpp"
+#include "support/expect_error.hpp"
 
 using namespace isoforge;
 using F = ImplicitFunction;
@@ -68,15 +69,7 @@ ConnectivityOptions mode(Mode m) {
   return o;
 }
 
-template <class Fn>
-void expect_error(Fn&& fn, const std::string& substring) {
-  try {
-    fn();
-    ADD_FAILURE() << "no Error thrown, expected one containing '" << substring << "'";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find(substring), std::string::npos) << e.what();
-  }
-}
+using isoforge::test::expect_error;
 
 // Reference labeling: breadth-first search over cell adjacency (quadratic), components ordered
 // by decreasing cell count, then smallest cell id.

@@ -21,6 +21,7 @@
 
 #include "isoforge/io/io.hpp"
 #include "support/scratch.hpp"
+#include "support/expect_error.hpp"
 
 using namespace isoforge;
 namespace fs = std::filesystem;
@@ -66,16 +67,7 @@ ImageData sphere_image(const std::string& name = "distance") {
   return img;
 }
 
-template <class F>
-void expect_error(F&& f, const std::string& substring) {
-  try {
-    f();
-    ADD_FAILURE() << "no Error thrown, expected one containing '" << substring << "'";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find(substring), std::string::npos)
-        << "message: " << e.what() << "\nexpected to contain: " << substring;
-  }
-}
+using isoforge::test::expect_error;
 
 // Three grids: a level set sphere, a vec3s grid, the sphere image as a float grid.
 fs::path write_three_grids(const std::string& file) {

@@ -6,6 +6,9 @@
 
 #include "isoforge/contour/connectivity.hpp"
 #include "isoforge/core/mesh_topology.hpp"
+#include "support/expect_error.hpp"
+
+using isoforge::test::expect_error;
 
 using namespace isoforge;
 
@@ -125,14 +128,6 @@ TEST(Attractor, Figure125SurfaceIsClosedAndManifold) {
 }
 
 TEST(Attractor, BadInputIsAnErrorNamingTheProblem) {
-  const auto expect_error = [](auto&& f, const char* what) {
-    try {
-      f();
-      FAIL() << "no error, expected " << what;
-    } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
-    }
-  };
   TrajectoryOptions o;
   o.steps = 10;
   o.dims = {1, 10, 10};

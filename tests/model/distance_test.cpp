@@ -12,6 +12,10 @@
 #include "isoforge/core/cell.hpp"
 #include "isoforge/core/mesh_topology.hpp"
 #include "isoforge/io/io.hpp"
+#include "support/expect_error.hpp"
+#include "support/meshes.hpp"
+
+using isoforge::test::expect_error;
 
 using namespace isoforge;
 
@@ -62,28 +66,11 @@ GridSpec cube_grid(double lo, double hi, Index n) {
 
 // A closed, outward-oriented UV sphere of radius r (poles at ±z).
 PolyData uv_sphere(double r, int rings, int segments, Vec3 center = {}) {
-  PolyData pd;
-  pd.points.push_back(center + Vec3{0, 0, -r});
-  for (int i = 1; i < rings; ++i) {
+  return test::polar_surface(center + Vec3{0, 0, -r}, center + Vec3{0, 0, r}, rings, segments, [&](int i, int j) {
     const double th = std::numbers::pi * i / rings;
-    for (int j = 0; j < segments; ++j) {
-      const double ph = 2 * std::numbers::pi * j / segments;
-      pd.points.push_back(center + Vec3{r * std::sin(th) * std::cos(ph),
-                                        r * std::sin(th) * std::sin(ph), -r * std::cos(th)});
-    }
-  }
-  pd.points.push_back(center + Vec3{0, 0, r});
-  const auto ring = [&](int i, int j) { return Index(1 + (i - 1) * segments + (j % segments)); };
-  const Index top = Index(pd.points.size() - 1);
-  for (int j = 0; j < segments; ++j) pd.polys.add({0, ring(1, j + 1), ring(1, j)});
-  for (int i = 1; i + 1 < rings; ++i)
-    for (int j = 0; j < segments; ++j) {
-      pd.polys.add({ring(i, j), ring(i, j + 1), ring(i + 1, j + 1)});
-      pd.polys.add({ring(i, j), ring(i + 1, j + 1), ring(i + 1, j)});
-    }
-  for (int j = 0; j < segments; ++j)
-    pd.polys.add({ring(rings - 1, j), ring(rings - 1, j + 1), top});
-  return pd;
+    const double ph = 2 * std::numbers::pi * j / segments;
+    return center + Vec3{r * std::sin(th) * std::cos(ph), r * std::sin(th) * std::sin(ph), -r * std::cos(th)};
+  });
 }
 
 // A closed cube [-0.5, 0.5]^3 made of 12 outward triangles.
@@ -323,23 +310,18 @@ TEST(Distance, SignedDistanceRejectsMeshesWithoutAnInside) {
   o.max_distance = 0.3;
   o.signed_distance = true;
   const GridSpec g = cube_grid(-1, 1, 9);
-  const auto expect_error = [&](const PolyData& pd, const char* what) {
-    try {
-      (void)distance_image(pd, g, o);
-      FAIL() << "no error for " << what;
-    } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
-    }
+  const auto expect_sign_error = [&](const PolyData& pd, const char* what) {
+    expect_error([&] { (void)distance_image(pd, g, o); }, what);
   };
   PolyData open = cube_mesh();
   open.polys.clear();
   const PolyData cube = cube_mesh();
   for (std::size_t c = 1; c < cube.polys.size(); ++c) open.polys.add(cube.polys.cell(c));
-  expect_error(open, "open");
+  expect_sign_error(open, "open");
   PolyData nonmanifold = cube_mesh();
   nonmanifold.points.push_back({0, 0, 2});
   nonmanifold.polys.add({0, 2, 8});  // a fin on the edge 0-2: three faces
-  expect_error(nonmanifold, "non-manifold");
+  expect_sign_error(nonmanifold, "non-manifold");
   PolyData flipped = cube_mesh();
   flipped.polys.clear();
   for (std::size_t c = 0; c < cube.polys.size(); ++c) {
@@ -350,10 +332,10 @@ TEST(Distance, SignedDistanceRejectsMeshesWithoutAnInside) {
       flipped.polys.add(ids);
     }
   }
-  expect_error(flipped, "inconsistent orientation");
+  expect_sign_error(flipped, "inconsistent orientation");
   PolyData lines = cube_mesh();
   lines.lines.add({0, 7});
-  expect_error(lines, "closed triangle mesh");
+  expect_sign_error(lines, "closed triangle mesh");
   // The documented fallback: the pseudonormal sign without the topology check.
   o.require_closed = false;
   EXPECT_NO_THROW((void)distance_image(open, g, o));
@@ -417,14 +399,6 @@ TEST(Distance, OpenVdbMeshToVolumeAgreesNearTheSurface) {
 }
 
 TEST(Distance, BadInputIsAnErrorNamingTheProblem) {
-  const auto expect_error = [](auto&& f, const char* what) {
-    try {
-      f();
-      FAIL() << "no error, expected " << what;
-    } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
-    }
-  };
   const PolyData pd = mixed_input();
   const GridSpec g = cube_grid(0, 1, 8);
   DistanceOptions o;

@@ -15,6 +15,10 @@
 #include "isoforge/io/io.hpp"
 #include "isoforge/model/closest_point.hpp"
 #include "isoforge/model/csg.hpp"
+#include "support/expect_error.hpp"
+#include "support/meshes.hpp"
+
+using isoforge::test::expect_error;
 
 using namespace isoforge;
 
@@ -67,28 +71,12 @@ PolyData dumbbell(int rings = 80, int segments = 64) {
     const double neck = 0.15 + 0.45 * std::pow(std::abs(z), 1.5);
     return std::min(bulb, neck) + 0 * z;
   };
-  PolyData pd;
-  pd.points.push_back({0, 0, -1});
-  for (int i = 1; i < rings; ++i) {
+  return test::polar_surface({0, 0, -1}, {0, 0, 1}, rings, segments, [&](int i, int j) {
     const double z = -std::cos(std::numbers::pi * i / rings);
     const double r = radius(z);
-    for (int j = 0; j < segments; ++j) {
-      const double ph = 2 * std::numbers::pi * j / segments;
-      pd.points.push_back({r * std::cos(ph), r * std::sin(ph), z});
-    }
-  }
-  pd.points.push_back({0, 0, 1});
-  const auto ring = [&](int i, int j) { return Index(1 + (i - 1) * segments + (j % segments)); };
-  const Index top = Index(pd.points.size() - 1);
-  for (int j = 0; j < segments; ++j) pd.polys.add({0, ring(1, j + 1), ring(1, j)});
-  for (int i = 1; i + 1 < rings; ++i)
-    for (int j = 0; j < segments; ++j) {
-      pd.polys.add({ring(i, j), ring(i, j + 1), ring(i + 1, j + 1)});
-      pd.polys.add({ring(i, j), ring(i + 1, j + 1), ring(i + 1, j)});
-    }
-  for (int j = 0; j < segments; ++j)
-    pd.polys.add({ring(rings - 1, j), ring(rings - 1, j + 1), top});
-  return pd;
+    const double ph = 2 * std::numbers::pi * j / segments;
+    return Vec3{r * std::cos(ph), r * std::sin(ph), z};
+  });
 }
 
 }  // namespace
@@ -349,14 +337,6 @@ TEST(ImplicitModeller, SparseMatchesDenseOnTheBand) {
 }
 
 TEST(ImplicitModeller, BadInputIsAnErrorNamingTheProblem) {
-  const auto expect_error = [](auto&& f, const char* what) {
-    try {
-      f();
-      FAIL() << "no error, expected " << what;
-    } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
-    }
-  };
   const PolyData in = hello();
   expect_error([] { (void)implicit_modeller(PolyData{}); }, "empty");
   ImplicitModellerOptions o;
