@@ -482,9 +482,8 @@ PolyData contour_cell_runs(const Points& points, const Attributes& point_data,
   for (const CellRun& r : runs) total += r.cells->size();
   const double nvalues = static_cast<double>(options.values.size());
   ContourStats local;
-  std::vector<PolyData> parts;
-  for (std::size_t v = 0; v < options.values.size(); ++v) {
-    PolyData part = scalars.visit([&](const auto& vec) {
+  PolyData out = contour_each_value(options, [&](std::size_t v) {
+    return scalars.visit([&](const auto& vec) {
       using T = typename std::decay_t<decltype(vec)>::value_type;
       CellContourer<T> c(points, vec.data(), options.values[v], options);
       // Which cells have points on both sides, in parallel; then the crossed cells in order.
@@ -521,12 +520,7 @@ PolyData contour_cell_runs(const Points& points, const Attributes& point_data,
       return c.finish(point_data, cell_data,
                       options.normals == ContourNormals::Gradient ? &gradients : nullptr, local);
     });
-    add_isovalue_index(part, static_cast<int>(v));
-    parts.push_back(std::move(part));
-    report_progress(options.progress, static_cast<double>(v + 1) / nvalues, "contour");
-  }
-  PolyData out = append_polydata(std::move(parts));
-  finish_output(out, options);
+  });
   if (stats) *stats = local;
   return out;
 }

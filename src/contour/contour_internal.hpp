@@ -63,6 +63,34 @@ void add_isovalue_index(PolyData& pd, int index);
 /// options ask for ContourNormals::Triangles.
 void finish_output(PolyData& pd, const ContourOptions& options);
 
+/// A triangle mesh of `points` float points and `triangles` triangles, all uninitialized (the
+/// parallel passes write every point, offset and id, and are the first to touch the memory).
+[[nodiscard]] inline PolyData triangle_output(std::size_t points, std::size_t triangles) {
+  PolyData pd;
+  pd.points = Points(DataArray::uninitialized("Points", ScalarType::Float32, 3, points));
+  pd.polys.offsets().resize(triangles + 1);
+  pd.polys.connectivity().resize(3 * triangles);
+  return pd;
+}
+
+/// The driver every contour shares: part(v) contours isovalue options.values[v]; each part's
+/// points are tagged with IsovalueIndex v, progress is reported after each, and the parts come
+/// back appended and finished (finish_output).
+template <class Part>
+[[nodiscard]] PolyData contour_each_value(const ContourOptions& options, Part&& part) {
+  const std::size_t n = options.values.size();
+  std::vector<PolyData> parts;
+  parts.reserve(n);
+  for (std::size_t v = 0; v < n; ++v) {
+    parts.push_back(part(v));
+    add_isovalue_index(parts.back(), static_cast<int>(v));
+    report_progress(options.progress, static_cast<double>(v + 1) / static_cast<double>(n), "contour");
+  }
+  PolyData out = append_polydata(std::move(parts));
+  finish_output(out, options);
+  return out;
+}
+
 /// Marching squares on images with fewer than three dimensions > 1 (contour_lines.cpp):
 /// polylines joined into continuous lines (1D images give vertices).
 [[nodiscard]] PolyData contour_image_2d(const ImageData& input, const ContourOptions& options,

@@ -587,24 +587,16 @@ PolyData contour_lattice(const Lattice& lat, Index nu, Index nv, const Attribute
                          const Attributes& cell_data, const DataArray& scalars,
                          const ContourOptions& options, ContourStats* stats) {
   ContourStats local;
-  std::vector<PolyData> parts;
-  for (std::size_t v = 0; v < options.values.size(); ++v) {
+  PolyData out = contour_each_value(options, [&](std::size_t v) {
     const double iso = options.values[v];
-    PolyData part = scalars.visit([&](const auto& vec) {
+    return scalars.visit([&](const auto& vec) {
       using T = typename std::decay_t<decltype(vec)>::value_type;
       if (nv > 1)
         return contour_squares<T>(lat, vec.data(), nu, nv, iso, point_data, cell_data, options,
                                   local);
       return contour_points<T>(lat, vec.data(), nu, iso, point_data, cell_data, options, local);
     });
-    add_isovalue_index(part, static_cast<int>(v));
-    parts.push_back(std::move(part));
-    report_progress(options.progress,
-                    static_cast<double>(v + 1) / static_cast<double>(options.values.size()),
-                    "contour");
-  }
-  PolyData out = append_polydata(std::move(parts));
-  finish_output(out, options);
+  });
   if (stats) *stats = local;
   return out;
 }

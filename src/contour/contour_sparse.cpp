@@ -668,18 +668,13 @@ PolyData contour_vdb(const openvdb::FloatGrid& grid, const ContourOptions& optio
   local.leaves = c.leaves();
   local.blocks = c.blocks();
   const bool gradient = options.normals == ContourNormals::Gradient;
-  std::vector<PolyData> parts;
-  for (std::size_t v = 0; v < options.values.size(); ++v) {
+  PolyData out = contour_each_value(options, [&](std::size_t v) {
     c.set_isovalue(options.values[v]);
     c.count();
     const auto totals = c.offsets();
     const auto npts = static_cast<std::size_t>(totals.points);
     const auto ntris = static_cast<std::size_t>(totals.tris);
-    // Outputs are allocated uninitialized and first written by the parallel passes.
-    PolyData part;
-    part.points = Points(DataArray::uninitialized("Points", ScalarType::Float32, 3, npts));
-    part.polys.offsets().resize(ntris + 1);
-    part.polys.connectivity().resize(3 * ntris);
+    PolyData part = triangle_output(npts, ntris);
     Index* offsets = part.polys.offsets().data();
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ntris + 1, std::size_t{1} << 16),
                       [&](const tbb::blocked_range<std::size_t>& r) {
@@ -699,18 +694,12 @@ PolyData contour_vdb(const openvdb::FloatGrid& grid, const ContourOptions& optio
     if (options.interpolate_attributes)
       part.point_data.add(std::move(scalars), AttributeRole::Scalars);
     if (gradient) part.point_data.add(std::move(normals), AttributeRole::Normals);
-    add_isovalue_index(part, static_cast<int>(v));
-    parts.push_back(std::move(part));
     local.points += npts;
     local.cells += ntris;
     local.ambiguous_faces += totals.ambiguous;
     local.skipped_cells += totals.skipped;
-    report_progress(options.progress,
-                    static_cast<double>(v + 1) / static_cast<double>(options.values.size()),
-                    "contour");
-  }
-  PolyData out = append_polydata(std::move(parts));
-  finish_output(out, options);
+    return part;
+  });
   if (stats) *stats = local;
   return out;
 }

@@ -481,11 +481,7 @@ PolyData contour_lattice_value(const Geometry& geometry, const Dims& dims, const
   const LatticeCounts total = c.count();
   const auto npts = static_cast<std::size_t>(total.x);
   const auto ntris = static_cast<std::size_t>(total.tris);
-  PolyData out;
-  // Outputs are allocated uninitialized and first touched by the parallel passes.
-  out.points = Points(DataArray::uninitialized("Points", ScalarType::Float32, 3, npts));
-  out.polys.offsets().resize(ntris + 1);
-  out.polys.connectivity().resize(3 * ntris);
+  PolyData out = triangle_output(npts, ntris);
   out.polys.offsets()[0] = 0;
   InterpolatedArrays arrays(point_data, cell_data, npts, ntris, options.interpolate_attributes,
                             options.normals == ContourNormals::Gradient);
@@ -503,19 +499,12 @@ PolyData contour_lattice(const Geometry& geometry, const Dims& dims, const DataA
                          const Attributes& point_data, const Attributes& cell_data,
                          const ContourOptions& options, ContourStats* stats) {
   ContourStats local;
-  std::vector<PolyData> parts;
-  for (std::size_t v = 0; v < options.values.size(); ++v) {
-    PolyData part = scalars.visit([&](const auto& vec) {
+  PolyData out = contour_each_value(options, [&](std::size_t v) {
+    return scalars.visit([&](const auto& vec) {
       return contour_lattice_value(geometry, dims, vec.data(), options.values[v], point_data, cell_data,
                                    options, local);
     });
-    add_isovalue_index(part, static_cast<int>(v));
-    parts.push_back(std::move(part));
-    report_progress(options.progress, static_cast<double>(v + 1) / static_cast<double>(options.values.size()),
-                    "contour");
-  }
-  PolyData out = append_polydata(std::move(parts));
-  finish_output(out, options);
+  });
   if (stats) *stats = local;
   return out;
 }
