@@ -160,6 +160,8 @@ constexpr double kSlack = 1e-9;
 // volume they cover together (measured: one Gather sample costs about as much as 20 Scatter
 // kernel calls, counting the rows' setup).
 constexpr double kGatherRatio = 20;
+// The same for points and segments on the dense path, whose row kernels cost less per call.
+constexpr double kRowGatherRatio = 100;
 
 std::string fmt_double(double v) {
   char buf[32];
@@ -1345,12 +1347,11 @@ void check_common(const GridSpec& g, const DistanceOptions& o) {
   }
 }
 
-// Computes every block and hands it to sink(task index, BlockOut) — in parallel, from TBB
-// workers — after calling prepare(number of tasks) once.
-template <class Prepare, class Sink>
-void run(const GridSpec& g, const DistanceOptions& o, DistanceStats& stats, Prepare&& prepare,
-         Sink&& sink, const Primitives& P, const Pseudonormals* signs, int kz) {
-  Engine engine(P, g, o, signs, kz);
+// The strategy `o` asks for, or (Auto) Gather when Scatter's estimated kernel calls exceed
+// `gather_ratio` times the samples within reach; fills the counts of `stats`.
+DistanceStrategy choose_strategy(const Engine& engine, const Primitives& P,
+                                 const DistanceOptions& o, double gather_ratio,
+                                 DistanceStats& stats) {
   stats.points = P.point_ids.size();
   stats.segments = P.segs.size();
   stats.triangles = P.tris.size();
@@ -1360,11 +1361,21 @@ void run(const GridSpec& g, const DistanceOptions& o, DistanceStats& stats, Prep
     throw Error("distance: the Gather strategy does not support radii (use Scatter or Auto)");
   }
   if (s == DistanceStrategy::Auto) {
-    s = P.has_radius() || stats.scatter_estimate <= kGatherRatio * engine.union_estimate()
+    s = P.has_radius() || stats.scatter_estimate <= gather_ratio * engine.union_estimate()
             ? DistanceStrategy::Scatter
             : DistanceStrategy::Gather;
   }
   stats.strategy = s;
+  return s;
+}
+
+// Computes every block and hands it to sink(task index, BlockOut) — in parallel, from TBB
+// workers — after calling prepare(number of tasks) once.
+template <class Prepare, class Sink>
+void run(const GridSpec& g, const DistanceOptions& o, DistanceStats& stats, Prepare&& prepare,
+         Sink&& sink, const Primitives& P, const Pseudonormals* signs, int kz) {
+  Engine engine(P, g, o, signs, kz);
+  const DistanceStrategy s = choose_strategy(engine, P, o, kGatherRatio, stats);
   report_progress(o.progress, 0.0, "distance");
   std::vector<Pair> pairs;
   std::vector<Task> tasks;
@@ -1465,6 +1476,26 @@ ImageData dense_field(const PolyData& input, const GridSpec& g, const DistanceOp
   const std::size_t n = img.num_points();
   DataArray arr = DataArray::uninitialized(o.name, ScalarTypeOf<T>::value, 1, n);
   T* v = arr.values<T>().data();
+  if (!signs && !P.has_radius() && P.tris.empty()) {
+    // Points and segments: Scatter by rows along x (distance_rows.cpp), same values.
+    const Engine engine(P, g, o, nullptr, 64);
+    if (choose_strategy(engine, P, o, kRowGatherRatio, stats) == DistanceStrategy::Scatter) {
+      std::vector<Vec3> centers(P.point_ids.size());
+      for (std::size_t i = 0; i < centers.size(); ++i) centers[i] = P.pts[P.point_ids[i]];
+      std::vector<std::array<Vec3, 2>> segments(P.segs.size());
+      for (std::size_t i = 0; i < segments.size(); ++i) {
+        segments[i] = {P.pts[P.segs[i][0]], P.pts[P.segs[i][1]]};
+      }
+      report_progress(o.progress, 0.0, "distance");
+      const model_detail::RowStats r =
+          model_detail::distance_rows(centers, segments, g, o.max_distance, far, v, o.progress);
+      stats.blocks = r.planes;
+      stats.evaluations = r.evaluations;
+      stats.active_voxels = r.active;
+      img.point_data.add(std::move(arr), AttributeRole::Scalars);
+      return img;
+    }
+  }
   const T far_t = static_cast<T>(far);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16),
                     [&](const tbb::blocked_range<std::size_t>& r) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
@@ -127,6 +128,120 @@ TEST(Distance, RandomBandSamplesAreExact) {
     }
   }
   EXPECT_GT(in_band, 500);
+}
+
+// Points and segments that stress the row path's caps and cylinders: axis-parallel and nearly
+// parallel segments (both directions), segments with end points on samples, zero-length and very
+// short ones, segments longer than the grid, points, and random ones.
+PolyData awkward_segments(const Vec3& shift, double scale) {
+  PolyData pd;
+  const auto seg = [&](Vec3 a, Vec3 b) {
+    const Index i = Index(pd.points.size());
+    pd.points.push_back(shift + a * scale);
+    pd.points.push_back(shift + b * scale);
+    pd.lines.add({i, i + 1});
+  };
+  seg({0.1, 0.5, 0.5}, {0.9, 0.5, 0.5});    // along x
+  seg({0.8, 0.2, 0.3}, {0.2, 0.2, 0.3});    // along -x
+  seg({0.5, 0.1, 0.5}, {0.5, 0.9, 0.5});    // along y
+  seg({0.3, 0.7, 0.9}, {0.3, 0.7, 0.1});    // along -z
+  seg({0.2, 0.3, 0.4}, {0.7, 0.3 + 1e-13, 0.4});  // nearly along x
+  seg({0.6, 0.6, 0.2}, {0.6 + 1e-12, 0.1, 0.8});  // nearly perpendicular to x
+  seg({0.25, 0.25, 0.25}, {0.25, 0.25, 0.25});    // zero length
+  seg({0.4, 0.8, 0.6}, {0.4 + 1e-9, 0.8, 0.6 - 1e-9});  // very short
+  seg({-1.0, -0.5, 0.45}, {2.0, 1.5, 0.55});  // longer than the grid
+  seg({0.0, 0.0, 0.0}, {0.5, 0.5, 0.5});      // end points on samples
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-0.1, 1.1);
+  for (int k = 0; k < 12; ++k) seg({u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)});
+  const Index first = Index(pd.points.size());
+  for (int k = 0; k < 6; ++k) pd.points.push_back(shift + Vec3{u(rng), u(rng), u(rng)} * scale);
+  pd.points.push_back(shift + Vec3{0.5, 0.5, 0.25} * scale);  // on a sample
+  pd.verts.add({first, first + 1, first + 2});
+  pd.verts.add({first + 3, first + 4, first + 5, first + 6});
+  // A polyline through several of the points above.
+  pd.lines.add({first, first + 3, first + 1});
+  return pd;
+}
+
+TEST(Distance, RowsOfPointsAndSegmentsEqualTheBlockEngineBitForBit) {
+  // Dense Scatter of points and segments runs by rows along x (distance_rows.cpp); Gather and the
+  // sparse grid run the block engine. Same kernels, so the same bits — on every sample.
+  struct Case {
+    Vec3 shift;
+    double scale;
+    Index n;
+    double maxd;
+  };
+  for (const Case& c : {Case{{0, 0, 0}, 1.0, 41, 0.15}, Case{{0, 0, 0}, 1.0, 23, 0.6},
+                        Case{{1e4, -3e3, 7e3}, 2.0, 37, 0.25}, Case{{0, 0, 0}, 1e-3, 29, 0.1}}) {
+    const PolyData pd = awkward_segments(c.shift, c.scale);
+    Bounds b;
+    b.extend(c.shift);
+    b.extend(c.shift + Vec3{1, 1, 1} * c.scale);
+    GridSpec g = GridSpec::from_bounds(b, {c.n, c.n + 3, c.n - 2});  // unequal spacing
+    DistanceOptions o;
+    o.max_distance = c.maxd * c.scale;
+    DistanceStats rows, engine;
+    o.strategy = DistanceStrategy::Scatter;
+    const ImageData img = distance_image(pd, g, o, ScalarType::Float64, &rows);
+    const auto a = values<double>(img);
+    o.strategy = DistanceStrategy::Gather;
+    const auto e = values<double>(distance_image(pd, g, o, ScalarType::Float64, &engine));
+    EXPECT_EQ(rows.blocks, std::size_t(g.dims[2]));  // one per z-plane: the row path ran
+    EXPECT_EQ(rows.active_voxels, engine.active_voxels);
+    EXPECT_GT(rows.active_voxels, a.size() / 20);
+    ASSERT_EQ(a, e) << "shift " << c.shift.x << " scale " << c.scale;
+    // Every value against brute force with the independent kernels of core/cell.hpp.
+    for (std::size_t id = 0; id < a.size(); id += 7) {
+      const double ref = brute_distance(pd, img.point(Index(id)));
+      if (std::abs(ref - o.max_distance) < 1e-9 * c.scale) continue;  // a tie with the band edge
+      ASSERT_NEAR(a[id], std::min(ref, o.max_distance), 1e-12 * (c.scale + norm(c.shift)))
+          << id;
+    }
+    // Float output: the same values rounded once.
+    o.strategy = DistanceStrategy::Auto;
+    const auto f = values<float>(distance_image(pd, g, o));
+    for (std::size_t id = 0; id < a.size(); ++id) ASSERT_EQ(f[id], static_cast<float>(a[id]));
+  }
+}
+
+TEST(Distance, RowsAgreeWithTheSparseGrid) {
+  const PolyData pd = awkward_segments({0, 0, 0}, 1.0);
+  const GridSpec g = cube_grid(-0.2, 1.2, 50);
+  DistanceOptions o;
+  o.max_distance = 0.1;
+  const ImageData dense = distance_image(pd, g, o);
+  const auto grid = distance_grid(pd, g, o);
+  const auto v = values<float>(dense);
+  auto acc = grid->getConstAccessor();
+  for (Index k = 0; k < g.dims[2]; ++k)
+    for (Index j = 0; j < g.dims[1]; ++j)
+      for (Index i = 0; i < g.dims[0]; ++i) {
+        ASSERT_EQ(acc.getValue({int(i), int(j), int(k)}), v[std::size_t(dense.point_id(i, j, k))]);
+      }
+}
+
+TEST(Distance, ProgressRisesAndCancelStops) {
+  // Rows (points and segments) and the block engine (with triangles) both report and cancel.
+  for (const PolyData& pd : {awkward_segments({0, 0, 0}, 1.0), mixed_input()}) {
+    const GridSpec g = cube_grid(-0.2, 1.2, 64);
+    DistanceOptions o;
+    o.max_distance = 0.1;
+    std::vector<double> seen;
+    o.progress = [&](double f) {
+      seen.push_back(f);
+      return true;
+    };
+    (void)distance_image(pd, g, o);
+    ASSERT_GE(seen.size(), 3u);
+    EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+    EXPECT_GE(seen.back(), 0.9);
+    int calls = 0;
+    o.progress = [&](double) { return ++calls < 3; };
+    EXPECT_THROW((void)distance_image(pd, g, o), Cancelled);
+    EXPECT_EQ(calls, 3);
+  }
 }
 
 TEST(Distance, SparseBandIsExactlyTheSamplesWithinTheMaximumDistance) {
