@@ -58,6 +58,8 @@ struct Seg {
   double yz2;   // uy² + uz²
   double len;   // |u|
   bool regular; // |u|² is a normal number with a finite reciprocal: the caps apply
+  bool across;  // ux = 0: t is the same all along a row
+  bool along;   // uy = uz = 0: the segment lies along the rows
 };
 
 // What one plane needs.
@@ -141,20 +143,51 @@ using FloatChunk = float __attribute__((vector_size(kChunk * sizeof(float))));
 // by operation as closest_on_segment: t = clamp(((wx ux + wy uy) + wz uz) · inv, 0, 1),
 // q = a + u t, ((px − qx)² + (py − qy)²) + (pz − qz)². (On chunks rather than a loop over
 // samples: as a loop, GCC moves the products u t into the clamp's selects, a third more work.)
+// The segment's constants as chunks, made once per plane rather than per row.
+struct SegChunks {
+  Chunk ax, ay, az, ux, uy, uz, inv, z, cz, zero, one;
+  SegChunks(const Seg& s, double z_, double cz_)
+      : ax(Chunk{} + s.ax), ay(Chunk{} + s.ay), az(Chunk{} + s.az), ux(Chunk{} + s.ux),
+        uy(Chunk{} + s.uy), uz(Chunk{} + s.uz), inv(Chunk{} + s.inv), z(Chunk{} + z_),
+        cz(Chunk{} + cz_), zero(Chunk{}), one(Chunk{} + 1.0) {}
+};
+
 [[gnu::always_inline]] inline std::size_t segment_chunks(const double* __restrict X, int m0, int m1,
-                                                         const Seg& s, double y, double z,
-                                                         double cy, double cz,
+                                                         const SegChunks& s, double y, double cy,
                                                          double* __restrict d2) {
-  const Chunk zero = {}, one = zero + 1.0;
+  const Chunk yv = Chunk{} + y, cyv = Chunk{} + cy;
   for (int m = m0; m < m1; m += kChunk) {
     Chunk x, d;
     std::memcpy(&x, X + m, sizeof x);
     std::memcpy(&d, d2 + m, sizeof d);
-    Chunk t = (((x - s.ax) * s.ux + cy) + cz) * s.inv;
-    t = t < zero ? zero : t;
-    t = one < t ? one : t;
-    const Chunk dx = x - (s.ax + s.ux * t), dy = y - (s.ay + s.uy * t), dz = z - (s.az + s.uz * t);
+    Chunk t = (((x - s.ax) * s.ux + cyv) + s.cz) * s.inv;
+    t = t < s.zero ? s.zero : t;
+    t = s.one < t ? s.one : t;
+    const Chunk dx = x - (s.ax + s.ux * t), dy = yv - (s.ay + s.uy * t),
+                dz = s.z - (s.az + s.uz * t);
     const Chunk v = (dx * dx + dy * dy) + dz * dz;
+    d = v < d ? v : d;
+    std::memcpy(d2 + m, &d, sizeof d);
+  }
+  return static_cast<std::size_t>(m1 > m0 ? m1 - m0 : 0);
+}
+
+// segment_chunks for a segment along the rows (uy = uz = 0): the products uy t, uz t are zeros, so
+// dy, dz are the row's offsets from a and the kernel is ((x − (ax + ux t))² + dy²) + dz², with
+// t = ((x − ax) ux) · inv (the kernel's added wy uy, wz uz are zeros too: same values).
+[[gnu::always_inline]] inline std::size_t along_chunks(const double* __restrict X, int m0, int m1,
+                                                       const SegChunks& s, double dy2, double dz2,
+                                                       double* __restrict d2) {
+  const Chunk dy2v = Chunk{} + dy2, dz2v = Chunk{} + dz2;
+  for (int m = m0; m < m1; m += kChunk) {
+    Chunk x, d;
+    std::memcpy(&x, X + m, sizeof x);
+    std::memcpy(&d, d2 + m, sizeof d);
+    Chunk t = ((x - s.ax) * s.ux) * s.inv;
+    t = t < s.zero ? s.zero : t;
+    t = s.one < t ? s.one : t;
+    const Chunk dx = x - (s.ax + s.ux * t);
+    const Chunk v = (dx * dx + dy2v) + dz2v;
     d = v < d ? v : d;
     std::memcpy(d2 + m, &d, sizeof d);
   }
@@ -276,14 +309,15 @@ using FloatChunk = float __attribute__((vector_size(kChunk * sizeof(float))));
   if (!y_range(p, std::min(ya, yb) - p.Rs, std::max(ya, yb) + p.Rs, j0, j1)) return 0;
 
   const double cz = wz * s.uz;  // the kernel's wz · uz
+  const SegChunks sc(s, Z, cz);
   std::size_t evals = 0;
   if (!s.regular) {  // a segment too short for the caps' arithmetic: the full kernel on its box
     for (int j = j0; j <= j1; ++j) {
       int m0, m1;
       x_range(p, std::min(s.ax, s.bx) - p.Rs, std::max(s.ax, s.bx) + p.Rs, true, m0, m1);
       if (m0 > m1) continue;
-      evals += segment_chunks(p.X, m0 & ~(kChunk - 1), (m1 | (kChunk - 1)) + 1, s, p.Y[j], Z,
-                              (p.Y[j] - s.ay) * s.uy, cz, p.d2 + static_cast<std::size_t>(j) * p.nxp);
+      evals += segment_chunks(p.X, m0 & ~(kChunk - 1), (m1 | (kChunk - 1)) + 1, sc, p.Y[j],
+                              (p.Y[j] - s.ay) * s.uy, p.d2 + static_cast<std::size_t>(j) * p.nxp);
     }
     return evals;
   }
@@ -348,8 +382,22 @@ using FloatChunk = float __attribute__((vector_size(kChunk * sizeof(float))));
                       : point_chunks(p.X, m0, m1, s.ax, wy * wy, wz2, row);
     }
     if (f0 <= f1) {
-      evals += segment_chunks(p.X, f0 & ~(kChunk - 1), (f1 | (kChunk - 1)) + 1, s, y, Z,
-                              wy * s.uy, cz, row);
+      const int m0 = f0 & ~(kChunk - 1), m1 = (f1 | (kChunk - 1)) + 1;
+      const double cy = wy * s.uy;
+      if (s.across) {
+        // ux = 0: t, and so the closest point's y and z, are the same all along the row, and
+        // x − (ax + ux t) is x − ax: the point kernel, with the kernel's own t.
+        double t = (((p.X[0] - s.ax) * s.ux + cy) + cz) * s.inv;
+        t = t < 0.0 ? 0.0 : t;
+        t = 1.0 < t ? 1.0 : t;
+        const double dy = y - (s.ay + s.uy * t), dz = Z - (s.az + s.uz * t);
+        evals += point_chunks(p.X, m0, m1, s.ax, dy * dy, dz * dz, row);
+      } else if (s.along) {
+        const double dy = y - (s.ay + s.uy * 0.0), dz = Z - (s.az + s.uz * 0.0);
+        evals += along_chunks(p.X, m0, m1, sc, dy * dy, dz * dz, row);
+      } else {
+        evals += segment_chunks(p.X, m0, m1, sc, y, cy, row);
+      }
     }
   }
   return evals;
@@ -459,6 +507,8 @@ RowStats distance_rows(const std::vector<Vec3>& centers,
     s.len = std::sqrt(s.len2);
     s.regular = s.len2 >= std::numeric_limits<double>::min() && std::isfinite(s.inv) &&
                 std::isfinite(s.len2);
+    s.across = e.x == 0;
+    s.along = e.y == 0 && e.z == 0;
     for (const Vec3& v : segments[i]) M = std::max({M, std::abs(v.x), std::abs(v.y), std::abs(v.z)});
   }
   const double slack = 1e-12 * M;
