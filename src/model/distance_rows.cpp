@@ -83,7 +83,7 @@ struct RowSetup {
   double ox, inv_hx, n;
   double Rs2, row_slack;
   bool parallel;  // along x
-  double yz2;     // uy² + uz² (1 when parallel)
+  double inv_yz2; // 1 / (uy² + uz²) (1 when parallel)
   double tau, inv_tau, delta, t_base;
 };
 
@@ -253,11 +253,11 @@ struct SegChunks {
     // in s = x − ax with minimum mmin at s*, evaluated as a sum of squares (no cancellation).
     // Parallel to x, the row is within the cylinder everywhere or nowhere.
     const double c0 = wy * c.uy + c.wz * c.uz;
-    const double sstar = c0 * c.ux / c.yz2;
+    const double sstar = c0 * c.ux * c.inv_yz2;
     const double P = wy * c.uz - c.wz * c.uy;
     const double q1 = c.wz * c.ux - sstar * c.uz, q2 = sstar * c.uy - wy * c.ux;
     const double mmin = P * P + q1 * q1 + q2 * q2;
-    const double hc2 = (c.Rs2 * c.len2 - mmin) / c.yz2;
+    const double hc2 = (c.Rs2 * c.len2 - mmin) * c.inv_yz2;
     const double hc = std::sqrt(hc2 < 0.0 ? 0.0 : hc2);
     const double par_in = c.row_slack * c.row_slack - (wy * wy + c.wz2);
     double lc0, lc1;
@@ -343,7 +343,7 @@ struct SegChunks {
   c.Rs2 = p.Rs2;
   c.row_slack = p.Rs + 1e-10 * extent;
   c.parallel = parallel;
-  c.yz2 = parallel ? 1.0 : s.yz2;
+  c.inv_yz2 = parallel ? 1.0 : 1.0 / s.yz2;
   c.tau = tau;
   c.inv_tau = tau != 0.0 ? 1.0 / tau : kInf;
   c.delta = delta;
