@@ -160,8 +160,10 @@ constexpr double kSlack = 1e-9;
 // volume they cover together (measured: one Gather sample costs about as much as 20 Scatter
 // kernel calls, counting the rows' setup).
 constexpr double kGatherRatio = 20;
-// The same for points and segments on the dense path, whose row kernels cost less per call.
-constexpr double kRowGatherRatio = 100;
+// The same for points and segments on the dense path, whose row kernels cost less per call
+// (bench_model's crossover: a helix of 1k .. 1M segments at 128³, the rows win up to a ratio of
+// about 600).
+constexpr double kRowGatherRatio = 500;
 
 std::string fmt_double(double v) {
   char buf[32];

@@ -15,6 +15,10 @@
 // in one of the three, so every sample gets the minimum over the primitives that can reach it,
 // computed with the very operations of the other paths: the result equals theirs bit for bit.
 //
+// Segments across the rows (ux = 0) have the same t all along a row: their middle is the point
+// kernel about the row's closest point too. Segments along the rows (uy = uz = 0) have a shorter
+// middle kernel (the products uy t, uz t are zeros).
+//
 // Pieces are rounded to chunks of 8 samples (rows are padded): caps shrink toward their ends and
 // the middle grows to cover what they gave up, so the kernels run on whole vectors. The rows of
 // a plane are set up in one vectorized loop per primitive, and one call per plane enters the
@@ -28,14 +32,15 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
 #include <memory>
-#include <type_traits>
 #include <numeric>
+#include <type_traits>
 #include <vector>
 
 #include "core/simd_clones.hpp"
@@ -72,7 +77,8 @@ struct Plane {
   double Rs, Rs2;   // the reach with its slack
   double slack;     // absolute slack (world units)
   double* d2;       // ny rows of nxp squared distances
-  int* scratch;     // 6 * ny ints
+  int* scratch;     // 6 * ny ints (the pieces of each row)
+  double* sq;       // 3 * nxp doubles: the row-independent parts of a primitive's kernels
 };
 
 // Constants of a segment's row set-up on one plane (passed by value: no aliasing with the
@@ -87,51 +93,30 @@ struct RowSetup {
   double tau, inv_tau, delta, t_base;
 };
 
-// Sample index interval [lo, hi] of x in [x0, x1], rounded outward, clamped to [0, n − 1], as
-// doubles; (1, 0) when the interval misses the row or is NaN. Branch-free, for vectorization.
-[[gnu::always_inline]] inline void x_span(const Plane& p, double x0, double x1, bool valid,
-                                          double& lo, double& hi) {
-  const double f0 = std::floor((x0 - p.ox) * p.inv_hx);
-  const double f1 = std::ceil((x1 - p.ox) * p.inv_hx);
-  const double last = p.nx - 1.0;
-  const bool ok = valid & (f0 <= f1) & (f1 >= 0.0) & (f0 <= last);
-  lo = ok ? (f0 > 0.0 ? f0 : 0.0) : 1.0;
-  hi = ok ? (f1 < last ? f1 : last) : 0.0;
-}
-
-// The same on a row set-up, where the interval exists if `valid` ≥ 0.
-[[gnu::always_inline]] inline void x_span(const RowSetup& c, double x0, double x1, double valid,
-                                          double& lo, double& hi) {
-  const double f0 = std::floor((x0 - c.ox) * c.inv_hx);
-  const double f1 = std::ceil((x1 - c.ox) * c.inv_hx);
-  const double last = c.n - 1.0;
+// Sample index interval [lo, hi] of x in [x0, x1] on a row of n samples at ox + i / inv_hx,
+// rounded outward, clamped to [0, n − 1], as doubles; (1, 0) when `valid` < 0, the interval
+// misses the row or is NaN. Branch-free, for vectorization.
+[[gnu::always_inline]] inline void x_span(double ox, double inv_hx, double n, double x0,
+                                          double x1, double valid, double& lo, double& hi) {
+  const double f0 = std::floor((x0 - ox) * inv_hx);
+  const double f1 = std::ceil((x1 - ox) * inv_hx);
+  const double last = n - 1.0;
   const bool ok = (valid >= 0.0) & (f0 <= f1) & (f1 >= 0.0) & (f0 <= last);
   lo = ok ? (f0 > 0.0 ? f0 : 0.0) : 1.0;
   hi = ok ? (f1 < last ? f1 : last) : 0.0;
+}
+[[gnu::always_inline]] inline void x_span(const RowSetup& c, double x0, double x1, double valid,
+                                          double& lo, double& hi) {
+  x_span(c.ox, c.inv_hx, c.n, x0, x1, valid, lo, hi);
 }
 
 // The same as ints.
 [[gnu::always_inline]] inline void x_range(const Plane& p, double x0, double x1, bool valid,
                                            int& lo, int& hi) {
   double l, h;
-  x_span(p, x0, x1, valid, l, h);
+  x_span(p.ox, p.inv_hx, p.nx, x0, x1, valid ? 0.0 : -1.0, l, h);
   lo = static_cast<int>(l);
   hi = static_cast<int>(h);
-}
-
-// d2[m] = min(d2[m], |(X[m], y, z) − c|²) on whole chunks [m0, m1), exactly norm2(p − c):
-// ((dx² + dy²) + dz²).
-[[gnu::always_inline]] inline std::size_t point_chunks(const double* __restrict X, int m0, int m1,
-                                                       double cx, double dy2, double dz2,
-                                                       double* __restrict d2) {
-  for (int m = m0; m < m1; m += kChunk) {
-    for (int l = 0; l < kChunk; ++l) {
-      const double dx = X[m + l] - cx;
-      const double v = (dx * dx + dy2) + dz2;
-      d2[m + l] = v < d2[m + l] ? v : d2[m + l];
-    }
-  }
-  return static_cast<std::size_t>(m1 > m0 ? m1 - m0 : 0);
 }
 
 // Eight doubles: a chunk. GCC's generic vectors (one AVX-512 register, two AVX2 ones or four
@@ -139,10 +124,46 @@ struct RowSetup {
 using Chunk = double __attribute__((vector_size(kChunk * sizeof(double))));
 using FloatChunk = float __attribute__((vector_size(kChunk * sizeof(float))));
 
-// d2[m] = min(d2[m], segment_distance2((X[m], y, z), a, b)) on whole chunks [m0, m1), operation
-// by operation as closest_on_segment: t = clamp(((wx ux + wy uy) + wz uz) · inv, 0, 1),
-// q = a + u t, ((px − qx)² + (py − qy)²) + (pz − qz)². (On chunks rather than a loop over
-// samples: as a loop, GCC moves the products u t into the clamp's selects, a third more work.)
+// d2 = min(d2, v) with kernel(x, v) on the whole chunks of [m0, m1) of x = X; returns the
+// samples visited.
+template <class Kernel>
+[[gnu::always_inline]] inline std::size_t min_chunks(const double* __restrict X, int m0, int m1,
+                                                     double* __restrict d2, Kernel&& kernel) {
+  for (int m = m0; m < m1; m += kChunk) {
+    Chunk x, d;
+    std::memcpy(&x, X + m, sizeof x);
+    std::memcpy(&d, d2 + m, sizeof d);
+    Chunk v;
+    kernel(x, v);
+    d = v < d ? v : d;
+    std::memcpy(d2 + m, &d, sizeof d);
+  }
+  return static_cast<std::size_t>(m1 > m0 ? m1 - m0 : 0);
+}
+
+// Point kernels split in two: |(x, y, z) − c|² is exactly norm2(p − c) = ((dx² + dy²) + dz²), and
+// dx² does not depend on the row, so it is computed once per plane (squares) and each row only
+// adds its dy², dz² (offset_chunks): 2 additions a sample.
+[[gnu::always_inline]] inline void squares(const double* __restrict X, int m0, int m1, double cx,
+                                           double* __restrict sq) {
+  const Chunk cxv = Chunk{} + cx;
+  for (int m = m0; m < m1; m += kChunk) {
+    Chunk x;
+    std::memcpy(&x, X + m, sizeof x);
+    const Chunk dx = x - cxv;
+    const Chunk v = dx * dx;
+    std::memcpy(sq + m, &v, sizeof v);
+  }
+}
+
+[[gnu::always_inline]] inline std::size_t offset_chunks(const double* __restrict sq, int m0, int m1,
+                                                        double dy2, double dz2,
+                                                        double* __restrict d2) {
+  const Chunk dy2v = Chunk{} + dy2, dz2v = Chunk{} + dz2;
+  return min_chunks(sq, m0, m1, d2,
+                    [&](const Chunk& dx2, Chunk& v) { v = (dx2 + dy2v) + dz2v; });
+}
+
 // The segment's constants as chunks, made once per plane rather than per row.
 struct SegChunks {
   Chunk ax, ay, az, ux, uy, uz, inv, z, cz, zero, one;
@@ -152,46 +173,60 @@ struct SegChunks {
         cz(Chunk{} + cz_), zero(Chunk{}), one(Chunk{} + 1.0) {}
 };
 
+// segment_distance2((x, y, z), a, b), operation by operation as closest_on_segment:
+// t = clamp(((wx ux + wy uy) + wz uz) · inv, 0, 1), q = a + u t, ((px − qx)² + (py − qy)²) +
+// (pz − qz)². (On chunks rather than a loop over samples: as a loop, GCC moves the products u t
+// into the clamp's selects, a third more work.)
 [[gnu::always_inline]] inline std::size_t segment_chunks(const double* __restrict X, int m0, int m1,
                                                          const SegChunks& s, double y, double cy,
                                                          double* __restrict d2) {
   const Chunk yv = Chunk{} + y, cyv = Chunk{} + cy;
-  for (int m = m0; m < m1; m += kChunk) {
-    Chunk x, d;
-    std::memcpy(&x, X + m, sizeof x);
-    std::memcpy(&d, d2 + m, sizeof d);
+  return min_chunks(X, m0, m1, d2, [&](const Chunk& x, Chunk& v) {
     Chunk t = (((x - s.ax) * s.ux + cyv) + s.cz) * s.inv;
     t = t < s.zero ? s.zero : t;
     t = s.one < t ? s.one : t;
     const Chunk dx = x - (s.ax + s.ux * t), dy = yv - (s.ay + s.uy * t),
                 dz = s.z - (s.az + s.uz * t);
-    const Chunk v = (dx * dx + dy * dy) + dz * dz;
-    d = v < d ? v : d;
-    std::memcpy(d2 + m, &d, sizeof d);
-  }
-  return static_cast<std::size_t>(m1 > m0 ? m1 - m0 : 0);
+    v = (dx * dx + dy * dy) + dz * dz;
+  });
 }
 
-// segment_chunks for a segment along the rows (uy = uz = 0): the products uy t, uz t are zeros, so
-// dy, dz are the row's offsets from a and the kernel is ((x − (ax + ux t))² + dy²) + dz², with
-// t = ((x − ax) ux) · inv (the kernel's added wy uy, wz uz are zeros too: same values).
-[[gnu::always_inline]] inline std::size_t along_chunks(const double* __restrict X, int m0, int m1,
-                                                       const SegChunks& s, double dy2, double dz2,
-                                                       double* __restrict d2) {
-  const Chunk dy2v = Chunk{} + dy2, dz2v = Chunk{} + dz2;
+// For a segment along the rows (uy = uz = 0) the products uy t, uz t are zeros, so the kernel is
+// ((x − (ax + ux t))² + dy²) + dz² with dy, dz the row's offsets from a, and t = ((x − ax) ux) ·
+// inv (the kernel's added wy uy, wz uz are zeros too: same values). The first square does not
+// depend on the row: computed once per plane, then offset_chunks.
+[[gnu::always_inline]] inline void along_squares(const double* __restrict X, int m0, int m1,
+                                                 const SegChunks& s, double* __restrict sq) {
   for (int m = m0; m < m1; m += kChunk) {
-    Chunk x, d;
+    Chunk x;
     std::memcpy(&x, X + m, sizeof x);
-    std::memcpy(&d, d2 + m, sizeof d);
     Chunk t = ((x - s.ax) * s.ux) * s.inv;
     t = t < s.zero ? s.zero : t;
     t = s.one < t ? s.one : t;
     const Chunk dx = x - (s.ax + s.ux * t);
-    const Chunk v = (dx * dx + dy2v) + dz2v;
-    d = v < d ? v : d;
-    std::memcpy(d2 + m, &d, sizeof d);
+    const Chunk v = dx * dx;
+    std::memcpy(sq + m, &v, sizeof v);
   }
-  return static_cast<std::size_t>(m1 > m0 ? m1 - m0 : 0);
+}
+
+// The aligned hull [m0, m1) of the non-empty intervals [lo_q[j], hi_q[j]] of the N lists q,
+// j in [j0, j1], within [0, nxp); false if all are empty.
+template <int N>
+[[gnu::always_inline]] inline bool hull(const std::array<const int*, N>& lo,
+                                        const std::array<const int*, N>& hi, int j0, int j1,
+                                        int nxp, int& m0, int& m1) {
+  int a = nxp, b = -1;
+  for (int j = j0; j <= j1; ++j) {
+    for (int q = 0; q < N; ++q) {
+      const bool e = lo[q][j] <= hi[q][j];
+      a = std::min(a, e ? lo[q][j] : nxp);
+      b = std::max(b, e ? hi[q][j] : -1);
+    }
+  }
+  if (a > b) return false;
+  m0 = std::max(a, 0) & ~(kChunk - 1);
+  m1 = std::min((b | (kChunk - 1)) + 1, nxp);
+  return true;
 }
 
 // Row index range [j0, j1] of y in [y0, y1] (outward), clamped; false if empty.
@@ -222,12 +257,15 @@ struct SegChunks {
     const double h = std::sqrt(h2 < 0.0 ? 0.0 : h2);
     x_range(p, cx - h, cx + h, h2 >= 0.0, lo[j], hi[j]);
   }
+  int h0, h1;
+  if (!hull<1>({lo}, {hi}, j0, j1, p.nxp, h0, h1)) return 0;
+  squares(p.X, h0, h1, cx, p.sq);
   std::size_t evals = 0;
   for (int j = j0; j <= j1; ++j) {
     if (lo[j] > hi[j]) continue;
     const double dy = p.Y[j] - cy;
     const int m0 = lo[j] & ~(kChunk - 1), m1 = (hi[j] | (kChunk - 1)) + 1;
-    evals += point_chunks(p.X, m0, m1, cx, dy * dy, dz2, p.d2 + static_cast<std::size_t>(j) * p.nxp);
+    evals += offset_chunks(p.sq, m0, m1, dy * dy, dz2, p.d2 + static_cast<std::size_t>(j) * p.nxp);
   }
   return evals;
 }
@@ -356,6 +394,18 @@ struct SegChunks {
   int* hi_b = p.scratch + 5 * p.ny;
   setup_rows(c, p.Y, j0, j1, lo_a, hi_a, lo_f, hi_f, lo_b, hi_b);
   const bool rising = tau >= 0.0;
+  // The row-independent squares of the kernels over the hull of the rows' pieces: (x − ax)²,
+  // (x − bx)², and for a segment along the rows, its middle's (x − (ax + ux t))².
+  int h0, h1;
+  if (!hull<3>({lo_a, lo_f, lo_b}, {hi_a, hi_f, hi_b}, j0, j1, p.nxp, h0, h1)) return evals;
+  double* sq_a = p.sq;
+  double* sq_b = s.across ? sq_a : p.sq + p.nxp;  // across the rows, bx = ax
+  double* sq_m = p.sq + 2 * p.nxp;
+  squares(p.X, h0, h1, s.ax, sq_a);
+  if (!s.across) squares(p.X, h0, h1, s.bx, sq_b);
+  if (s.along) along_squares(p.X, h0, h1, sc, sq_m);
+  const double* sq_lo = rising ? sq_a : sq_b;  // the squares of the low and the high cap
+  const double* sq_hi = rising ? sq_b : sq_a;
   for (int j = j0; j <= j1; ++j) {
     double* row = p.d2 + static_cast<std::size_t>(j) * p.nxp;
     const double y = p.Y[j];
@@ -372,14 +422,14 @@ struct SegChunks {
     if (lo_a[j] <= hi_a[j]) {  // the low cap, its last chunk dropped if partial
       const int m0 = lo_a[j] & ~(kChunk - 1), m1 = (hi_a[j] + 1) & ~(kChunk - 1);
       if (m1 <= hi_a[j]) cover(m1, hi_a[j]);
-      evals += rising ? point_chunks(p.X, m0, m1, s.ax, wy * wy, wz2, row)
-                      : point_chunks(p.X, m0, m1, s.bx, wyb * wyb, wzb2, row);
+      evals += rising ? offset_chunks(sq_lo, m0, m1, wy * wy, wz2, row)
+                      : offset_chunks(sq_lo, m0, m1, wyb * wyb, wzb2, row);
     }
     if (lo_b[j] <= hi_b[j]) {  // the high cap, its first chunk dropped if partial
       const int m0 = (lo_b[j] + kChunk - 1) & ~(kChunk - 1), m1 = (hi_b[j] | (kChunk - 1)) + 1;
       if (m0 > lo_b[j]) cover(lo_b[j], m0 - 1);
-      evals += rising ? point_chunks(p.X, m0, m1, s.bx, wyb * wyb, wzb2, row)
-                      : point_chunks(p.X, m0, m1, s.ax, wy * wy, wz2, row);
+      evals += rising ? offset_chunks(sq_hi, m0, m1, wyb * wyb, wzb2, row)
+                      : offset_chunks(sq_hi, m0, m1, wy * wy, wz2, row);
     }
     if (f0 <= f1) {
       const int m0 = f0 & ~(kChunk - 1), m1 = (f1 | (kChunk - 1)) + 1;
@@ -391,10 +441,10 @@ struct SegChunks {
         t = t < 0.0 ? 0.0 : t;
         t = 1.0 < t ? 1.0 : t;
         const double dy = y - (s.ay + s.uy * t), dz = Z - (s.az + s.uz * t);
-        evals += point_chunks(p.X, m0, m1, s.ax, dy * dy, dz * dz, row);
+        evals += offset_chunks(sq_a, m0, m1, dy * dy, dz * dz, row);
       } else if (s.along) {
         const double dy = y - (s.ay + s.uy * 0.0), dz = Z - (s.az + s.uz * 0.0);
-        evals += along_chunks(p.X, m0, m1, sc, dy * dy, dz * dz, row);
+        evals += offset_chunks(sq_m, m0, m1, dy * dy, dz * dz, row);
       } else {
         evals += segment_chunks(p.X, m0, m1, sc, y, cy, row);
       }
@@ -552,8 +602,10 @@ RowStats distance_rows(const std::vector<Vec3>& centers,
     tbb::parallel_for(tbb::blocked_range<Index>(k0, k1, 1), [&](const tbb::blocked_range<Index>& r) {
       std::unique_ptr<double[]> d2(new double[static_cast<std::size_t>(ny) * nxp]);
       std::unique_ptr<int[]> scratch(new int[6 * static_cast<std::size_t>(ny)]);
+      std::unique_ptr<double[]> sq(new double[3 * static_cast<std::size_t>(nxp)]);
       Plane p{X.data(), Y.data(), 0, nx, nxp, ny, g.origin.x, g.spacing.x, 1.0 / g.spacing.x,
-              g.origin.y, 1.0 / g.spacing.y, Rs, Rs * Rs, slack, d2.get(), scratch.get()};
+              g.origin.y, 1.0 / g.spacing.y, Rs, Rs * Rs, slack, d2.get(), scratch.get(),
+              sq.get()};
       std::size_t e = 0, a = 0;
       for (Index k = r.begin(); k != r.end(); ++k) {
         p.Z = g.coordinate(2, k);

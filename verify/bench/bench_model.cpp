@@ -15,6 +15,7 @@
 #include <tbb/info.h>
 
 #include <unistd.h>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -194,6 +195,39 @@ void narrowband(benchmark::State& state) {
   state.counters["threads"] = tbb::info::default_concurrency();
 }
 
+// A helix of n segments (8 turns, radius 0.35) in the unit cube, distance field on 128³ with
+// maximum distance 0.1: how Scatter (the dense rows) and Gather compare as the segments' reach
+// volumes overlap more (shorter segments, same band): the data behind Auto's choice.
+// args: n, strategy (0 Scatter, 1 Gather)
+void crossover(benchmark::State& state) {
+  const int n = int(state.range(0));
+  PolyData pd;
+  std::vector<Index> ids;
+  for (int i = 0; i <= n; ++i) {
+    const double t = double(i) / n, a = 16 * 3.141592653589793 * t;
+    pd.points.push_back({0.5 + 0.35 * std::cos(a), 0.5 + 0.35 * std::sin(a), 0.1 + 0.8 * t});
+    ids.push_back(i);
+  }
+  pd.lines.add(ids);
+  Bounds b;
+  b.extend({0, 0, 0});
+  b.extend({1, 1, 1});
+  const GridSpec g = GridSpec::from_bounds(b, {128, 128, 128});
+  DistanceOptions o;
+  o.max_distance = 0.1;
+  o.strategy = state.range(1) == 0 ? DistanceStrategy::Scatter : DistanceStrategy::Gather;
+  DistanceStats stats;
+  for (auto _ : state) {
+    ImageData img = distance_image(pd, g, o, ScalarType::Float32, &stats);
+    benchmark::DoNotOptimize(img);
+  }
+  state.SetLabel(std::string(state.range(1) == 0 ? "scatter" : "gather") + "/" + std::to_string(n));
+  state.counters["segments"] = n;
+  state.counters["band_samples"] = double(stats.active_voxels);
+  state.counters["kernel_calls"] = double(stats.evaluations);
+  state.counters["scatter_estimate"] = stats.scatter_estimate;
+}
+
 void attractor(benchmark::State& state) {
   tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
   AttractorResult r;
@@ -228,6 +262,10 @@ BENCHMARK(narrowband)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(1);
+BENCHMARK(crossover)
+    ->ArgsProduct({{1000, 10000, 100000, 1000000}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(attractor)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();

@@ -32,7 +32,10 @@
 ///
 /// Work is split into blocks of samples (8³, the OpenVDB leaf size, for sparse output; 8 x 8 x 64
 /// for dense output), processed in parallel (TBB) with no shared writes; the result does not
-/// depend on the number of threads.
+/// depend on the number of threads. Dense Scatter of points and segments (no triangles, radii or
+/// signs) runs by z-planes and rows along x instead: each segment visits its end balls with the
+/// point kernel (where its clamped parameter is certainly 0 or 1) and its cylinder with the full
+/// kernel, on vectors of 8 samples — the same operations, so the same bits.
 ///
 /// **Signed distance** (closed triangle meshes): the sign is that of (p − q)·n where q is the
 /// closest point and n the angle-weighted pseudonormal of the feature (face, edge, vertex) holding
@@ -79,7 +82,8 @@ struct DistanceStats {
   std::size_t segments = 0;   ///< line segments
   std::size_t triangles = 0;  ///< triangles (polygons fan-triangulated, strips)
   DistanceStrategy strategy = DistanceStrategy::Auto;  ///< the strategy used
-  std::size_t blocks = 0;         ///< sample blocks computed (8³ sparse, 8 x 8 x 64 dense)
+  std::size_t blocks = 0;  ///< sample blocks computed (8³ sparse, 8 x 8 x 64 dense; z-planes
+                           ///< for dense points and segments)
   std::size_t active_voxels = 0;  ///< samples in the band
   std::size_t evaluations = 0;    ///< (sample, primitive) pairs examined (kernel or cheaper bound)
   double scatter_estimate = 0;    ///< estimated kernel calls of Scatter (the reach volumes)
