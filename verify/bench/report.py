@@ -98,10 +98,10 @@ elif section == "model":
         if peer:
             diff = f"{peer['max_abs_diff']:.3g} / {peer['max_abs_diff_band']:.3g}" if "max_abs_diff" in peer else "n/a"
             same = f"{peer['identical_samples']}/{peer['samples']}" if "identical_samples" in peer else "n/a"
-            lines.append(f"| {case} | {int(b['samples'])} | {thr} | {b['real_time']:.1f} | {strat} | {peer['ms']:.0f} | "
+            lines.append(f"| {case} | {int(b['samples'])} | {thr} | {b['real_time']:.3g} | {strat} | {peer['ms']:.0f} | "
                          f"{peer['ms'] / b['real_time']:.0f}x | {diff} | {same} |")
         else:
-            lines.append(f"| {case} | {int(b['samples'])} | {thr} | {b['real_time']:.1f} | {strat} | n/a | n/a | n/a | n/a |")
+            lines.append(f"| {case} | {int(b['samples'])} | {thr} | {b['real_time']:.3g} | {strat} | n/a | n/a | n/a | n/a |")
     lines += ["", "vtkImplicitModeller's own thread count is shown in model_vtk.json; it does not speed up with threads here.",
               "", "## Narrow band (half width 3 voxels, unsigned) of bunny.ply subdivided twice (1.1M triangles) vs openvdb::tools::meshToVolume",
               "", "| resolution | method | ms | active voxels | tree MB | peak RSS MB | peak above baseline MB |", "|---|---|---|---|---|---|---|"]
@@ -111,6 +111,17 @@ elif section == "model":
             for b in nb.get("benchmarks", []):
                 lines.append(f"| {res}^3 | {b['label'].split('/')[0]} | {b['real_time']:.0f} | {b['active_voxels']:.0f} | "
                              f"{b['tree_MB']:.1f} | {b['peak_rss_MB']:.0f} | {b['peak_extra_MB']:.0f} |")
+    lines += ["", "## Dense Scatter (rows) vs Gather as reach volumes overlap: a helix of n segments, 128^3, maximum distance 0.1",
+              "", "| segments | estimated kernel calls / band samples | Scatter (rows) ms | Gather ms |", "|---|---|---|---|"]
+    cross = {}
+    for b in load("model_crossover.json").get("benchmarks", []):
+        strat, n = b["label"].split("/")
+        cross.setdefault(int(n), {})[strat] = b
+    for n in sorted(cross):
+        c = cross[n]
+        if "scatter" in c and "gather" in c:
+            ratio = c["scatter"]["scatter_estimate"] / c["scatter"]["band_samples"]
+            lines.append(f"| {n} | {ratio:.0f} | {c['scatter']['real_time']:.1f} | {c['gather']['real_time']:.1f} |")
     lines += ["", "## Lorenz attractor (Fig. 1.25): 10M RK4 steps into 200^3 + marching cubes at 50, one thread", ""]
     for b in ours.get("benchmarks", []):
         if b["name"].startswith("attractor"):

@@ -41,6 +41,8 @@ for s in $sections; do
       mkdir -p "$out/model_fields"
       ISOFORGE_BENCH_OUT="$out/model_fields" "$build/verify/bench/bench_model" \
         --benchmark_filter='^(modeller|attractor)' --benchmark_format=json > "$out/model_isoforge.json"
+      "$build/verify/bench/bench_model" --benchmark_filter='^crossover' --benchmark_format=json \
+        > "$out/model_crossover.json"
       for nb in 512/0 512/1 1024/0 1024/1; do
         "$build/verify/bench/bench_model" --benchmark_filter="^narrowband/${nb}/" \
           --benchmark_format=json > "$out/model_nb_${nb/\//_}.json"
