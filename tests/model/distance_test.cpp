@@ -206,6 +206,28 @@ TEST(Distance, RowsOfPointsAndSegmentsEqualTheBlockEngineBitForBit) {
   }
 }
 
+TEST(Distance, RowsOfThinGridsEqualTheBlockEngine) {
+  // One sample along some axes: rows of one sample, one row per plane, one plane.
+  const PolyData pd = awkward_segments({0, 0, 0}, 1.0);
+  Bounds b;
+  b.extend({-0.1, -0.1, -0.1});
+  b.extend({1.1, 1.1, 1.1});
+  for (const Dims& d : {Dims{1, 9, 7}, Dims{13, 1, 5}, Dims{11, 6, 1}, Dims{1, 1, 17}, Dims{1, 1, 1}}) {
+    GridSpec g = GridSpec::from_bounds(b, {std::max<Index>(d[0], 2), std::max<Index>(d[1], 2),
+                                           std::max<Index>(d[2], 2)});
+    g.dims = d;
+    DistanceOptions o;
+    o.max_distance = 0.3;
+    o.strategy = DistanceStrategy::Scatter;
+    DistanceStats rows;
+    const auto a = values<double>(distance_image(pd, g, o, ScalarType::Float64, &rows));
+    o.strategy = DistanceStrategy::Gather;
+    const auto e = values<double>(distance_image(pd, g, o, ScalarType::Float64));
+    EXPECT_EQ(rows.blocks, std::size_t(d[2]));
+    ASSERT_EQ(a, e) << d[0] << " x " << d[1] << " x " << d[2];
+  }
+}
+
 TEST(Distance, ProgressRisesAndCancelStops) {
   // Rows (points and segments) and the block engine (with triangles) both report and cancel.
   for (const PolyData& pd : {awkward_segments({0, 0, 0}, 1.0), mixed_input()}) {
