@@ -21,6 +21,11 @@ def runs(doc, prefix):
     return [b for b in bs if b.get("run_type", "iteration") == "iteration"]
 
 
+def ms(v):
+    """Milliseconds with 3 significant digits below 100, whole above."""
+    return f"{v:.3g}" if v < 100 else f"{v:.0f}"
+
+
 def write(title, lines):
     text = f"# {title}\n\n" + "\n".join(lines) + "\n"
     open(os.path.join(out, f"{section}.md"), "w").write(text)
@@ -98,10 +103,10 @@ elif section == "model":
         if peer:
             diff = f"{peer['max_abs_diff']:.3g} / {peer['max_abs_diff_band']:.3g}" if "max_abs_diff" in peer else "n/a"
             same = f"{peer['identical_samples']}/{peer['samples']}" if "identical_samples" in peer else "n/a"
-            lines.append(f"| {case} | {int(b['samples'])} | {thr} | {b['real_time']:.3g} | {strat} | {peer['ms']:.0f} | "
+            lines.append(f"| {case} | {int(b['samples'])} | {thr} | {ms(b['real_time'])} | {strat} | {peer['ms']:.0f} | "
                          f"{peer['ms'] / b['real_time']:.0f}x | {diff} | {same} |")
         else:
-            lines.append(f"| {case} | {int(b['samples'])} | {thr} | {b['real_time']:.3g} | {strat} | n/a | n/a | n/a | n/a |")
+            lines.append(f"| {case} | {int(b['samples'])} | {thr} | {ms(b['real_time'])} | {strat} | n/a | n/a | n/a | n/a |")
     lines += ["", "vtkImplicitModeller's own thread count is shown in model_vtk.json; it does not speed up with threads here.",
               "", "## Narrow band (half width 3 voxels, unsigned) of bunny.ply subdivided twice (1.1M triangles) vs openvdb::tools::meshToVolume",
               "", "| resolution | method | ms | active voxels | tree MB | peak RSS MB | peak above baseline MB |", "|---|---|---|---|---|---|---|"]
