@@ -73,5 +73,6 @@ void add_io_cases(std::vector<Case>& cases);
 void add_shape_cases(std::vector<Case>& cases);   ///< shape/, convergence/, dense-vs-sparse/
 void add_volume_cases(std::vector<Case>& cases);  ///< random/, real/
 void add_select_cases(std::vector<Case>& cases);  ///< select/, side/
+void add_model_cases(std::vector<Case>& cases);   ///< model/ (distance fields, figures 1.25-1.28)
 
 }  // namespace isoforge::verify

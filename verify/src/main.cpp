@@ -73,6 +73,7 @@ int main(int argc, char** argv) {
   add_volume_cases(catalogue);
   add_select_cases(catalogue);
   add_io_cases(catalogue);
+  add_model_cases(catalogue);
 
   bool list = false, all = false, quick = false, verbose = false;
   std::vector<std::string> names;
