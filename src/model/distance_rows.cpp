@@ -74,8 +74,7 @@ struct Plane {
   double Z;
   int nx, nxp, ny;
   double ox, hx, inv_hx, oy, inv_hy;
-  double Rs, Rs2;   // the reach with its slack
-  double slack;     // absolute slack (world units)
+  double Rs, Rs2;   // the reach with its slack (relative, and absolute for the coordinates)
   double* d2;       // ny rows of nxp squared distances
   int* scratch;     // 6 * ny ints (the pieces of each row)
   double* sq;       // 3 * nxp doubles: the row-independent parts of a primitive's kernels
@@ -604,7 +603,7 @@ RowStats distance_rows(const std::vector<Vec3>& centers,
       std::unique_ptr<int[]> scratch(new int[6 * static_cast<std::size_t>(ny)]);
       std::unique_ptr<double[]> sq(new double[3 * static_cast<std::size_t>(nxp)]);
       Plane p{X.data(), Y.data(), 0, nx, nxp, ny, g.origin.x, g.spacing.x, 1.0 / g.spacing.x,
-              g.origin.y, 1.0 / g.spacing.y, Rs, Rs * Rs, slack, d2.get(), scratch.get(),
+              g.origin.y, 1.0 / g.spacing.y, Rs, Rs * Rs, d2.get(), scratch.get(),
               sq.get()};
       std::size_t e = 0, a = 0;
       for (Index k = r.begin(); k != r.end(); ++k) {
