@@ -13,7 +13,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <string>
+#include <type_traits>
+#include <utility>
 
 #include "distance_internal.hpp"
 
@@ -54,6 +58,87 @@ void cap(ImageData& img, T value) {
     }
   });
 }
+
+// The range of T as doubles.
+template <class T>
+std::pair<double, double> type_range() {
+  if constexpr (std::is_floating_point_v<T>) {
+    return {-static_cast<double>(std::numeric_limits<T>::max()),
+            static_cast<double>(std::numeric_limits<T>::max())};
+  } else {
+    return {static_cast<double>(std::numeric_limits<T>::lowest()),
+            static_cast<double>(std::numeric_limits<T>::max())};
+  }
+}
+
+// `value` converted to T, checked to fit (`what` names it in the error).
+template <class T>
+T fitting(double value, ScalarType type, const char* what) {
+  const auto [lo, hi] = type_range<T>();
+  if (std::isnan(value) || value < lo || value > hi) {
+    throw Error(std::string("implicit modeller: ") + what + " " + num(value) + " does not fit " +
+                std::string(scalar_type_name(type)));
+  }
+  return static_cast<T>(value);
+}
+
+// A distance as T: floats rounded, integers trunc(v · scale) clamped to the type's range
+// (VTK's conversion, made defined for every value).
+template <class T>
+T convert_distance(double v, double scale) {
+  if constexpr (std::is_floating_point_v<T>) {
+    return static_cast<T>(v);
+  } else {
+    const auto [lo, hi] = type_range<T>();
+    return static_cast<T>(std::clamp(std::trunc(v * scale), lo, hi));
+  }
+}
+
+// The Float64 field `d` (±inf beyond the band) as T; ±inf become ±`far` (a value of T), or with
+// `clamp` the converted ±`maxd`.
+template <class T>
+DataArray convert_field(const DataArray& d, double scale, double far, bool clamp, double maxd,
+                        ScalarType type) {
+  const auto src = d.values<double>();
+  DataArray out = DataArray::uninitialized(d.name(), type, 1, src.size());
+  T* o = out.values<T>().data();
+  T far_t, neg_far;
+  if (clamp) {
+    far_t = convert_distance<T>(maxd, scale);
+    neg_far = convert_distance<T>(-maxd, scale);
+  } else {
+    far_t = fitting<T>(far, type, "far value");
+    neg_far = std::is_signed_v<T> ? fitting<T>(-far, type, "far value") : far_t;
+  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, src.size(), 1 << 16),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                        const double v = src[i];
+                        o[i] = std::isinf(v) ? (v > 0 ? far_t : neg_far)
+                                             : convert_distance<T>(v, scale);
+                      }
+                    });
+  return out;
+}
+
+template <class F>
+decltype(auto) with_type(ScalarType t, F&& f) {
+  switch (t) {
+    case ScalarType::Int8: return f(std::int8_t{});
+    case ScalarType::UInt8: return f(std::uint8_t{});
+    case ScalarType::Int16: return f(std::int16_t{});
+    case ScalarType::UInt16: return f(std::uint16_t{});
+    case ScalarType::Int32: return f(std::int32_t{});
+    case ScalarType::UInt32: return f(std::uint32_t{});
+    case ScalarType::Int64: return f(std::int64_t{});
+    case ScalarType::UInt64: return f(std::uint64_t{});
+    case ScalarType::Float32: return f(float{});
+    case ScalarType::Float64: return f(double{});
+  }
+  throw Error("implicit modeller: unknown scalar type");
+}
+
+bool is_float(ScalarType t) { return t == ScalarType::Float32 || t == ScalarType::Float64; }
 
 }  // namespace
 
@@ -105,6 +190,12 @@ ModellerGrid implicit_modeller_grid(const Bounds& input_bounds, const ImplicitMo
   return r;
 }
 
+double vtk_type_max(ScalarType type) {
+  if (type == ScalarType::Float32) return kVtkFloatMax;
+  if (type == ScalarType::Float64) return kVtkDoubleMax;
+  return with_type(type, [](auto t) { return type_range<decltype(t)>().second; });
+}
+
 ImageData implicit_modeller(const PolyData& input, const ImplicitModellerOptions& o,
                             DistanceStats* stats) {
   if (input.num_cells() == 0 || input.points.empty()) {
@@ -114,14 +205,42 @@ ImageData implicit_modeller(const PolyData& input, const ImplicitModellerOptions
     throw Error("implicit modeller: point " + std::to_string(input.points.first_non_finite()) +
                 " is not finite");
   }
-  if (std::isnan(o.cap_value) || std::isnan(o.far_value)) {
+  const ScalarType type = o.output_type;
+  const double type_max = vtk_type_max(type);
+  const double cap_value = o.cap_value.value_or(type_max);
+  const double far_value = o.far_value.value_or(type_max);
+  if (std::isnan(cap_value) || std::isnan(far_value)) {
     throw Error("implicit modeller: cap value and far value must not be NaN");
   }
+  if (o.scale_to_maximum_distance && is_float(type)) {
+    throw Error("implicit modeller: scale_to_maximum_distance needs an integer output type, got " +
+                std::string(scalar_type_name(type)));
+  }
+  const bool is_unsigned = type == ScalarType::UInt8 || type == ScalarType::UInt16 ||
+                           type == ScalarType::UInt32 || type == ScalarType::UInt64;
+  if (o.signed_distance && is_unsigned) {
+    throw Error("implicit modeller: signed distances need a signed output type, got " +
+                std::string(scalar_type_name(type)));
+  }
   const ModellerGrid mg = implicit_modeller_grid(input.bounds(), o);
-  const double far = o.clamp ? mg.max_distance : o.far_value;
-  ImageData img = model_detail::distance_image(input, mg.grid, distance_options(o, mg.max_distance),
-                                               o.output_type, far, stats);
-  if (o.capping) cap_boundary(img, o.cap_value);
+  const DistanceOptions d = distance_options(o, mg.max_distance);
+  ImageData img;
+  if (is_float(type) && !o.clamp) {
+    with_type(type, [&](auto t) { (void)fitting<decltype(t)>(far_value, type, "far value"); });
+    img = model_detail::distance_image(input, mg.grid, d, type, far_value, stats);
+  } else {
+    // Clamped or integer: the exact field in Float64 (±inf beyond the band), then converted.
+    const double scale = o.scale_to_maximum_distance ? type_max / mg.max_distance : 1.0;
+    img = model_detail::distance_image(input, mg.grid, d, ScalarType::Float64,
+                                       std::numeric_limits<double>::infinity(), stats);
+    DataArray& field = *img.point_data.active(AttributeRole::Scalars);
+    DataArray out = with_type(type, [&](auto t) {
+      return convert_field<decltype(t)>(field, scale, far_value, o.clamp, mg.max_distance, type);
+    });
+    img.point_data.clear();
+    img.point_data.add(std::move(out), AttributeRole::Scalars);
+  }
+  if (o.capping) cap_boundary(img, cap_value);
   return img;
 }
 
@@ -129,13 +248,15 @@ void cap_boundary(ImageData& image, double value) {
   if (std::isnan(value)) throw Error("cap: the cap value is NaN");
   DataArray* s = image.point_data.active(AttributeRole::Scalars);
   if (!s || s->components() != 1) throw Error("cap: the image has no 1-component active scalars");
-  if (s->type() == ScalarType::Float32) {
-    cap(image, static_cast<float>(value));
-  } else if (s->type() == ScalarType::Float64) {
-    cap(image, value);
-  } else {
-    throw Error("cap: the active scalars '" + s->name() + "' are not float32 or float64");
-  }
+  with_type(s->type(), [&](auto t) {
+    using T = decltype(t);
+    const auto [lo, hi] = type_range<T>();
+    if (value < lo || value > hi) {
+      throw Error("cap: the cap value " + num(value) + " does not fit the active scalars '" +
+                  s->name() + "' (" + std::string(scalar_type_name(s->type())) + ")");
+    }
+    cap(image, static_cast<T>(value));
+  });
 }
 
 openvdb::FloatGrid::Ptr implicit_modeller_vdb(const PolyData& input,

@@ -155,6 +155,71 @@ TEST(ImplicitModeller, FarValueClampAndCapping) {
       }
 }
 
+// VTK's output scalar types: integers hold trunc(distance × scale), scale 1 or (with
+// ScaleToMaximumDistance) the type's maximum over the maximum distance; cap and far values default
+// to the type's VTK maximum (1e299 for Float64). The peer script compares these with VTK's.
+TEST(ImplicitModeller, OutputScalarTypesAsVtk) {
+  const PolyData in = hello();
+  ImplicitModellerOptions o;
+  o.sample_dimensions = {40, 12, 8};
+  o.maximum_distance = 0.05;  // 0.45 world units
+  o.output_type = ScalarType::Float64;
+  const ImageData ref = implicit_modeller(in, o);
+  const auto d = values<double>(ref);
+  EXPECT_EQ(d[std::size_t(ref.point_id(0, 5, 5))], kVtkDoubleMax);  // capped
+  EXPECT_EQ(vtk_type_max(ScalarType::Float64), kVtkDoubleMax);
+  EXPECT_EQ(vtk_type_max(ScalarType::Float32), kVtkFloatMax);
+  EXPECT_EQ(vtk_type_max(ScalarType::Int16), 32767.0);
+  std::size_t beyond = 0;
+  for (double v : d) beyond += v == kVtkDoubleMax;
+  for (const auto& [type, scaled] : {std::pair{ScalarType::UInt8, true}, std::pair{ScalarType::Int16, false},
+                                     std::pair{ScalarType::UInt16, true}, std::pair{ScalarType::Int32, true}}) {
+    o.output_type = type;
+    o.scale_to_maximum_distance = scaled;
+    const ImageData img = implicit_modeller(in, o);
+    const DataArray& a = *img.point_data.scalars();
+    ASSERT_EQ(a.type(), type);
+    const double tmax = vtk_type_max(type);
+    const double scale = scaled ? tmax / 0.45 : 1.0;
+    std::size_t far = 0;
+    for (std::size_t i = 0; i < d.size(); ++i) {
+      const double v = a.get(i);
+      if (d[i] == kVtkDoubleMax) {
+        ASSERT_EQ(v, tmax) << i;  // capped or beyond the band
+        ++far;
+      } else {
+        ASSERT_EQ(v, std::trunc(d[i] * scale)) << i;
+        ASSERT_LT(v, tmax);
+      }
+    }
+    EXPECT_EQ(far, beyond);
+  }
+  // Clamped: beyond the band the maximum distance, converted like the distances
+  // (trunc(maxd × 65535 / maxd): 65535, or 65534 when the product rounds below).
+  o.capping = false;
+  o.output_type = ScalarType::Float64;
+  o.scale_to_maximum_distance = false;
+  const auto open = values<double>(implicit_modeller(in, o));
+  o.output_type = ScalarType::UInt16;
+  o.scale_to_maximum_distance = true;
+  o.clamp = true;
+  const ImageData clamped = implicit_modeller(in, o);
+  std::size_t at_max = 0;
+  for (std::size_t i = 0; i < open.size(); ++i) {
+    const double v = clamped.point_data.scalars()->get(i);
+    if (open[i] == kVtkDoubleMax) {
+      ASSERT_GE(v, 65534.0);
+      ++at_max;
+    } else {
+      ASSERT_LT(v, 65535.0);
+    }
+  }
+  EXPECT_GT(at_max, 0u);
+  // Signed distances into an unsigned type cannot be stored.
+  o.signed_distance = true;
+  expect_error([&] { (void)implicit_modeller(in, o); }, "signed output type");
+}
+
 // Fig. 1.28: the HELLO strokes thickened on a 110 x 40 x 20 volume at offset 0.25 (VTK's Hello
 // example: model bounds (-1, 10, -1, 3, -1, 1), maximum distance 0.25 of the largest side).
 TEST(ImplicitModeller, HelloOffsetSurfaceIsFiveClosedManifoldLetters) {
@@ -351,9 +416,20 @@ TEST(ImplicitModeller, BadInputIsAnErrorNamingTheProblem) {
   PolyData nan = in;
   nan.points.set(3, {INFINITY, 0, 0});
   expect_error([&] { (void)implicit_modeller(nan, o); }, "point 3 is not finite");
-  o.output_type = ScalarType::Int16;
-  expect_error([&] { (void)implicit_modeller(in, o); }, "float32 or float64");
+  o.scale_to_maximum_distance = true;  // needs an integer type
+  expect_error([&] { (void)implicit_modeller(in, o); }, "integer output type");
+  o.scale_to_maximum_distance = false;
+  o.output_type = ScalarType::UInt8;
+  o.cap_value = 300;
+  expect_error([&] { (void)implicit_modeller(in, o); }, "does not fit");
+  o.cap_value.reset();
+  o.far_value = -1;
+  expect_error([&] { (void)implicit_modeller(in, o); }, "far value -1 does not fit UInt8");
+  o.far_value.reset();
   o.output_type = ScalarType::Float32;
+  o.far_value = 1e299;
+  expect_error([&] { (void)implicit_modeller(in, o); }, "does not fit Float32");
+  o.far_value.reset();
   PolyData single;
   single.points.push_back({1, 2, 3});
   single.verts.add({0});

@@ -148,6 +148,23 @@ void modeller(benchmark::State& state) {
   }
   if (const char* dir = std::getenv("ISOFORGE_BENCH_OUT"); dir && state.range(2) == 0) {
     write(img, std::filesystem::path(dir) / (name + "_" + std::to_string(n) + ".vti"));
+    if (name == "hello") {  // VTK's other output scalar types, for the peer to compare
+      const struct {
+        ScalarType type;
+        bool scaled;
+        const char* tag;
+      } variants[] = {{ScalarType::UInt8, true, "uint8s"},
+                      {ScalarType::Int16, false, "int16"},
+                      {ScalarType::UInt16, true, "uint16s"},
+                      {ScalarType::Float64, false, "float64"}};
+      for (const auto& v : variants) {
+        ImplicitModellerOptions ov = o;
+        ov.output_type = v.type;
+        ov.scale_to_maximum_distance = v.scaled;
+        write(implicit_modeller(in, ov),
+              std::filesystem::path(dir) / (name + "_" + v.tag + "_" + std::to_string(n) + ".vti"));
+      }
+    }
   }
   state.SetLabel(name + "/" + std::to_string(n));
   state.counters["threads"] = threads;

@@ -107,6 +107,15 @@ elif section == "model":
                          f"{peer['ms'] / b['real_time']:.0f}x | {diff} | {same} |")
         else:
             lines.append(f"| {case} | {int(b['samples'])} | {thr} | {ms(b['real_time'])} | {strat} | n/a | n/a | n/a | n/a |")
+    variants = [(k, v) for k, v in vtk.items() if k.startswith("hello-")]
+    if variants:
+        lines += ["", "Other output scalar types (HELLO; VTK's OutputScalarType and ScaleToMaximumDistance):", "",
+                  "| variant | types (VTK / isoforge) | identical samples | max abs diff |", "|---|---|---|---|"]
+        for k, v in variants:
+            if "identical_samples" in v:
+                lines.append(f"| {k} | {v['types']} | {v['identical_samples']}/{v['samples']} | {v['max_abs_diff']:.3g} |")
+            else:
+                lines.append(f"| {k} | n/a | {v.get('compare_error', 'n/a')} | n/a |")
     lines += ["", "vtkImplicitModeller's own thread count is shown in model_vtk.json; it does not speed up with threads here.",
               "", "## Narrow band (half width 3 voxels, unsigned) of bunny.ply subdivided twice (1.1M triangles) vs openvdb::tools::meshToVolume",
               "", "| resolution | method | ms | active voxels | tree MB | peak RSS MB | peak above baseline MB |", "|---|---|---|---|---|---|---|"]

@@ -12,17 +12,25 @@
 ///   (`GridSpec::from_bounds`).
 /// - **Maximum distance**: `maximum_distance` (0.1) × the largest side of the bounds *before*
 ///   adjustment. Distances are exact below it (distance.hpp); samples farther away get
-///   `far_value` (VTK: VTK_FLOAT_MAX = 1e38), or the maximum distance itself with `clamp`.
-/// - **Capping** (on): the samples on the six faces of the volume are set to `cap_value` (1e38,
-///   VTK's default), so that every offset surface closes at the boundary of the volume.
-/// - **Output**: one point array ("ImageScalars", as VTK) of Float32 (default) or Float64 — the
-///   active scalars of the returned image.
+///   `far_value` (VTK: VTK_FLOAT_MAX = 1e38 for Float32), or the maximum distance itself with
+///   `clamp`.
+/// - **Capping** (on): the samples on the six faces of the volume are set to `cap_value` (by
+///   default VTK's: the output type's maximum), so that every offset surface closes at the
+///   boundary of the volume.
+/// - **Output**: one point array ("ImageScalars", as VTK), the active scalars of the returned
+///   image, of any scalar type (VTK's OutputScalarType): Float32 (default) or Float64 hold the
+///   distances; an integer type holds trunc(distance × scale) — scale 1, or with
+///   `scale_to_maximum_distance` the type's maximum / the maximum distance, so that the band
+///   spans the type's positive range (VTK's ScaleToMaximumDistance) — clamped to the type's
+///   range. The cap and far values default to the type's VTK maximum: 1e38 (VTK_FLOAT_MAX) for
+///   Float32, 1e299 (VTK_DOUBLE_MAX) for Float64, the largest value of an integer type.
 ///
 /// Multiple offset surfaces are one contour call with several values (`offset_surfaces` in
 /// csg.hpp). Booleans of offset solids are min/max of fields (csg.hpp), and a concave generator
 /// gives several surfaces that `connectivity` separates (Fig. 1.29).
 
 #include <limits>
+#include <optional>
 #include <string>
 
 #include <openvdb/openvdb.h>
@@ -34,8 +42,15 @@
 
 namespace isoforge {
 
-/// VTK_FLOAT_MAX: vtkImplicitModeller's value beyond the maximum distance and default cap.
+/// VTK_FLOAT_MAX: vtkImplicitModeller's value beyond the maximum distance and default cap
+/// (Float32 output).
 inline constexpr double kVtkFloatMax = 1.0e38;
+/// VTK_DOUBLE_MAX: the same for Float64 output.
+inline constexpr double kVtkDoubleMax = 1.0e299;
+
+/// vtkImplicitModeller's default cap and far value for an output type: kVtkFloatMax,
+/// kVtkDoubleMax, or the largest value of an integer type.
+[[nodiscard]] double vtk_type_max(ScalarType type);
 
 struct ImplicitModellerOptions {
   Dims sample_dimensions{50, 50, 50};  ///< samples per axis (each ≥ 2)
@@ -44,10 +59,14 @@ struct ImplicitModellerOptions {
   double adjust_distance = 0.0125;     ///< growth per side, fraction of the largest side
   double maximum_distance = 0.1;       ///< band, fraction of the largest side (0, 1]
   bool capping = true;                 ///< set the volume's boundary samples to `cap_value`
-  double cap_value = kVtkFloatMax;     ///< value of the capped samples (world units)
-  double far_value = kVtkFloatMax;     ///< value beyond the maximum distance (world units)
-  bool clamp = false;                  ///< beyond the maximum distance: the maximum distance
-  ScalarType output_type = ScalarType::Float32;  ///< Float32 or Float64
+  /// Value of the capped samples, in the output's units (unset: `vtk_type_max(output_type)`).
+  std::optional<double> cap_value;
+  /// Value beyond the maximum distance, in the output's units (unset: the type's VTK maximum).
+  std::optional<double> far_value;
+  bool clamp = false;  ///< beyond the maximum distance: the maximum distance (scaled if integer)
+  ScalarType output_type = ScalarType::Float32;  ///< any type (see the file comment)
+  /// Integer output: distances × (type max / maximum distance) instead of × 1.
+  bool scale_to_maximum_distance = false;
   std::string name = "ImageScalars";             ///< output point array (VTK's name)
   bool signed_distance = false;  ///< negative inside a closed triangle mesh (see distance.hpp)
   std::string radius_array;      ///< vertex radii (point-data array; distance.hpp)
@@ -69,15 +88,17 @@ struct ModellerGrid {
 
 /// The vtkImplicitModeller volume of `input` (see the file comment).
 /// \throw Error on an empty input, non-finite points, bad options (as implicit_modeller_grid,
-/// and cap/far values that are NaN, an output type other than Float32/Float64), and everything
-/// `distance_image` rejects.
+/// cap/far values that are NaN or do not fit the output type, signed distances into an unsigned
+/// type, scale_to_maximum_distance with a floating type), and everything `distance_image`
+/// rejects.
 [[nodiscard]] ImageData implicit_modeller(const PolyData& input,
                                           const ImplicitModellerOptions& options = {},
                                           DistanceStats* stats = nullptr);
 
-/// Sets the samples on the six faces of a 3D image's active scalars (Float32 or Float64) to
+/// Sets the samples on the six faces of a 3D image's active scalars (1 component, any type) to
 /// `value` — the capping step of the modeller, for fields computed otherwise.
-/// \throw Error if the image has no floating-point active scalars or `value` is NaN.
+/// \throw Error if the image has no 1-component active scalars, or `value` is NaN or does not
+/// fit their type.
 void cap_boundary(ImageData& image, double value);
 
 /// The same field in an OpenVDB narrow band (`distance_grid`) on the modeller's grid, which must

@@ -55,6 +55,26 @@ def read(path):
     return r.GetOutput()
 
 
+def compare(m, path):
+    """Sample-by-sample comparison of VTK's output with isoforge's .vti at path."""
+    x = vtk.vtkXMLImageDataReader()
+    x.SetFileName(path)
+    x.Update()
+    a = vtk_to_numpy(m.GetOutput().GetPointData().GetScalars()).astype(np.float64)
+    b = vtk_to_numpy(x.GetOutput().GetPointData().GetScalars()).astype(np.float64)
+    if a.shape != b.shape:
+        return {"compare_error": f"shapes differ: {a.shape} vs {b.shape}"}
+    return {"max_abs_diff": float(np.abs(a - b).max()), "identical_samples": int((a == b).sum()),
+            "samples": int(a.size),
+            "types": f"{m.GetOutput().GetPointData().GetScalars().GetDataTypeAsString()} / "
+                     f"{x.GetOutput().GetPointData().GetScalars().GetDataTypeAsString()}"}
+
+
+# Other output scalar types of the HELLO case: (isoforge file tag, VTK type, ScaleToMaximumDistance).
+VARIANTS = [("uint8s", vtk.VTK_UNSIGNED_CHAR, 1), ("int16", vtk.VTK_SHORT, 0),
+            ("uint16s", vtk.VTK_UNSIGNED_SHORT, 1), ("float64", vtk.VTK_DOUBLE, 0)]
+
+
 def modeller(name, n):
     m = vtk.vtkImplicitModeller()
     if name == "hello":
@@ -106,6 +126,16 @@ for case in cases:
             r["samples"] = int(a.size)
         else:
             r["compare_error"] = f"shapes differ: {a.shape} vs {b.shape}"
+    if name == "hello" and field_dir:
+        for tag, vtype, scale in VARIANTS:
+            path = os.path.join(field_dir, f"{name}_{tag}_{n}.vti")
+            if os.path.exists(path):
+                mv, keep = modeller(name, n)
+                mv.SetOutputScalarType(vtype)
+                mv.SetScaleToMaximumDistance(scale)
+                mv.Update()
+                out[f"{name}-{tag}/{n}"] = compare(mv, path)
+                print(f"{name}-{tag}/{n}: {out[f'{name}-{tag}/{n}']}", file=sys.stderr)
     out[case] = r
     print(f"{case}: {r}", file=sys.stderr)
 print(json.dumps(out))
