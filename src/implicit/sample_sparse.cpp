@@ -98,6 +98,7 @@ openvdb::FloatGrid::Ptr sample_level_set(const ImplicitFunction& f, const GridSp
                 std::to_string(grid.spacing.z));
   }
   if (!is_finite(grid.origin)) throw Error("sparse sample: origin is not finite");
+  const openvdb::math::Transform::Ptr xform = vdb_transform(h, grid.origin, "sparse sample");
   for (int a = 0; a < 3; ++a) {
     if (grid.dims[a] > (Index{1} << 30)) throw Error("sparse sample: dims exceed 2^30 voxels per axis");
   }
@@ -156,8 +157,7 @@ openvdb::FloatGrid::Ptr sample_level_set(const ImplicitFunction& f, const GridSp
   report_progress(options.progress, 0.9, "sparse sample");
 
   auto result = openvdb::FloatGrid::create(background);
-  result->setTransform(openvdb::math::Transform::createLinearTransform(h));
-  result->transform().postTranslate(openvdb::Vec3d(grid.origin.x, grid.origin.y, grid.origin.z));
+  result->setTransform(xform);
   result->setGridClass(openvdb::GRID_LEVEL_SET);
   Tree& tree = result->tree();
   for (const Tile& t : d.tiles) tree.addTile(static_cast<openvdb::Index>(t.level), t.origin, -background, false);

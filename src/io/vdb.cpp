@@ -1036,9 +1036,7 @@ openvdb::FloatGrid::Ptr image_to_vdb(const ImageData& image, std::string_view ar
   });
   auto grid = openvdb::FloatGrid::create(background);
   grid->setName(a->name());
-  openvdb::math::Transform::Ptr xf = openvdb::math::Transform::createLinearTransform(s);
-  xf->postTranslate(openvdb::Vec3d(image.origin.x, image.origin.y, image.origin.z));
-  grid->setTransform(xf);
+  grid->setTransform(vdb_transform(s, image.origin, "image_to_vdb"));
   const openvdb::CoordBBox box(
       openvdb::Coord(0, 0, 0),
       openvdb::Coord(static_cast<int>(image.dims[0] - 1), static_cast<int>(image.dims[1] - 1),
@@ -1047,6 +1045,25 @@ openvdb::FloatGrid::Ptr image_to_vdb(const ImageData& image, std::string_view ar
   openvdb::tools::copyFromDense(dense, *grid, tolerance);
   grid->pruneGrid(0.0f);
   return grid;
+}
+
+openvdb::math::Transform::Ptr vdb_transform(double voxel_size, const Vec3& origin,
+                                             std::string_view what) {
+  char h[32];
+  std::snprintf(h, sizeof h, "%g", voxel_size);
+  if (!(voxel_size > 0) || !std::isfinite(voxel_size)) {
+    throw Error(std::string(what) + ": voxel size " + h + " must be positive and finite");
+  }
+  if (!is_finite(origin)) throw Error(std::string(what) + ": the grid origin is not finite");
+  ensure_openvdb_initialized();
+  try {
+    auto xf = openvdb::math::Transform::createLinearTransform(voxel_size);
+    xf->postTranslate(openvdb::Vec3d(origin.x, origin.y, origin.z));
+    return xf;
+  } catch (const openvdb::Exception& e) {
+    throw Error(std::string(what) + ": OpenVDB cannot use the voxel size " + h + " (" + e.what() +
+                "; its transforms need voxels of about 1e-5 or more): scale the input");
+  }
 }
 
 }  // namespace isoforge

@@ -537,10 +537,13 @@ class Bvh {
                 lz = wx * nd.n[1] - wy * nd.n[0];
       const v4f dl = vmax(vsqrt(lx * lx + ly * ly + lz * lz) - nd.rho, zero);
       const v4f lb2 = vmax(box, dh * dh + dl * dl);
-      // Children within the bound (empty lanes have an infinite box bound), nearest first:
-      // primitives are evaluated at once, subtrees pushed in decreasing order of their bound.
+      // Children within the bound, nearest first: primitives are evaluated at once, subtrees
+      // pushed in decreasing order of their bound. Empty lanes have an infinite box bound, which
+      // an infinite `bound` (a reach beyond float's range) would not exclude: tested too.
       unsigned mask = 0;
-      for (int k = 0; k < 4; ++k) mask |= static_cast<unsigned>(lb2[k] <= bound) << k;
+      for (int k = 0; k < 4; ++k) {
+        mask |= static_cast<unsigned>((lb2[k] <= bound) & (nd.child[k] != kEmpty)) << k;
+      }
       if (mask == 0) continue;
       Item kids[4];
       int nk = 0;
@@ -1565,6 +1568,7 @@ openvdb::FloatGrid::Ptr distance_grid(const PolyData& input, const GridSpec& gri
                 fmt_double(grid.spacing.x) + ", " + fmt_double(grid.spacing.y) + ", " +
                 fmt_double(grid.spacing.z));
   }
+  const openvdb::math::Transform::Ptr xform = vdb_transform(h, grid.origin, "distance");
   const Primitives P = build_primitives(input, options);
   std::unique_ptr<Pseudonormals> signs;
   if (options.signed_distance) {
@@ -1597,8 +1601,7 @@ openvdb::FloatGrid::Ptr distance_grid(const PolyData& input, const GridSpec& gri
       P, signs.get(), 8);
   auto result = openvdb::FloatGrid::create(background);
   result->setName(options.name);
-  result->setTransform(openvdb::math::Transform::createLinearTransform(h));
-  result->transform().postTranslate(openvdb::Vec3d(grid.origin.x, grid.origin.y, grid.origin.z));
+  result->setTransform(xform);
   result->setGridClass(options.signed_distance ? openvdb::GRID_LEVEL_SET : openvdb::GRID_UNKNOWN);
   auto& tree = result->tree();
   for (auto& leaf : leaves) {
@@ -1653,8 +1656,7 @@ openvdb::FloatGrid::Ptr openvdb_mesh_to_volume(const PolyData& input, const Grid
     throw Error("mesh to volume: point " + std::to_string(input.points.first_non_finite()) +
                 " is not finite");
   }
-  auto xform = openvdb::math::Transform::createLinearTransform(h);
-  xform->postTranslate(openvdb::Vec3d(grid.origin.x, grid.origin.y, grid.origin.z));
+  auto xform = vdb_transform(h, grid.origin, "mesh to volume");
   std::vector<openvdb::Vec3s> pts(input.points.size());
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const Vec3 p = input.points[i];

@@ -2,6 +2,8 @@
 #include "isoforge/implicit/sample_sparse.hpp"
 
 #include <gtest/gtest.h>
+
+#include <string>
 #include <tbb/global_control.h>
 
 #include <cmath>
@@ -111,4 +113,13 @@ TEST(SparseSample, BadOptionsAreErrors) {
   SparseSampleOptions o;
   o.half_width = 0;
   EXPECT_THROW((void)sample_level_set(F::sphere({0, 0, 0}, 1), cube_grid(-1, 1, 16), o), Error);
+  // Voxels smaller than OpenVDB's transforms accept: isoforge's Error, naming the voxel size.
+  GridSpec tiny = cube_grid(-1e-6, 1e-6, 16);
+  try {
+    (void)sample_level_set(F::sphere({0, 0, 0}, 1e-6), tiny);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("OpenVDB cannot use the voxel size"), std::string::npos)
+        << e.what();
+  }
 }

@@ -66,6 +66,13 @@ struct VdbGridInfo {
 void write_vdb(const std::vector<openvdb::GridBase::Ptr>& grids, const std::filesystem::path& path);
 void write_vdb(const openvdb::FloatGrid& grid, const std::filesystem::path& path);
 
+/// The uniform-scale transform of isoforge's grids: voxel (i, j, k) at origin + (i, j, k) *
+/// voxel_size. \throw Error naming `what` if OpenVDB cannot represent it: a voxel size not
+/// positive and finite, or so small that OpenVDB's transforms reject the scale (below about
+/// 1e-5: its determinant must exceed 1e-15), or a non-finite origin.
+[[nodiscard]] openvdb::math::Transform::Ptr vdb_transform(double voxel_size, const Vec3& origin,
+                                                          std::string_view what);
+
 /// Densifies the active bounding box of a grid (uniform voxel size required) into image data
 /// with point array named after the grid ("Scalars" if unnamed), float32, set as the active
 /// scalars. Voxel (i, j, k) is centred at world i * voxel size + translation, so the image's
