@@ -45,33 +45,6 @@ std::optional<ScalarType> ply_scalar_type(std::string_view name) {
   return std::nullopt;
 }
 
-/// Calls f(T{}) with the C++ type of `t`.
-template <class F>
-decltype(auto) dispatch(ScalarType t, F&& f) {
-  switch (t) {
-    case ScalarType::Int8:
-      return f(std::int8_t{});
-    case ScalarType::UInt8:
-      return f(std::uint8_t{});
-    case ScalarType::Int16:
-      return f(std::int16_t{});
-    case ScalarType::UInt16:
-      return f(std::uint16_t{});
-    case ScalarType::Int32:
-      return f(std::int32_t{});
-    case ScalarType::UInt32:
-      return f(std::uint32_t{});
-    case ScalarType::Int64:
-      return f(std::int64_t{});
-    case ScalarType::UInt64:
-      return f(std::uint64_t{});
-    case ScalarType::Float32:
-      return f(float{});
-    case ScalarType::Float64:
-      break;
-  }
-  return f(double{});
-}
 
 // ---------------------------------------------------------------------------------------------
 // Header
@@ -280,13 +253,13 @@ class PlyReader {
   }
 
   double read_as_double(ScalarType t, const char* what) {
-    return dispatch(t,
+    return visit_scalar_type(t,
                     [&](auto tag) { return static_cast<double>(read_value<decltype(tag)>(what)); });
   }
 
   // Reads an integer-typed value (list count or index) as int64.
   std::int64_t read_integer(ScalarType t, const char* what) {
-    return dispatch(t, [&](auto tag) -> std::int64_t {
+    return visit_scalar_type(t, [&](auto tag) -> std::int64_t {
       using T = decltype(tag);
       const T v = read_value<T>(what);
       if constexpr (std::is_floating_point_v<T>) {
@@ -607,7 +580,7 @@ class PlyOut {
     buf_.append(tmp, sizeof(T));
   }
   void put_as(ScalarType t, double v) {
-    dispatch(t, [&](auto tag) {
+    visit_scalar_type(t, [&](auto tag) {
       using T = decltype(tag);
       put(static_cast<T>(v));
     });

@@ -203,23 +203,6 @@ std::string_view legacy_type_name(ScalarType t) {
   return "double";
 }
 
-/// Calls f(T{}) with the C++ type of `t`.
-template <class F>
-decltype(auto) dispatch(ScalarType t, F&& f) {
-  switch (t) {
-    case ScalarType::Int8: return f(std::int8_t{});
-    case ScalarType::UInt8: return f(std::uint8_t{});
-    case ScalarType::Int16: return f(std::int16_t{});
-    case ScalarType::UInt16: return f(std::uint16_t{});
-    case ScalarType::Int32: return f(std::int32_t{});
-    case ScalarType::UInt32: return f(std::uint32_t{});
-    case ScalarType::Int64: return f(std::int64_t{});
-    case ScalarType::UInt64: return f(std::uint64_t{});
-    case ScalarType::Float32: return f(float{});
-    case ScalarType::Float64: break;
-  }
-  return f(double{});
-}
 
 bool same_values(const DataArray& a, const DataArray& b) {
   return a.type() == b.type() && a.components() == b.components() && a.size() == b.size() &&
@@ -468,7 +451,7 @@ class LegacyReader {
     if (lt->kind == LegacyType::Kind::Bit) {
       a = DataArray::from_vector(std::move(name), components, read_bits(count, what));
     } else {
-      a = dispatch(lt->file, [&](auto tag) {
+      a = visit_scalar_type(lt->file, [&](auto tag) {
         using T = decltype(tag);
         std::vector<T> v = read_numbers<T>(count, what);
         if constexpr (std::is_same_v<T, std::int32_t>) {

@@ -121,24 +121,6 @@ DataArray convert_field(const DataArray& d, double scale, double far, bool clamp
   return out;
 }
 
-template <class F>
-decltype(auto) with_type(ScalarType t, F&& f) {
-  switch (t) {
-    case ScalarType::Int8: return f(std::int8_t{});
-    case ScalarType::UInt8: return f(std::uint8_t{});
-    case ScalarType::Int16: return f(std::int16_t{});
-    case ScalarType::UInt16: return f(std::uint16_t{});
-    case ScalarType::Int32: return f(std::int32_t{});
-    case ScalarType::UInt32: return f(std::uint32_t{});
-    case ScalarType::Int64: return f(std::int64_t{});
-    case ScalarType::UInt64: return f(std::uint64_t{});
-    case ScalarType::Float32: return f(float{});
-    case ScalarType::Float64: return f(double{});
-  }
-  throw Error("implicit modeller: unknown scalar type");
-}
-
-bool is_float(ScalarType t) { return t == ScalarType::Float32 || t == ScalarType::Float64; }
 
 }  // namespace
 
@@ -193,7 +175,7 @@ ModellerGrid implicit_modeller_grid(const Bounds& input_bounds, const ImplicitMo
 double vtk_type_max(ScalarType type) {
   if (type == ScalarType::Float32) return kVtkFloatMax;
   if (type == ScalarType::Float64) return kVtkDoubleMax;
-  return with_type(type, [](auto t) { return type_range<decltype(t)>().second; });
+  return visit_scalar_type(type, [](auto t) { return type_range<decltype(t)>().second; });
 }
 
 ImageData implicit_modeller(const PolyData& input, const ImplicitModellerOptions& o,
@@ -212,7 +194,7 @@ ImageData implicit_modeller(const PolyData& input, const ImplicitModellerOptions
   if (std::isnan(cap_value) || std::isnan(far_value)) {
     throw Error("implicit modeller: cap value and far value must not be NaN");
   }
-  if (o.scale_to_maximum_distance && is_float(type)) {
+  if (o.scale_to_maximum_distance && is_floating(type)) {
     throw Error("implicit modeller: scale_to_maximum_distance needs an integer output type, got " +
                 std::string(scalar_type_name(type)));
   }
@@ -225,8 +207,8 @@ ImageData implicit_modeller(const PolyData& input, const ImplicitModellerOptions
   const ModellerGrid mg = implicit_modeller_grid(input.bounds(), o);
   const DistanceOptions d = distance_options(o, mg.max_distance);
   ImageData img;
-  if (is_float(type) && !o.clamp) {
-    with_type(type, [&](auto t) { (void)fitting<decltype(t)>(far_value, type, "far value"); });
+  if (is_floating(type) && !o.clamp) {
+    visit_scalar_type(type, [&](auto t) { (void)fitting<decltype(t)>(far_value, type, "far value"); });
     img = model_detail::distance_image(input, mg.grid, d, type, far_value, stats);
   } else {
     // Clamped or integer: the exact field in Float64 (±inf beyond the band), then converted.
@@ -234,7 +216,7 @@ ImageData implicit_modeller(const PolyData& input, const ImplicitModellerOptions
     img = model_detail::distance_image(input, mg.grid, d, ScalarType::Float64,
                                        std::numeric_limits<double>::infinity(), stats);
     DataArray& field = *img.point_data.active(AttributeRole::Scalars);
-    DataArray out = with_type(type, [&](auto t) {
+    DataArray out = visit_scalar_type(type, [&](auto t) {
       return convert_field<decltype(t)>(field, scale, far_value, o.clamp, mg.max_distance, type);
     });
     img.point_data.clear();
@@ -248,7 +230,7 @@ void cap_boundary(ImageData& image, double value) {
   if (std::isnan(value)) throw Error("cap: the cap value is NaN");
   DataArray* s = image.point_data.active(AttributeRole::Scalars);
   if (!s || s->components() != 1) throw Error("cap: the image has no 1-component active scalars");
-  with_type(s->type(), [&](auto t) {
+  visit_scalar_type(s->type(), [&](auto t) {
     using T = decltype(t);
     const auto [lo, hi] = type_range<T>();
     if (value < lo || value > hi) {

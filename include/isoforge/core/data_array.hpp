@@ -52,6 +52,24 @@ template <> struct ScalarTypeOf<std::uint64_t> { static constexpr ScalarType val
 template <> struct ScalarTypeOf<float> { static constexpr ScalarType value = ScalarType::Float32; };
 template <> struct ScalarTypeOf<double> { static constexpr ScalarType value = ScalarType::Float64; };
 
+/// Calls f(T{}) with the C++ type T of `t` (generic code over scalar types).
+template <class F>
+decltype(auto) visit_scalar_type(ScalarType t, F&& f) {
+  switch (t) {
+    case ScalarType::Int8: return f(std::int8_t{});
+    case ScalarType::UInt8: return f(std::uint8_t{});
+    case ScalarType::Int16: return f(std::int16_t{});
+    case ScalarType::UInt16: return f(std::uint16_t{});
+    case ScalarType::Int32: return f(std::int32_t{});
+    case ScalarType::UInt32: return f(std::uint32_t{});
+    case ScalarType::Int64: return f(std::int64_t{});
+    case ScalarType::UInt64: return f(std::uint64_t{});
+    case ScalarType::Float32: return f(float{});
+    case ScalarType::Float64: break;
+  }
+  return f(double{});
+}
+
 /// A named array of `tuples()` tuples of `components()` values each, stored contiguously
 /// (tuple-major: value (t, c) is at index t*components + c) in one of the `ScalarType`s.
 ///
