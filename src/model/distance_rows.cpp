@@ -53,6 +53,14 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kChunk = 8;  // samples per kernel step (one AVX-512 vector of doubles)
 
+// Every kernel must be inlined into the cloned plane functions (a kernel left out of line is
+// compiled for the baseline only): lambdas get it explicitly.
+#if defined(__GNUC__)
+#define ISOFORGE_INLINE __attribute__((always_inline))
+#else
+#define ISOFORGE_INLINE
+#endif
+
 // A segment a + t u, t in [0, 1], as the kernels use it; b = a + u as the kernel rounds it when
 // t clamps to 1 (not the input's second point, which may differ in the last bit).
 struct Seg {
@@ -78,6 +86,7 @@ struct Plane {
   double* d2;       // ny rows of nxp squared distances
   int* scratch;     // 6 * ny ints (the pieces of each row)
   double* sq;       // 3 * nxp doubles: the row-independent parts of a primitive's kernels
+  double* rowc;     // 2 * ny doubles: per-row constants
 };
 
 // Constants of a segment's row set-up on one plane (passed by value: no aliasing with the
@@ -160,7 +169,7 @@ template <class Kernel>
                                                         double* __restrict d2) {
   const Chunk dy2v = Chunk{} + dy2, dz2v = Chunk{} + dz2;
   return min_chunks(sq, m0, m1, d2,
-                    [&](const Chunk& dx2, Chunk& v) { v = (dx2 + dy2v) + dz2v; });
+                    [&](const Chunk& dx2, Chunk& v) ISOFORGE_INLINE { v = (dx2 + dy2v) + dz2v; });
 }
 
 // The segment's constants as chunks, made once per plane rather than per row.
@@ -180,7 +189,7 @@ struct SegChunks {
                                                          const SegChunks& s, double y, double cy,
                                                          double* __restrict d2) {
   const Chunk yv = Chunk{} + y, cyv = Chunk{} + cy;
-  return min_chunks(X, m0, m1, d2, [&](const Chunk& x, Chunk& v) {
+  return min_chunks(X, m0, m1, d2, [&](const Chunk& x, Chunk& v) ISOFORGE_INLINE {
     Chunk t = (((x - s.ax) * s.ux + cyv) + s.cz) * s.inv;
     t = t < s.zero ? s.zero : t;
     t = s.one < t ? s.one : t;
@@ -325,6 +334,56 @@ template <int N>
   }
 }
 
+// A segment along the rows (uy = uz = 0) or across them (ux = 0): its kernel is, operation by
+// operation, (q(x) + dy²) + dz² with q independent of the row — along: q = (x − (ax + ux t))² and
+// dy, dz the row's offsets from a (the products uy t, uz t are zeros); across: q = (x − ax)² and
+// dy, dz those of the closest point a + u t, whose t is the same all along the row. So every row
+// is one piece: the samples within Rs, |x − [x extent]| ≤ sqrt(Rs² − dy² − dz²).
+[[gnu::always_inline]] inline std::size_t axis_segment_plane(const Plane& p, const Seg& s,
+                                                             const SegChunks& sc, int j0, int j1,
+                                                             double wz, double cz) {
+  const double x0 = std::min(s.ax, s.bx), x1 = std::max(s.ax, s.bx);
+  int a, b;
+  x_range(p, x0 - p.Rs, x1 + p.Rs, true, a, b);
+  if (a > b) return 0;
+  const int h0 = a & ~(kChunk - 1), h1 = (b | (kChunk - 1)) + 1;
+  if (s.along) {
+    along_squares(p.X, h0, h1, sc, p.sq);
+  } else {
+    squares(p.X, h0, h1, s.ax, p.sq);
+  }
+  int* lo = p.scratch;
+  int* hi = p.scratch + p.ny;
+  double* dy2 = p.rowc;
+  double* dz2 = p.rowc + p.ny;
+  // The rows' constants and pieces, in one vectorized pass.
+  const double t_shift = (p.X[0] - s.ax) * s.ux;  // ±0 across the rows: the kernel's first term
+  for (int j = j0; j <= j1; ++j) {
+    const double y = p.Y[j];
+    double t = ((t_shift + (y - s.ay) * s.uy) + cz) * s.inv;  // across: the row's t
+    t = t < 0.0 ? 0.0 : t;
+    t = 1.0 < t ? 1.0 : t;
+    t = s.along ? 0.0 : t;  // along: uy t and uz t are zeros whatever t
+    const double dy = y - (s.ay + s.uy * t), dz = p.Z - (s.az + s.uz * t);
+    dy2[j] = dy * dy;
+    dz2[j] = dz * dz;
+    const double rem = p.Rs2 - (dy2[j] + dz2[j]);
+    const double h = std::sqrt(rem < 0.0 ? 0.0 : rem);
+    double l, u;
+    x_span(p.ox, p.inv_hx, p.nx, x0 - h, x1 + h, rem, l, u);
+    lo[j] = static_cast<int>(l);
+    hi[j] = static_cast<int>(u);
+  }
+  (void)wz;
+  std::size_t evals = 0;
+  for (int j = j0; j <= j1; ++j) {
+    if (lo[j] > hi[j]) continue;
+    evals += offset_chunks(p.sq, lo[j] & ~(kChunk - 1), (hi[j] | (kChunk - 1)) + 1, dy2[j], dz2[j],
+                           p.d2 + static_cast<std::size_t>(j) * p.nxp);
+  }
+  return evals;
+}
+
 [[gnu::always_inline]] inline std::size_t segment_plane(const Plane& p, const Seg& s) {
   const double Z = p.Z;
   const double wz = Z - s.az;
@@ -358,6 +417,7 @@ template <int N>
     }
     return evals;
   }
+  if (s.along || s.across) return axis_segment_plane(p, s, sc, j0, j1, wz, cz);
 
   // Row constants shared by all rows of the plane.
   const double wzb = Z - s.bz;
@@ -602,9 +662,10 @@ RowStats distance_rows(const std::vector<Vec3>& centers,
       std::unique_ptr<double[]> d2(new double[static_cast<std::size_t>(ny) * nxp]);
       std::unique_ptr<int[]> scratch(new int[6 * static_cast<std::size_t>(ny)]);
       std::unique_ptr<double[]> sq(new double[3 * static_cast<std::size_t>(nxp)]);
+      std::unique_ptr<double[]> rowc(new double[2 * static_cast<std::size_t>(ny)]);
       Plane p{X.data(), Y.data(), 0, nx, nxp, ny, g.origin.x, g.spacing.x, 1.0 / g.spacing.x,
               g.origin.y, 1.0 / g.spacing.y, Rs, Rs * Rs, d2.get(), scratch.get(),
-              sq.get()};
+              sq.get(), rowc.get()};
       std::size_t e = 0, a = 0;
       for (Index k = r.begin(); k != r.end(); ++k) {
         p.Z = g.coordinate(2, k);
