@@ -15,9 +15,9 @@
 // in one of the three, so every sample gets the minimum over the primitives that can reach it,
 // computed with the very operations of the other paths: the result equals theirs bit for bit.
 //
-// Segments across the rows (ux = 0) have the same t all along a row: their middle is the point
-// kernel about the row's closest point too. Segments along the rows (uy = uz = 0) have a shorter
-// middle kernel (the products uy t, uz t are zeros).
+// Segments along the rows (uy = uz = 0) or across them (ux = 0) are simpler still: their kernel
+// is (q(x) + dy²) + dz² with q the same on every row of the plane, so each row is one piece
+// (axis_segment_plane).
 //
 // Pieces are rounded to chunks of 8 samples (rows are padded): caps shrink toward their ends and
 // the middle grows to cover what they gave up, so the kernels run on whole vectors. The rows of
@@ -85,7 +85,7 @@ struct Plane {
   double Rs, Rs2;   // the reach with its slack (relative, and absolute for the coordinates)
   double* d2;       // ny rows of nxp squared distances
   int* scratch;     // 6 * ny ints (the pieces of each row)
-  double* sq;       // 3 * nxp doubles: the row-independent parts of a primitive's kernels
+  double* sq;       // 2 * nxp doubles: the row-independent parts of a primitive's kernels
   double* rowc;     // 2 * ny doubles: per-row constants
 };
 
@@ -341,7 +341,7 @@ template <int N>
 // is one piece: the samples within Rs, |x − [x extent]| ≤ sqrt(Rs² − dy² − dz²).
 [[gnu::always_inline]] inline std::size_t axis_segment_plane(const Plane& p, const Seg& s,
                                                              const SegChunks& sc, int j0, int j1,
-                                                             double wz, double cz) {
+                                                             double cz) {
   const double x0 = std::min(s.ax, s.bx), x1 = std::max(s.ax, s.bx);
   int a, b;
   x_range(p, x0 - p.Rs, x1 + p.Rs, true, a, b);
@@ -374,7 +374,6 @@ template <int N>
     lo[j] = static_cast<int>(l);
     hi[j] = static_cast<int>(u);
   }
-  (void)wz;
   std::size_t evals = 0;
   for (int j = j0; j <= j1; ++j) {
     if (lo[j] > hi[j]) continue;
@@ -417,7 +416,7 @@ template <int N>
     }
     return evals;
   }
-  if (s.along || s.across) return axis_segment_plane(p, s, sc, j0, j1, wz, cz);
+  if (s.along || s.across) return axis_segment_plane(p, s, sc, j0, j1, cz);
 
   // Row constants shared by all rows of the plane.
   const double wzb = Z - s.bz;
@@ -453,16 +452,14 @@ template <int N>
   int* hi_b = p.scratch + 5 * p.ny;
   setup_rows(c, p.Y, j0, j1, lo_a, hi_a, lo_f, hi_f, lo_b, hi_b);
   const bool rising = tau >= 0.0;
-  // The row-independent squares of the kernels over the hull of the rows' pieces: (x − ax)²,
-  // (x − bx)², and for a segment along the rows, its middle's (x − (ax + ux t))².
+  // The row-independent squares of the caps' kernels over the hull of the rows' pieces:
+  // (x − ax)² and (x − bx)².
   int h0, h1;
   if (!hull<3>({lo_a, lo_f, lo_b}, {hi_a, hi_f, hi_b}, j0, j1, p.nxp, h0, h1)) return evals;
   double* sq_a = p.sq;
-  double* sq_b = s.across ? sq_a : p.sq + p.nxp;  // across the rows, bx = ax
-  double* sq_m = p.sq + 2 * p.nxp;
+  double* sq_b = p.sq + p.nxp;
   squares(p.X, h0, h1, s.ax, sq_a);
-  if (!s.across) squares(p.X, h0, h1, s.bx, sq_b);
-  if (s.along) along_squares(p.X, h0, h1, sc, sq_m);
+  squares(p.X, h0, h1, s.bx, sq_b);
   const double* sq_lo = rising ? sq_a : sq_b;  // the squares of the low and the high cap
   const double* sq_hi = rising ? sq_b : sq_a;
   for (int j = j0; j <= j1; ++j) {
@@ -491,22 +488,8 @@ template <int N>
                       : offset_chunks(sq_hi, m0, m1, wy * wy, wz2, row);
     }
     if (f0 <= f1) {
-      const int m0 = f0 & ~(kChunk - 1), m1 = (f1 | (kChunk - 1)) + 1;
-      const double cy = wy * s.uy;
-      if (s.across) {
-        // ux = 0: t, and so the closest point's y and z, are the same all along the row, and
-        // x − (ax + ux t) is x − ax: the point kernel, with the kernel's own t.
-        double t = (((p.X[0] - s.ax) * s.ux + cy) + cz) * s.inv;
-        t = t < 0.0 ? 0.0 : t;
-        t = 1.0 < t ? 1.0 : t;
-        const double dy = y - (s.ay + s.uy * t), dz = Z - (s.az + s.uz * t);
-        evals += offset_chunks(sq_a, m0, m1, dy * dy, dz * dz, row);
-      } else if (s.along) {
-        const double dy = y - (s.ay + s.uy * 0.0), dz = Z - (s.az + s.uz * 0.0);
-        evals += offset_chunks(sq_m, m0, m1, dy * dy, dz * dz, row);
-      } else {
-        evals += segment_chunks(p.X, m0, m1, sc, y, cy, row);
-      }
+      evals += segment_chunks(p.X, f0 & ~(kChunk - 1), (f1 | (kChunk - 1)) + 1, sc, y,
+                              wy * s.uy, row);
     }
   }
   return evals;
@@ -661,7 +644,7 @@ RowStats distance_rows(const std::vector<Vec3>& centers,
     tbb::parallel_for(tbb::blocked_range<Index>(k0, k1, 1), [&](const tbb::blocked_range<Index>& r) {
       std::unique_ptr<double[]> d2(new double[static_cast<std::size_t>(ny) * nxp]);
       std::unique_ptr<int[]> scratch(new int[6 * static_cast<std::size_t>(ny)]);
-      std::unique_ptr<double[]> sq(new double[3 * static_cast<std::size_t>(nxp)]);
+      std::unique_ptr<double[]> sq(new double[2 * static_cast<std::size_t>(nxp)]);
       std::unique_ptr<double[]> rowc(new double[2 * static_cast<std::size_t>(ny)]);
       Plane p{X.data(), Y.data(), 0, nx, nxp, ny, g.origin.x, g.spacing.x, 1.0 / g.spacing.x,
               g.origin.y, 1.0 / g.spacing.y, Rs, Rs * Rs, d2.get(), scratch.get(),
