@@ -1481,10 +1481,13 @@ ImageData dense_field(const PolyData& input, const GridSpec& g, const DistanceOp
   const std::size_t n = img.num_points();
   DataArray arr = DataArray::uninitialized(o.name, ScalarTypeOf<T>::value, 1, n);
   T* v = arr.values<T>().data();
+  // The block engine's options: with points and segments only, the strategy is decided here.
+  DistanceOptions engine_options = o;
   if (!signs && !P.has_radius() && P.tris.empty()) {
     // Points and segments: Scatter by rows along x (distance_rows.cpp), same values.
     const Engine engine(P, g, o, nullptr, 64);
-    if (choose_strategy(engine, P, o, kRowGatherRatio, stats) == DistanceStrategy::Scatter) {
+    engine_options.strategy = choose_strategy(engine, P, o, kRowGatherRatio, stats);
+    if (engine_options.strategy == DistanceStrategy::Scatter) {
       std::vector<Vec3> centers(P.point_ids.size());
       for (std::size_t i = 0; i < centers.size(); ++i) centers[i] = P.pts[P.point_ids[i]];
       std::vector<std::array<Vec3, 2>> segments(P.segs.size());
@@ -1510,7 +1513,7 @@ ImageData dense_field(const PolyData& input, const GridSpec& g, const DistanceOp
   if (signs) band.assign(n, 0);
   const Index nx = g.dims[0], nxy = g.dims[0] * g.dims[1];
   run(
-      g, o, stats, [](std::size_t) {},
+      g, engine_options, stats, [](std::size_t) {},
       [&](std::size_t, const BlockOut& b) {
         for (int i = 0; i < b.ni; ++i)
           for (int j = 0; j < b.nj; ++j)

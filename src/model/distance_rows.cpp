@@ -149,19 +149,28 @@ template <class Kernel>
   return static_cast<std::size_t>(m1 > m0 ? m1 - m0 : 0);
 }
 
+// sq = kernel(x) on the whole chunks of [m0, m1) of x = X.
+template <class Kernel>
+[[gnu::always_inline]] inline void map_chunks(const double* __restrict X, int m0, int m1,
+                                              double* __restrict sq, Kernel&& kernel) {
+  for (int m = m0; m < m1; m += kChunk) {
+    Chunk x, v;
+    std::memcpy(&x, X + m, sizeof x);
+    kernel(x, v);
+    std::memcpy(sq + m, &v, sizeof v);
+  }
+}
+
 // Point kernels split in two: |(x, y, z) − c|² is exactly norm2(p − c) = ((dx² + dy²) + dz²), and
 // dx² does not depend on the row, so it is computed once per plane (squares) and each row only
 // adds its dy², dz² (offset_chunks): 2 additions a sample.
 [[gnu::always_inline]] inline void squares(const double* __restrict X, int m0, int m1, double cx,
                                            double* __restrict sq) {
   const Chunk cxv = Chunk{} + cx;
-  for (int m = m0; m < m1; m += kChunk) {
-    Chunk x;
-    std::memcpy(&x, X + m, sizeof x);
+  map_chunks(X, m0, m1, sq, [&](const Chunk& x, Chunk& v) ISOFORGE_INLINE {
     const Chunk dx = x - cxv;
-    const Chunk v = dx * dx;
-    std::memcpy(sq + m, &v, sizeof v);
-  }
+    v = dx * dx;
+  });
 }
 
 [[gnu::always_inline]] inline std::size_t offset_chunks(const double* __restrict sq, int m0, int m1,
@@ -205,27 +214,23 @@ struct SegChunks {
 // depend on the row: computed once per plane, then offset_chunks.
 [[gnu::always_inline]] inline void along_squares(const double* __restrict X, int m0, int m1,
                                                  const SegChunks& s, double* __restrict sq) {
-  for (int m = m0; m < m1; m += kChunk) {
-    Chunk x;
-    std::memcpy(&x, X + m, sizeof x);
+  map_chunks(X, m0, m1, sq, [&](const Chunk& x, Chunk& v) ISOFORGE_INLINE {
     Chunk t = ((x - s.ax) * s.ux) * s.inv;
     t = t < s.zero ? s.zero : t;
     t = s.one < t ? s.one : t;
     const Chunk dx = x - (s.ax + s.ux * t);
-    const Chunk v = dx * dx;
-    std::memcpy(sq + m, &v, sizeof v);
-  }
+    v = dx * dx;
+  });
 }
 
-// The aligned hull [m0, m1) of the non-empty intervals [lo_q[j], hi_q[j]] of the N lists q,
+// The aligned hull [m0, m1) of the non-empty intervals [lo_q[j], hi_q[j]] of the three pieces q,
 // j in [j0, j1], within [0, nxp); false if all are empty.
-template <int N>
-[[gnu::always_inline]] inline bool hull(const std::array<const int*, N>& lo,
-                                        const std::array<const int*, N>& hi, int j0, int j1,
+[[gnu::always_inline]] inline bool hull(const std::array<const int*, 3>& lo,
+                                        const std::array<const int*, 3>& hi, int j0, int j1,
                                         int nxp, int& m0, int& m1) {
   int a = nxp, b = -1;
   for (int j = j0; j <= j1; ++j) {
-    for (int q = 0; q < N; ++q) {
+    for (int q = 0; q < 3; ++q) {
       const bool e = lo[q][j] <= hi[q][j];
       a = std::min(a, e ? lo[q][j] : nxp);
       b = std::max(b, e ? hi[q][j] : -1);
@@ -246,36 +251,6 @@ template <int N>
   j0 = static_cast<int>(f0);
   j1 = static_cast<int>(f1);
   return true;
-}
-
-[[gnu::always_inline]] inline std::size_t point_plane(const Plane& p, double cx, double cy,
-                                                      double cz) {
-  const double dz = p.Z - cz;
-  const double dz2 = dz * dz;
-  const double rem = p.Rs2 - dz2;
-  if (rem < 0) return 0;
-  const double r = std::sqrt(rem);
-  int j0, j1;
-  if (!y_range(p, cy - r, cy + r, j0, j1)) return 0;
-  int* lo = p.scratch;
-  int* hi = p.scratch + p.ny;
-  for (int j = j0; j <= j1; ++j) {
-    const double dy = p.Y[j] - cy;
-    const double h2 = rem - dy * dy;
-    const double h = std::sqrt(h2 < 0.0 ? 0.0 : h2);
-    x_range(p, cx - h, cx + h, h2 >= 0.0, lo[j], hi[j]);
-  }
-  int h0, h1;
-  if (!hull<1>({lo}, {hi}, j0, j1, p.nxp, h0, h1)) return 0;
-  squares(p.X, h0, h1, cx, p.sq);
-  std::size_t evals = 0;
-  for (int j = j0; j <= j1; ++j) {
-    if (lo[j] > hi[j]) continue;
-    const double dy = p.Y[j] - cy;
-    const int m0 = lo[j] & ~(kChunk - 1), m1 = (hi[j] | (kChunk - 1)) + 1;
-    evals += offset_chunks(p.sq, m0, m1, dy * dy, dz2, p.d2 + static_cast<std::size_t>(j) * p.nxp);
-  }
-  return evals;
 }
 
 // For each row j in [j0, j1]: the low cap [lo_a, hi_a], the middle [lo_f, hi_f], the high cap
@@ -334,21 +309,21 @@ template <int N>
   }
 }
 
-// A segment along the rows (uy = uz = 0) or across them (ux = 0): its kernel is, operation by
-// operation, (q(x) + dy²) + dz² with q independent of the row — along: q = (x − (ax + ux t))² and
-// dy, dz the row's offsets from a (the products uy t, uz t are zeros); across: q = (x − ax)² and
-// dy, dz those of the closest point a + u t, whose t is the same all along the row. So every row
-// is one piece: the samples within Rs, |x − [x extent]| ≤ sqrt(Rs² − dy² − dz²).
-[[gnu::always_inline]] inline std::size_t axis_segment_plane(const Plane& p, const Seg& s,
-                                                             const SegChunks& sc, int j0, int j1,
-                                                             double cz) {
+// A segment along the rows (uy = uz = 0) or across them (ux = 0), or a point (a segment of
+// length 0 across them): its kernel is, operation by operation, (q(x) + dy²) + dz² with q
+// independent of the row — along: q = (x − (ax + ux t))² and dy, dz the row's offsets from a
+// (the products uy t, uz t are zeros); across: q = (x − ax)² and dy, dz those of the closest point
+// a + u t, whose t is the same all along the row (0 for a point). So every row is one piece: the
+// samples within Rs, |x − [x extent]| ≤ sqrt(Rs² − dy² − dz²). cz is the kernel's wz · uz.
+[[gnu::always_inline]] inline std::size_t axis_segment_plane(const Plane& p, const Seg& s, int j0,
+                                                             int j1, double cz) {
   const double x0 = std::min(s.ax, s.bx), x1 = std::max(s.ax, s.bx);
   int a, b;
   x_range(p, x0 - p.Rs, x1 + p.Rs, true, a, b);
   if (a > b) return 0;
   const int h0 = a & ~(kChunk - 1), h1 = (b | (kChunk - 1)) + 1;
   if (s.along) {
-    along_squares(p.X, h0, h1, sc, p.sq);
+    along_squares(p.X, h0, h1, SegChunks(s, p.Z, cz), p.sq);
   } else {
     squares(p.X, h0, h1, s.ax, p.sq);
   }
@@ -383,6 +358,21 @@ template <int N>
   return evals;
 }
 
+// A point: the sphere's rows, then the zero-length segment across the rows.
+[[gnu::always_inline]] inline std::size_t point_plane(const Plane& p, double cx, double cy,
+                                                      double cz) {
+  const double dz = p.Z - cz;
+  const double rem = p.Rs2 - dz * dz;
+  if (rem < 0) return 0;
+  const double r = std::sqrt(rem);
+  int j0, j1;
+  if (!y_range(p, cy - r, cy + r, j0, j1)) return 0;
+  Seg s{};
+  s.ax = s.bx = cx, s.ay = s.by = cy, s.az = s.bz = cz;
+  s.across = true;
+  return axis_segment_plane(p, s, j0, j1, 0.0);
+}
+
 [[gnu::always_inline]] inline std::size_t segment_plane(const Plane& p, const Seg& s) {
   const double Z = p.Z;
   const double wz = Z - s.az;
@@ -407,16 +397,16 @@ template <int N>
   const SegChunks sc(s, Z, cz);
   std::size_t evals = 0;
   if (!s.regular) {  // a segment too short for the caps' arithmetic: the full kernel on its box
+    int m0, m1;
+    x_range(p, std::min(s.ax, s.bx) - p.Rs, std::max(s.ax, s.bx) + p.Rs, true, m0, m1);
+    if (m0 > m1) return 0;
     for (int j = j0; j <= j1; ++j) {
-      int m0, m1;
-      x_range(p, std::min(s.ax, s.bx) - p.Rs, std::max(s.ax, s.bx) + p.Rs, true, m0, m1);
-      if (m0 > m1) continue;
       evals += segment_chunks(p.X, m0 & ~(kChunk - 1), (m1 | (kChunk - 1)) + 1, sc, p.Y[j],
                               (p.Y[j] - s.ay) * s.uy, p.d2 + static_cast<std::size_t>(j) * p.nxp);
     }
     return evals;
   }
-  if (s.along || s.across) return axis_segment_plane(p, s, sc, j0, j1, cz);
+  if (s.along || s.across) return axis_segment_plane(p, s, j0, j1, cz);
 
   // Row constants shared by all rows of the plane.
   const double wzb = Z - s.bz;
@@ -455,7 +445,7 @@ template <int N>
   // The row-independent squares of the caps' kernels over the hull of the rows' pieces:
   // (x − ax)² and (x − bx)².
   int h0, h1;
-  if (!hull<3>({lo_a, lo_f, lo_b}, {hi_a, hi_f, hi_b}, j0, j1, p.nxp, h0, h1)) return evals;
+  if (!hull({lo_a, lo_f, lo_b}, {hi_a, hi_f, hi_b}, j0, j1, p.nxp, h0, h1)) return evals;
   double* sq_a = p.sq;
   double* sq_b = p.sq + p.nxp;
   squares(p.X, h0, h1, s.ax, sq_a);

@@ -121,7 +121,6 @@ DataArray convert_field(const DataArray& d, double scale, double far, bool clamp
   return out;
 }
 
-
 }  // namespace
 
 ModellerGrid implicit_modeller_grid(const Bounds& input_bounds, const ImplicitModellerOptions& o) {
@@ -198,8 +197,8 @@ ImageData implicit_modeller(const PolyData& input, const ImplicitModellerOptions
     throw Error("implicit modeller: scale_to_maximum_distance needs an integer output type, got " +
                 std::string(scalar_type_name(type)));
   }
-  const bool is_unsigned = type == ScalarType::UInt8 || type == ScalarType::UInt16 ||
-                           type == ScalarType::UInt32 || type == ScalarType::UInt64;
+  const bool is_unsigned =
+      visit_scalar_type(type, [](auto t) { return std::is_unsigned_v<decltype(t)>; });
   if (o.signed_distance && is_unsigned) {
     throw Error("implicit modeller: signed distances need a signed output type, got " +
                 std::string(scalar_type_name(type)));
