@@ -17,6 +17,7 @@
 #include <limits>
 #include <string>
 
+#include "isoforge/core/closest_point.hpp"
 #include "isoforge/core/error.hpp"
 
 namespace isoforge {
@@ -245,7 +246,7 @@ void shape(CellType type, const Vec3& pc, double* w) {
       return;
     }
     default:
-      ISOFORGE_ASSERT(false && "shape: not a fixed-size type");
+      invariant_failed("shape: a fixed-size type", std::source_location::current());
   }
 }
 
@@ -306,7 +307,7 @@ void shape_derivs(CellType type, const Vec3& pc, double* d) {
       return;
     }
     default:
-      ISOFORGE_ASSERT(false && "shape_derivs: not a fixed-size type");
+      invariant_failed("shape_derivs: a fixed-size type", std::source_location::current());
   }
 }
 
@@ -423,15 +424,6 @@ bool solve_cols(const Vec3& c0, const Vec3& c1, const Vec3& c2, const Vec3& b, V
   return true;
 }
 
-Vec3 closest_on_segment(const Vec3& a, const Vec3& b, const Vec3& x, double* t_out = nullptr) {
-  const Vec3 e = b - a;
-  const double l2 = norm2(e);
-  double t = l2 > 0 ? dot(x - a, e) / l2 : 0.0;
-  t = std::clamp(t, 0.0, 1.0);
-  if (t_out) *t_out = t;
-  return a + t * e;
-}
-
 struct Closest {
   Vec3 point;
   double dist2 = std::numeric_limits<double>::infinity();
@@ -458,17 +450,6 @@ bool triangle_project(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& x
   return true;
 }
 
-Vec3 closest_on_triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& x) {
-  double r, s;
-  if (triangle_project(a, b, c, x, r, s) && r >= 0 && s >= 0 && r + s <= 1) {
-    return a + r * (b - a) + s * (c - a);
-  }
-  Closest best;
-  best.offer(closest_on_segment(a, b, x), x);
-  best.offer(closest_on_segment(b, c, x), x);
-  best.offer(closest_on_segment(c, a, x), x);
-  return best.point;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Newton iterations
@@ -636,7 +617,7 @@ NewtonResult newton_quad(std::span<const Vec3> q, const Vec3& x) {
 // Newton (if it lies in the quad) and the closest points of the four edges.
 Vec3 closest_on_quad(std::span<const Vec3> q, const Vec3& x) {
   Closest best;
-  for (int e = 0; e < 4; ++e) best.offer(closest_on_segment(q[e], q[(e + 1) % 4], x), x);
+  for (int e = 0; e < 4; ++e) best.offer(closest_on_segment(x, q[e], q[(e + 1) % 4]).point, x);
   const NewtonResult nr = newton_quad(q, x);
   if (nr.converged && domain_distance(CellType::Quad, nr.pc) <= 0) {
     best.offer(location_fixed(CellType::Quad, q, nr.pc), x);
@@ -649,7 +630,7 @@ Vec3 closest_on_boundary_3d(CellType type, std::span<const Vec3> pts, const Vec3
   Closest best;
   for (const CellFace& f : cell_faces(type)) {
     if (f.size == 3) {
-      best.offer(closest_on_triangle(pts[f.ids[0]], pts[f.ids[1]], pts[f.ids[2]], x), x);
+      best.offer(closest_on_triangle(x, pts[f.ids[0]], pts[f.ids[1]], pts[f.ids[2]]).point, x);
     } else {
       const Vec3 q[4] = {pts[f.ids[0]], pts[f.ids[1]], pts[f.ids[2]], pts[f.ids[3]]};
       best.offer(closest_on_quad(q, x), x);
@@ -810,7 +791,7 @@ double distance_to_polygon_boundary_2d(std::span<const P2> q, const P2& x) {
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 a{q[i][0], q[i][1], 0}, b{q[(i + 1) % n][0], q[(i + 1) % n][1], 0};
     const Vec3 p{x[0], x[1], 0};
-    best = std::min(best, norm(p - closest_on_segment(a, b, p)));
+    best = std::min(best, std::sqrt(segment_distance2(p, a, b)));
   }
   return best;
 }
@@ -919,7 +900,7 @@ CellPosition locate_line(std::span<const Vec3> p, const Vec3& x, double tol) {
     pos.pcoords = {dot(x - p[0], e) / l2, 0, 0};
   }
   pos.inside = pos.converged && domain_distance(CellType::Line, pos.pcoords) <= tol;
-  pos.closest_point = pos.inside ? p[0] + pos.pcoords.x * e : closest_on_segment(p[0], p[1], x);
+  pos.closest_point = pos.inside ? p[0] + pos.pcoords.x * e : closest_on_segment(x, p[0], p[1]).point;
   pos.dist2 = norm2(x - pos.closest_point);
   finish_fixed(CellType::Line, pos);
   return pos;
@@ -930,28 +911,15 @@ CellPosition locate_triangle(std::span<const Vec3> p, const Vec3& x, double tol)
   double r = 0, s = 0;
   if (!triangle_project(p[0], p[1], p[2], x, r, s)) {
     pos.converged = false;
-    pos.closest_point = closest_on_triangle(p[0], p[1], p[2], x);
-    // Parametric coordinates of the closest point along the longest edge.
-    Closest best;
-    double tb = 0;
-    int eb = 0;
-    for (int e = 0; e < 3; ++e) {
-      double t;
-      const Vec3 c = closest_on_segment(p[e], p[(e + 1) % 3], x, &t);
-      const double d2 = norm2(x - c);
-      if (d2 < best.dist2) {
-        best.dist2 = d2;
-        tb = t;
-        eb = e;
-      }
-    }
-    const Vec3 a = kTriangleP[eb], b = kTriangleP[(eb + 1) % 3];
-    pos.pcoords = a + tb * (b - a);
+    // Degenerate: the closest point of its edges, with its parametric coordinates.
+    const TriangleClosest c = closest_on_triangle_edges(x, p[0], p[1], p[2]);
+    pos.closest_point = c.point;
+    pos.pcoords = {c.s, c.t, 0};
   } else {
     pos.pcoords = {r, s, 0};
     pos.inside = domain_distance(CellType::Triangle, pos.pcoords) <= tol;
     pos.closest_point = pos.inside ? p[0] + r * (p[1] - p[0]) + s * (p[2] - p[0])
-                                   : closest_on_triangle(p[0], p[1], p[2], x);
+                                   : closest_on_triangle(x, p[0], p[1], p[2]).point;
   }
   pos.dist2 = norm2(x - pos.closest_point);
   finish_fixed(CellType::Triangle, pos);
@@ -997,7 +965,7 @@ CellPosition locate_quad(std::span<const Vec3> p, const Vec3& x, double tol) {
     pos.inside = domain_distance(CellType::Quad, nr.pc) <= tol;
   }
   Closest edge;
-  for (int e = 0; e < 4; ++e) edge.offer(closest_on_segment(p[e], p[(e + 1) % 4], x), x);
+  for (int e = 0; e < 4; ++e) edge.offer(closest_on_segment(x, p[e], p[(e + 1) % 4]).point, x);
   if (pos.inside) {
     pos.closest_point = location_fixed(CellType::Quad, p, nr.pc);
     // A strongly curved or folded quad can have a projection that is only a local minimum of
@@ -1086,7 +1054,7 @@ CellPosition locate_polygon(std::span<const Vec3> p, const Vec3& x, double tol) 
   const Vec3 proj = fr.to3d(x2[0], x2[1]);
   Closest edge;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    edge.offer(closest_on_segment(p[i], p[(i + 1) % p.size()], x), x);
+    edge.offer(closest_on_segment(x, p[i], p[(i + 1) % p.size()]).point, x);
   }
   pos.weights.resize(p.size());
   if (fr.degenerate) {
@@ -1098,8 +1066,8 @@ CellPosition locate_polygon(std::span<const Vec3> p, const Vec3& x, double tol) 
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < p.size(); ++i) {
       const std::size_t j = (i + 1) % p.size();
-      double t;
-      const double d2 = norm2(x - closest_on_segment(p[i], p[j], x, &t));
+      const SegmentClosest c = closest_on_segment(x, p[i], p[j]);
+      const double d2 = c.dist2, t = c.t;
       if (d2 < best) {
         best = d2;
         for (double& w : pos.weights) w = 0;

@@ -24,11 +24,9 @@ std::string at_byte(std::string_view file, std::uint64_t offset, std::string_vie
   return s;
 }
 
-namespace detail {
-void assertion_failed(const char* expr, const char* file, int line) {
-  throw Error(std::string("internal error: assertion '") + expr + "' failed at " + file + ":" +
-              std::to_string(line));
+void invariant_failed(std::string_view what, const std::source_location& where) {
+  throw Error(std::string(where.file_name()) + ":" + std::to_string(where.line()) +
+              ": internal error: " + std::string(what) + " does not hold");
 }
-}  // namespace detail
 
 }  // namespace isoforge

@@ -7,7 +7,7 @@
 #include <tuple>
 #include <unordered_map>
 
-#include "core/union_find.hpp"
+#include "isoforge/core/union_find.hpp"
 
 namespace isoforge {
 

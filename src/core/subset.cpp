@@ -1,4 +1,4 @@
-#include "core/subset.hpp"
+#include "isoforge/core/subset.hpp"
 
 #include <cstring>
 

@@ -1,8 +1,9 @@
 #pragma once
 /// \file
-/// The one exception type isoforge throws for bad input, and the internal assertion macro.
+/// The one exception type isoforge throws for bad input, and the check of internal invariants.
 
 #include <cstdint>
+#include <source_location>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -24,13 +25,15 @@ class Error : public std::runtime_error {
 [[nodiscard]] std::string at_byte(std::string_view file, std::uint64_t offset,
                                   std::string_view what);
 
-namespace detail {
-[[noreturn]] void assertion_failed(const char* expr, const char* file, int line);
-}  // namespace detail
+/// Throws `Error` naming the place of a broken internal invariant (a bug in isoforge, never bad
+/// input): "<file>:<line>: internal error: <what> does not hold".
+[[noreturn]] void invariant_failed(std::string_view what, const std::source_location& where);
+
+/// Checks an internal invariant; on failure throws `Error` naming `what` and the place — never
+/// aborts, because the library must not take down its host program on a bug.
+inline void check_invariant(bool holds, std::string_view what,
+                            const std::source_location& where = std::source_location::current()) {
+  if (!holds) [[unlikely]] invariant_failed(what, where);
+}
 
 }  // namespace isoforge
-
-/// Internal invariant check that names file and line. Throws `isoforge::Error` (never aborts),
-/// because the library must not take down its host program on a bug.
-#define ISOFORGE_ASSERT(expr) \
-  ((expr) ? static_cast<void>(0) : ::isoforge::detail::assertion_failed(#expr, __FILE__, __LINE__))

@@ -26,4 +26,12 @@ inline void report_progress(const ProgressCallback& callback, double fraction,
   if (callback && !callback(fraction)) throw Cancelled(operation);
 }
 
+/// A callback that maps its fraction f to from + f (to − from) of `parent`, for a stage of a
+/// longer operation; empty when `parent` is.
+[[nodiscard]] inline ProgressCallback progress_range(const ProgressCallback& parent, double from,
+                                                     double to) {
+  if (!parent) return {};
+  return [parent, from, to](double f) { return parent(from + f * (to - from)); };
+}
+
 }  // namespace isoforge

@@ -1,4 +1,4 @@
-#include "isoforge/model/closest_point.hpp"
+#include "isoforge/core/closest_point.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,32 +1,14 @@
 #pragma once
 /// \file
-/// Exact closest points and squared Euclidean distances from a point to the generating primitives
-/// of implicit modeling — a point, a line segment, a triangle — in double precision. These are the
-/// kernels of every distance field in isoforge (dense, sparse, scatter and gather strategies all
-/// call exactly these functions, so their values agree bit for bit).
-///
-/// References implemented:
-/// - D. Eberly, "Distance Between Point and Triangle in 3D" (Geometric Tools, 1999/2008): the
-///   minimization of the quadratic |B + s E0 + t E1 - P|² over the triangle's parameter domain,
-///   classified into seven regions of the (s, t) plane.
-/// - C. Ericson, *Real-Time Collision Detection* (2005), 5.1.2: closest point on a segment.
-///
-/// Distances are computed from the closest point (|P - Q|²), not from the expanded quadratic
-/// form, so they do not suffer its cancellation far from the primitive. Degenerate triangles
-/// (collinear or repeated points, relative Gram determinant below 1e-14) are measured as the union
-/// of their three edges; a zero-length segment as its point.
+/// Exact closest points and squared distances from a point to a segment and a triangle, in
+/// double precision: the kernels of every distance field, locator and cell query in isoforge
+/// (one copy, so all of them agree bit for bit). Distances are |p − closest point|², never the
+/// expanded quadratic form. Methods: docs/algorithms/closest_point.md.
 
 #include <algorithm>
 #include <cstdint>
 
 #include "isoforge/core/vec.hpp"
-
-// The kernels run in the innermost loops of the distance fields: inline them even when large.
-#if defined(__GNUC__)
-#define ISOFORGE_KERNEL inline __attribute__((always_inline))
-#else
-#define ISOFORGE_KERNEL inline
-#endif
 
 namespace isoforge {
 
@@ -57,7 +39,7 @@ struct TriangleClosest {
 };
 
 /// Closest point of the segment [a, b] to `p`.
-[[nodiscard]] ISOFORGE_KERNEL SegmentClosest closest_on_segment(const Vec3& p, const Vec3& a,
+[[nodiscard, gnu::always_inline]] inline SegmentClosest closest_on_segment(const Vec3& p, const Vec3& a,
                                                                 const Vec3& b) {
   const Vec3 e = b - a;
   const double len2 = dot(e, e);
@@ -74,81 +56,60 @@ struct TriangleClosest {
 }
 
 /// Squared distance from `p` to the segment [a, b].
-[[nodiscard]] ISOFORGE_KERNEL double segment_distance2(const Vec3& p, const Vec3& a,
+[[nodiscard, gnu::always_inline]] inline double segment_distance2(const Vec3& p, const Vec3& a,
                                                        const Vec3& b) {
   return closest_on_segment(p, a, b).dist2;
 }
 
-namespace model_detail {
-
-// The closest of the three edges of a degenerate triangle, expressed in (s, t).
-inline TriangleClosest degenerate_triangle(const Vec3& p, const Vec3& a, const Vec3& b,
-                                           const Vec3& c) {
-  using F = TriangleFeature;
-  const SegmentClosest e01 = closest_on_segment(p, a, b);
-  const SegmentClosest e12 = closest_on_segment(p, b, c);
-  const SegmentClosest e20 = closest_on_segment(p, c, a);
-  const auto pick = [](double u, F at0, F inner, F at1) {
-    return u == 0 ? at0 : (u == 1 ? at1 : inner);
-  };
-  TriangleClosest r;
-  if (e01.dist2 <= e12.dist2 && e01.dist2 <= e20.dist2) {
-    r.s = e01.t, r.t = 0, r.point = e01.point, r.dist2 = e01.dist2;
-    r.feature = pick(e01.t, F::Vertex0, F::Edge01, F::Vertex1);
-  } else if (e12.dist2 <= e20.dist2) {
-    r.s = 1 - e12.t, r.t = e12.t, r.point = e12.point, r.dist2 = e12.dist2;
-    r.feature = pick(e12.t, F::Vertex1, F::Edge12, F::Vertex2);
-  } else {
-    r.s = 0, r.t = 1 - e20.t, r.point = e20.point, r.dist2 = e20.dist2;
-    r.feature = pick(e20.t, F::Vertex2, F::Edge20, F::Vertex0);
-  }
-  return r;
-}
-
-}  // namespace model_detail
+/// Closest point of the union of the three edges of triangle (a, b, c) to `p`, expressed in the
+/// triangle's (s, t): what `closest_on_triangle` returns for degenerate (collinear or repeated
+/// point) triangles.
+[[nodiscard]] TriangleClosest closest_on_triangle_edges(const Vec3& p, const Vec3& a, const Vec3& b,
+                                                        const Vec3& c);
 
 /// Closest point of the triangle (a, b, c) to `p` (Eberly's region classification).
-[[nodiscard]] ISOFORGE_KERNEL TriangleClosest closest_on_triangle(const Vec3& p, const Vec3& a,
+[[nodiscard, gnu::always_inline]] inline TriangleClosest closest_on_triangle(const Vec3& p, const Vec3& a,
                                                                   const Vec3& b, const Vec3& c) {
   using F = TriangleFeature;
   const Vec3 e0 = b - a, e1 = c - a, d = a - p;
   const double a00 = dot(e0, e0), a01 = dot(e0, e1), a11 = dot(e1, e1);
   const double b0 = dot(d, e0), b1 = dot(d, e1);
   const double det = a00 * a11 - a01 * a01;
-  if (!(det > 1e-14 * a00 * a11)) return model_detail::degenerate_triangle(p, a, b, c);
+  if (!(det > 1e-14 * a00 * a11)) return closest_on_triangle_edges(p, a, b, c);
   double s = a01 * b1 - a11 * b0;
   double t = a01 * b0 - a00 * b1;
   F f = F::Face;
-  // Written without lambdas: the kernel is inlined into hot loops and must not call out.
-  // Minimum on the edge s = 0 (t in [0, 1]): from c back to a.
-#define ISOFORGE_ON_EDGE20()          \
-  s = 0;                              \
-  if (b1 >= 0) {                      \
-    t = 0, f = F::Vertex0;            \
-  } else if (-b1 >= a11) {            \
-    t = 1, f = F::Vertex2;            \
-  } else {                            \
-    t = -b1 / a11, f = F::Edge20;     \
-  }
-  // Minimum on the edge t = 0 (s in [0, 1]).
-#define ISOFORGE_ON_EDGE01()          \
-  t = 0;                              \
-  if (b0 >= 0) {                      \
-    s = 0, f = F::Vertex0;            \
-  } else if (-b0 >= a00) {            \
-    s = 1, f = F::Vertex1;            \
-  } else {                            \
-    s = -b0 / a00, f = F::Edge01;     \
-  }
+  // The minimum on the edge s = 0 (t in [0, 1], from a to c) and on the edge t = 0 (s in [0, 1]).
+  // Forced inline: the kernel runs inside the distance fields' innermost loops.
+  const auto on_edge20 = [&]() __attribute__((always_inline)) {
+    s = 0;
+    if (b1 >= 0) {
+      t = 0, f = F::Vertex0;
+    } else if (-b1 >= a11) {
+      t = 1, f = F::Vertex2;
+    } else {
+      t = -b1 / a11, f = F::Edge20;
+    }
+  };
+  const auto on_edge01 = [&]() __attribute__((always_inline)) {
+    t = 0;
+    if (b0 >= 0) {
+      s = 0, f = F::Vertex0;
+    } else if (-b0 >= a00) {
+      s = 1, f = F::Vertex1;
+    } else {
+      s = -b0 / a00, f = F::Edge01;
+    }
+  };
   if (s + t <= det) {
     if (s < 0) {
       if (t < 0 && b0 < 0) {  // region 4, minimum on t = 0
-        ISOFORGE_ON_EDGE01()
+        on_edge01();
       } else {  // region 3 (or 4 with the minimum on s = 0)
-        ISOFORGE_ON_EDGE20()
+        on_edge20();
       }
     } else if (t < 0) {  // region 5
-      ISOFORGE_ON_EDGE01()
+      on_edge01();
     } else {  // region 0: the interior
       s /= det;
       t /= det;
@@ -165,7 +126,7 @@ inline TriangleClosest degenerate_triangle(const Vec3& p, const Vec3& a, const V
     } else if (tmp1 <= 0) {
       s = 0, t = 1, f = F::Vertex2;
     } else {
-      ISOFORGE_ON_EDGE20()
+      on_edge20();
     }
   } else if (t < 0) {  // region 6
     const double tmp0 = a01 + b1, tmp1 = a00 + b0;
@@ -179,7 +140,7 @@ inline TriangleClosest degenerate_triangle(const Vec3& p, const Vec3& a, const V
     } else if (tmp1 <= 0) {
       s = 1, t = 0, f = F::Vertex1;
     } else {
-      ISOFORGE_ON_EDGE01()
+      on_edge01();
     }
   } else {  // region 1
     const double numer = a11 + b1 - a01 - b0;
@@ -194,8 +155,6 @@ inline TriangleClosest degenerate_triangle(const Vec3& p, const Vec3& a, const V
       }
     }
   }
-#undef ISOFORGE_ON_EDGE20
-#undef ISOFORGE_ON_EDGE01
   TriangleClosest r;
   r.s = s;
   r.t = t;
@@ -206,7 +165,7 @@ inline TriangleClosest degenerate_triangle(const Vec3& p, const Vec3& a, const V
 }
 
 /// Squared distance from `p` to the triangle (a, b, c).
-[[nodiscard]] ISOFORGE_KERNEL double triangle_distance2(const Vec3& p, const Vec3& a, const Vec3& b,
+[[nodiscard, gnu::always_inline]] inline double triangle_distance2(const Vec3& p, const Vec3& a, const Vec3& b,
                                                         const Vec3& c) {
   return closest_on_triangle(p, a, b, c).dist2;
 }

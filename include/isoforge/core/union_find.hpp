@@ -1,6 +1,7 @@
 #pragma once
-// Private: a disjoint-set forest (union-find) over the integers 0 .. n − 1, shared by the surface
-// topology analysis and connectivity labeling.
+/// \file
+/// A disjoint-set forest (union-find) over the integers 0 .. n − 1, shared by the surface
+/// topology analysis, connectivity labelling and decimation.
 
 #include <cstddef>
 #include <numeric>

@@ -1,6 +1,7 @@
 #pragma once
-// Private: an unstructured grid made of chosen cells of any dataset (used by selection and
-// thresholding).
+/// \file
+/// Subsets of datasets: an unstructured grid of chosen cells (selection, thresholding,
+/// shrinking, connectivity), and tuple copies between attribute sets of the same layout.
 
 #include <vector>
 
