@@ -6,12 +6,14 @@
 #include <cstring>
 #include <fstream>
 
-#include "isoforge/io/mesh_formats.hpp"
+#include "isoforge/io/off_obj.hpp"
+#include "isoforge/io/ply.hpp"
 #include "isoforge/io/plot3d.hpp"
 #include "isoforge/io/raw_volume.hpp"
 #include "isoforge/io/vdb.hpp"
 #include "isoforge/io/vtk_legacy.hpp"
 #include "isoforge/io/vtk_xml.hpp"
+#include "isoforge/sparse/convert.hpp"
 
 namespace isoforge {
 
@@ -154,7 +156,9 @@ void write(DatasetRef ds, const std::filesystem::path& path, const WriteOptions&
         throw Error(path.string() + ": .vdb holds volumes (image data) only, not " +
                     std::string(dataset_type_name(ds)));
       }
-      write_vdb(*image_to_vdb(*img, {}, 0.0f, static_cast<float>(options.vdb_tolerance)), path);
+      ImageToVdbOptions o;
+      o.tolerance = static_cast<float>(options.vdb_tolerance);
+      write_vdb(*image_to_vdb(*img, o), path);
       return;
     }
     case FileFormat::Plot3d:

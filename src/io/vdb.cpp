@@ -1,4 +1,4 @@
-// OpenVDB .vdb io: validated reading, atomic writing, sparse <-> dense conversion.
+// OpenVDB .vdb io: validated reading and atomic writing.
 //
 // References implemented:
 // - The OpenVDB file format as written by OpenVDB 10 (io/Archive, io/GridDescriptor,
@@ -18,7 +18,6 @@
 #include <openvdb/io/GridDescriptor.h>
 #include <openvdb/io/io.h>
 #include <openvdb/math/Transform.h>
-#include <openvdb/tools/Dense.h>
 
 #include <algorithm>
 #include <array>
@@ -36,13 +35,9 @@
 
 #include "isoforge/core/error.hpp"
 #include "isoforge/io/atomic_file.hpp"
+#include "isoforge/sparse/grid.hpp"
 
 namespace isoforge {
-
-void ensure_openvdb_initialized() {
-  static std::once_flag once;
-  std::call_once(once, [] { openvdb::initialize(); });
-}
 
 namespace {
 
@@ -916,154 +911,6 @@ void write_vdb(const std::vector<openvdb::GridBase::Ptr>& grids,
 void write_vdb(const openvdb::FloatGrid& grid, const std::filesystem::path& path) {
   // OpenVDB writes through shared pointers; a shallow copy shares the tree (no voxel copy).
   write_grids(openvdb::GridCPtrVec{grid.copyGrid()}, path);
-}
-
-// ---------------------------------------------------------------------------------------------
-// Sparse <-> dense
-// ---------------------------------------------------------------------------------------------
-
-ImageData vdb_to_image(const openvdb::FloatGrid& grid, std::size_t max_voxels) {
-  const std::string gname = grid.getName().empty() ? std::string("Scalars") : grid.getName();
-  const std::string what = "vdb_to_image: grid '" + gname + "'";
-  const openvdb::math::Transform& xf = grid.transform();
-  if (!xf.isLinear()) throw Error(what + ": non-linear (frustum) transforms are not supported");
-  const openvdb::Vec3d t = xf.indexToWorld(openvdb::Vec3d(0, 0, 0));
-  const openvdb::Vec3d ax = xf.indexToWorld(openvdb::Vec3d(1, 0, 0)) - t;
-  const openvdb::Vec3d ay = xf.indexToWorld(openvdb::Vec3d(0, 1, 0)) - t;
-  const openvdb::Vec3d az = xf.indexToWorld(openvdb::Vec3d(0, 0, 1)) - t;
-  const double s = ax[0];
-  const double tol = 1e-9 * std::abs(s);
-  const bool uniform =
-      std::isfinite(s) && s > 0 && std::abs(ax[1]) <= tol && std::abs(ax[2]) <= tol &&
-      std::abs(ay[0]) <= tol && std::abs(ay[1] - s) <= tol && std::abs(ay[2]) <= tol &&
-      std::abs(az[0]) <= tol && std::abs(az[1]) <= tol && std::abs(az[2] - s) <= tol &&
-      std::isfinite(t[0]) && std::isfinite(t[1]) && std::isfinite(t[2]);
-  if (!uniform) {
-    throw Error(what + ": transform is not a uniform scale + translation (index axes map to (" +
-                std::to_string(ax[0]) + ", " + std::to_string(ax[1]) + ", " +
-                std::to_string(ax[2]) + "), (" + std::to_string(ay[0]) + ", " +
-                std::to_string(ay[1]) + ", " + std::to_string(ay[2]) + "), (" +
-                std::to_string(az[0]) + ", " + std::to_string(az[1]) + ", " +
-                std::to_string(az[2]) + "))");
-  }
-  const openvdb::CoordBBox bbox = grid.evalActiveVoxelBoundingBox();
-  if (bbox.empty()) throw Error(what + ": the grid has no active voxels");
-  const openvdb::Coord dim = bbox.dim();
-  std::uint64_t count = 1;
-  for (int a = 0; a < 3; ++a) {
-    if (__builtin_mul_overflow(count, static_cast<std::uint64_t>(dim[a]), &count)) {
-      count = UINT64_MAX;
-      break;
-    }
-  }
-  if (count > max_voxels) {
-    throw Error(what + ": the active bounding box " + std::to_string(dim[0]) + " x " +
-                std::to_string(dim[1]) + " x " + std::to_string(dim[2]) + " = " +
-                (count == UINT64_MAX ? std::string("more than 2^64") : std::to_string(count)) +
-                " voxels exceeds the limit of " + std::to_string(max_voxels));
-  }
-  ImageData img;
-  img.dims = {dim[0], dim[1], dim[2]};
-  const openvdb::Vec3d o = xf.indexToWorld(bbox.min());
-  img.origin = {o[0], o[1], o[2]};
-  img.spacing = {s, s, s};
-  std::vector<float> values(static_cast<std::size_t>(count), grid.background());
-  const openvdb::Coord lo = bbox.min();
-  auto index = [&](const openvdb::Coord& c) {
-    return static_cast<std::size_t>(c[0] - lo[0]) +
-           static_cast<std::size_t>(dim[0]) *
-               (static_cast<std::size_t>(c[1] - lo[1]) +
-                static_cast<std::size_t>(dim[1]) * static_cast<std::size_t>(c[2] - lo[2]));
-  };
-  for (auto it = grid.cbeginValueOn(); it; ++it) {
-    if (it.isVoxelValue()) {
-      values[index(it.getCoord())] = *it;
-    } else {
-      openvdb::CoordBBox tile;
-      it.getBoundingBox(tile);
-      tile.intersect(bbox);
-      for (int k = tile.min()[2]; k <= tile.max()[2]; ++k) {
-        for (int j = tile.min()[1]; j <= tile.max()[1]; ++j) {
-          for (int i = tile.min()[0]; i <= tile.max()[0]; ++i) {
-            values[index(openvdb::Coord(i, j, k))] = *it;
-          }
-        }
-      }
-    }
-  }
-  img.point_data.add(DataArray::from_vector(gname, 1, std::move(values)), AttributeRole::Scalars);
-  return img;
-}
-
-openvdb::FloatGrid::Ptr image_to_vdb(const ImageData& image, std::string_view array,
-                                     float background, float tolerance) {
-  image.validate();
-  const DataArray* a = nullptr;
-  if (array.empty()) {
-    a = image.point_data.scalars();
-    if (!a) throw Error("image_to_vdb: the image has no active point scalars; name an array");
-  } else {
-    a = image.point_data.find(array);
-    if (!a) throw Error("image_to_vdb: the image has no point array '" + std::string(array) + "'");
-  }
-  const std::string what = "image_to_vdb: array '" + a->name() + "'";
-  if (a->components() != 1) {
-    throw Error(what + " has " + std::to_string(a->components()) +
-                " components; a float grid needs 1");
-  }
-  if (!std::isfinite(background)) throw Error("image_to_vdb: background is not finite");
-  if (!std::isfinite(tolerance) || tolerance < 0) {
-    throw Error("image_to_vdb: tolerance must be finite and >= 0");
-  }
-  const Vec3 sp = image.spacing;
-  const double s = sp.x;
-  const double tol = 1e-9 * std::max({std::abs(sp.x), std::abs(sp.y), std::abs(sp.z)});
-  if (!(s > 0) || std::abs(sp.y - s) > tol || std::abs(sp.z - s) > tol) {
-    throw Error("image_to_vdb: OpenVDB grids need equal positive spacing on all axes, got (" +
-                std::to_string(sp.x) + ", " + std::to_string(sp.y) + ", " + std::to_string(sp.z) +
-                ")");
-  }
-  for (int d = 0; d < 3; ++d) {
-    if (image.dims[d] > (Index{1} << 31) - 1) {
-      throw Error("image_to_vdb: dimension " + std::to_string(d) + " = " +
-                  std::to_string(image.dims[d]) + " exceeds OpenVDB's 32-bit index space");
-    }
-  }
-  ensure_openvdb_initialized();
-  std::vector<float> values(a->size());
-  a->visit([&](const auto& v) {
-    for (std::size_t i = 0; i < v.size(); ++i) values[i] = static_cast<float>(v[i]);
-  });
-  auto grid = openvdb::FloatGrid::create(background);
-  grid->setName(a->name());
-  grid->setTransform(vdb_transform(s, image.origin, "image_to_vdb"));
-  const openvdb::CoordBBox box(
-      openvdb::Coord(0, 0, 0),
-      openvdb::Coord(static_cast<int>(image.dims[0] - 1), static_cast<int>(image.dims[1] - 1),
-                     static_cast<int>(image.dims[2] - 1)));
-  openvdb::tools::Dense<float, openvdb::tools::LayoutXYZ> dense(box, values.data());
-  openvdb::tools::copyFromDense(dense, *grid, tolerance);
-  grid->pruneGrid(0.0f);
-  return grid;
-}
-
-openvdb::math::Transform::Ptr vdb_transform(double voxel_size, const Vec3& origin,
-                                             std::string_view what) {
-  char h[32];
-  std::snprintf(h, sizeof h, "%g", voxel_size);
-  if (!(voxel_size > 0) || !std::isfinite(voxel_size)) {
-    throw Error(std::string(what) + ": voxel size " + h + " must be positive and finite");
-  }
-  if (!is_finite(origin)) throw Error(std::string(what) + ": the grid origin is not finite");
-  ensure_openvdb_initialized();
-  try {
-    auto xf = openvdb::math::Transform::createLinearTransform(voxel_size);
-    xf->postTranslate(openvdb::Vec3d(origin.x, origin.y, origin.z));
-    return xf;
-  } catch (const openvdb::Exception& e) {
-    throw Error(std::string(what) + ": OpenVDB cannot use the voxel size " + h + " (" + e.what() +
-                "; its transforms need voxels of about 1e-5 or more): scale the input");
-  }
 }
 
 }  // namespace isoforge

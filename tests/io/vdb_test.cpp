@@ -20,8 +20,11 @@
 #include <vector>
 
 #include "isoforge/io/io.hpp"
+#include "isoforge/sparse/convert.hpp"
+#include "isoforge/sparse/grid.hpp"
 #include "support/scratch.hpp"
 #include "support/expect_error.hpp"
+#include "support/sample_datasets.hpp"
 
 using namespace isoforge;
 namespace fs = std::filesystem;
@@ -48,26 +51,13 @@ std::span<const std::byte> as_span(const std::vector<char>& b) {
   return std::as_bytes(std::span(b.data(), b.size()));
 }
 
-// A signed distance field of a sphere sampled on an image.
-ImageData sphere_image(const std::string& name = "distance") {
-  ImageData img;
-  img.dims = {24, 20, 18};
-  img.origin = {-1.5, 0.25, 2.0};
-  img.spacing = {0.2, 0.2, 0.2};
-  const Vec3 c{0.8, 2.1, 3.7};
-  std::vector<float> v;
-  for (Index k = 0; k < img.dims[2]; ++k) {
-    for (Index j = 0; j < img.dims[1]; ++j) {
-      for (Index i = 0; i < img.dims[0]; ++i) {
-        v.push_back(static_cast<float>(norm(img.point(i, j, k) - c) - 1.3));
-      }
-    }
-  }
-  img.point_data.add(DataArray::from_vector(name, 1, std::move(v)), AttributeRole::Scalars);
-  return img;
-}
-
 using isoforge::test::expect_error;
+
+// image_to_vdb with the options given in order.
+openvdb::FloatGrid::Ptr to_vdb(const ImageData& img, std::string array = {}, float background = 0.0f,
+                               float tolerance = 0.0f) {
+  return image_to_vdb(img, {std::move(array), background, tolerance});
+}
 
 // Three grids: a level set sphere, a vec3s grid, the sphere image as a float grid.
 fs::path write_three_grids(const std::string& file) {
@@ -79,7 +69,7 @@ fs::path write_three_grids(const std::string& file) {
   vel->setName("vel");
   vel->tree().setValue(openvdb::Coord(1, 2, 3), openvdb::Vec3s(1, 2, 3));
   vel->tree().setValue(openvdb::Coord(-4, 0, 7), openvdb::Vec3s(0, 0, 1));
-  auto dist = image_to_vdb(sphere_image(), "distance", 0.0f, 0.5f);
+  auto dist = to_vdb(test::sphere_distance_image(), "distance", 0.0f, 0.5f);
   const fs::path p = tmp_dir() / file;
   write_vdb({ls, vel, dist}, p);
   return p;
@@ -92,9 +82,9 @@ fs::path write_three_grids(const std::string& file) {
 // ---------------------------------------------------------------------------------------------
 
 TEST(Vdb, RoundTripImageToFileToImageIsExact) {
-  const ImageData img = sphere_image();
+  const ImageData img = test::sphere_distance_image();
   // A background no sample equals: every voxel is active, the bbox is the whole image.
-  auto grid = image_to_vdb(img, {}, -1000.0f, 0.0f);
+  auto grid = to_vdb(img, {}, -1000.0f, 0.0f);
   EXPECT_EQ(grid->getName(), "distance");
   EXPECT_EQ(grid->getGridClass(), openvdb::GRID_UNKNOWN);
   EXPECT_EQ(grid->activeVoxelCount(), img.num_points());
@@ -114,61 +104,8 @@ TEST(Vdb, RoundTripImageToFileToImageIsExact) {
   EXPECT_EQ(back.point_data.get("distance"), img.point_data.get("distance"));
 }
 
-TEST(Vdb, VoxelCentersMapToImagePoints) {
-  ensure_openvdb_initialized();
-  auto g = openvdb::FloatGrid::create(0.0f);
-  g->setName("g");
-  auto xf = openvdb::math::Transform::createLinearTransform(0.5);
-  xf->postTranslate(openvdb::Vec3d(10, 20, 30));
-  g->setTransform(xf);
-  g->tree().setValue(openvdb::Coord(2, -1, 4), 1.0f);
-  g->tree().setValue(openvdb::Coord(4, 0, 4), 2.0f);
-  const ImageData img = vdb_to_image(*g);
-  EXPECT_EQ(img.dims, (Dims{3, 2, 1}));
-  EXPECT_EQ(img.origin, (Vec3{11, 19.5, 32}));  // index (2, -1, 4) * 0.5 + (10, 20, 30)
-  EXPECT_EQ(img.spacing, (Vec3{0.5, 0.5, 0.5}));
-  const DataArray& a = img.point_data.get("g");
-  EXPECT_EQ(a.get(static_cast<std::size_t>(img.point_id(0, 0, 0))), 1.0);
-  EXPECT_EQ(a.get(static_cast<std::size_t>(img.point_id(2, 1, 0))), 2.0);
-  EXPECT_EQ(a.get(static_cast<std::size_t>(img.point_id(1, 0, 0))), 0.0);  // background
-}
-
-TEST(Vdb, ToleranceLeavesValuesNearBackgroundInactive) {
-  ImageData img;
-  img.dims = {3, 2, 2};
-  img.origin = {1, 2, 3};
-  img.spacing = {0.5, 0.5, 0.5};
-  const std::vector<float> v = {0, 0.05f, -0.05f, 0.1f, 0.2f, -0.3f, 1, 0, 0.099f, -0.1f, 0.5f, 2};
-  img.point_data.add(DataArray::from_vector("f", 1, v), AttributeRole::Scalars);
-  // |v - 0| > 0.1 for 0.2, -0.3, 1, 0.5, 2.
-  auto g = image_to_vdb(img, "f", 0.0f, 0.1f);
-  EXPECT_EQ(g->activeVoxelCount(), 5u);
-  // Tolerance 0: everything but the two exact zeros.
-  EXPECT_EQ(image_to_vdb(img, "f", 0.0f, 0.0f)->activeVoxelCount(), 10u);
-  // Another background: |v - 1| <= 0.5 leaves 0.5 and 1 inactive (and 0.99... none).
-  EXPECT_EQ(image_to_vdb(img, "f", 1.0f, 0.5f)->activeVoxelCount(), 10u);
-  // Densifying puts the background where voxels are inactive.
-  const ImageData back = vdb_to_image(*g);
-  EXPECT_EQ(back.dims, (Dims{3, 2, 2}));  // 0.2 at (1,1,0) ... 2 at (2,1,1): full box
-  const DataArray& a = back.point_data.get("f");
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    const float expect = std::abs(v[i]) > 0.1f ? v[i] : 0.0f;
-    EXPECT_EQ(a.get(i), expect) << i;
-  }
-}
-
-TEST(Vdb, PruningOnTheSphereReducesTheActiveCount) {
-  const ImageData img = sphere_image();
-  const auto& vals = img.point_data.get("distance").values<float>();
-  for (float tol : {0.0f, 0.25f, 0.5f, 1.0f}) {
-    std::size_t expect = 0;
-    for (float x : vals) expect += std::abs(x) > tol ? 1 : 0;
-    EXPECT_EQ(image_to_vdb(img, {}, 0.0f, tol)->activeVoxelCount(), expect) << tol;
-  }
-}
-
 TEST(Vdb, FileFormatPlumbingThroughIoReadWrite) {
-  const ImageData img = sphere_image("density");
+  const ImageData img = test::sphere_distance_image("density");
   const fs::path p = tmp_dir() / "plumbing.vdb";
   WriteOptions wo;
   wo.vdb_tolerance = 0.0;
@@ -398,41 +335,6 @@ TEST(VdbErrors, CorruptedFilesNeverCrash) {
   EXPECT_GT(ok, 100);  // flips in float values or masks' unused bits are legal files
 }
 
-TEST(VdbErrors, ConversionPreconditions) {
-  ImageData img = sphere_image();
-  img.spacing = {0.2, 0.2, 0.3};
-  expect_error([&] { (void)image_to_vdb(img); }, "equal positive spacing on all axes");
-  img.spacing = {-0.2, -0.2, -0.2};
-  expect_error([&] { (void)image_to_vdb(img); }, "equal positive spacing");
-  img = sphere_image();
-  expect_error([&] { (void)image_to_vdb(img, "missing"); }, "no point array 'missing'");
-  img.point_data.add(DataArray("vec", ScalarType::Float32, 3, img.num_points()));
-  expect_error([&] { (void)image_to_vdb(img, "vec"); }, "array 'vec' has 3 components");
-  expect_error([&] { (void)image_to_vdb(img, {}, 0.0f, -1.0f); }, "tolerance");
-  expect_error([&] { (void)image_to_vdb(img, {}, NAN); }, "background is not finite");
-  ImageData bare;
-  bare.dims = {2, 2, 2};
-  bare.point_data.add(DataArray("x", ScalarType::Float32, 1, 8));
-  expect_error([&] { (void)image_to_vdb(bare); }, "no active point scalars");
-
-  // Too many voxels.
-  auto g = image_to_vdb(sphere_image(), {}, -1000.0f, 0.0f);
-  expect_error([&] { (void)vdb_to_image(*g, 1000); },
-               "active bounding box 24 x 20 x 18 = 8640 voxels exceeds the limit of 1000");
-  EXPECT_NO_THROW((void)vdb_to_image(*g, 8640));
-  // Non-uniform and rotated transforms.
-  auto h = g->deepCopy();
-  h->setTransform(openvdb::math::Transform::createLinearTransform(
-      openvdb::Mat4d(openvdb::Vec4d(1, 0, 0, 0), openvdb::Vec4d(0, 2, 0, 0),
-                     openvdb::Vec4d(0, 0, 1, 0), openvdb::Vec4d(0, 0, 0, 1))));
-  expect_error([&] { (void)vdb_to_image(*h); }, "not a uniform scale + translation");
-  h->transform().postRotate(0.3, openvdb::math::Z_AXIS);
-  expect_error([&] { (void)vdb_to_image(*h); }, "not a uniform scale + translation");
-  auto empty = openvdb::FloatGrid::create();
-  empty->setName("e");
-  expect_error([&] { (void)vdb_to_image(*empty); }, "grid 'e': the grid has no active voxels");
-}
-
 // ---------------------------------------------------------------------------------------------
 // Atomic writing
 // ---------------------------------------------------------------------------------------------
@@ -463,7 +365,7 @@ TEST(VdbWrite, FailureLeavesAnExistingFileUnchanged) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   const fs::path p = dir / "keep.vdb";
-  auto good = image_to_vdb(sphere_image(), {}, 0.0f, 0.5f);
+  auto good = to_vdb(test::sphere_distance_image(), {}, 0.0f, 0.5f);
   write_vdb(*good, p);
   const std::vector<char> before = file_bytes(p);
   ASSERT_FALSE(before.empty());
@@ -492,7 +394,7 @@ TEST(VdbWrite, FailureLeavesAnExistingFileUnchanged) {
   // Writing into a missing directory fails cleanly.
   expect_error([&] { write_vdb(*good, dir / "no_such_dir" / "x.vdb"); }, "x.vdb");
   // A successful overwrite replaces the file.
-  auto other = image_to_vdb(sphere_image("other"), {}, 0.0f, 0.1f);
+  auto other = to_vdb(test::sphere_distance_image("other"), {}, 0.0f, 0.1f);
   write_vdb(*other, p);
   EXPECT_NE(file_bytes(p), before);
   EXPECT_EQ(read_vdb_grid(p)->getName(), "other");

@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <cstdint>
+#include <string>
+#include <vector>
 
 #include "isoforge/core/dataset.hpp"
 
@@ -119,6 +121,26 @@ inline UnstructuredGrid sample_unstructured() {
   for (std::size_t i = 0; i < ug.num_cells(); ++i) m.set(i, 0, -static_cast<double>(i));
   ug.cell_data.add(std::move(m));
   return ug;
+}
+
+/// A signed distance field of a sphere (centre (0.8, 2.1, 3.7), radius 1.3) sampled on a
+/// 24 x 20 x 18 image with origin (-1.5, 0.25, 2) and spacing 0.2: Float32 scalars `name`.
+inline ImageData sphere_distance_image(const std::string& name = "distance") {
+  ImageData img;
+  img.dims = {24, 20, 18};
+  img.origin = {-1.5, 0.25, 2.0};
+  img.spacing = {0.2, 0.2, 0.2};
+  const Vec3 c{0.8, 2.1, 3.7};
+  std::vector<float> v;
+  for (Index k = 0; k < img.dims[2]; ++k) {
+    for (Index j = 0; j < img.dims[1]; ++j) {
+      for (Index i = 0; i < img.dims[0]; ++i) {
+        v.push_back(static_cast<float>(norm(img.point(i, j, k) - c) - 1.3));
+      }
+    }
+  }
+  img.point_data.add(DataArray::from_vector(name, 1, std::move(v)), AttributeRole::Scalars);
+  return img;
 }
 
 }  // namespace isoforge::test

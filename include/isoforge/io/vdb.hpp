@@ -1,7 +1,8 @@
 #pragma once
 /// \file
-/// OpenVDB `.vdb` files (float grids) and conversion between sparse grids and `ImageData`.
-/// This is the one io header that includes OpenVDB.
+/// OpenVDB `.vdb` files (float grids): validated reading, inspection and atomic writing.
+/// Conversion to and from `ImageData` is in sparse/convert.hpp. The one io header that includes
+/// OpenVDB.
 ///
 /// References implemented: the OpenVDB file format as written by OpenVDB 10 (format versions
 /// 222-224: header, metadata maps, grid descriptors with offsets, transforms, the 5-4-3 tree's
@@ -33,9 +34,6 @@
 
 namespace isoforge {
 
-/// Calls openvdb::initialize() once (thread-safe); every function here does it for you.
-void ensure_openvdb_initialized();
-
 /// Reads the float grid named `grid_name` (or the first float grid if empty). A name matches a
 /// grid's name, or `name[N]` the N-th of several grids sharing a name (OpenVDB's convention).
 /// \throw Error naming the file if it is not a VDB file, has no such float grid, or is corrupt.
@@ -65,32 +63,5 @@ struct VdbGridInfo {
 /// grids, a null grid, an OpenVDB or I/O error); `path` is then left unchanged.
 void write_vdb(const std::vector<openvdb::GridBase::Ptr>& grids, const std::filesystem::path& path);
 void write_vdb(const openvdb::FloatGrid& grid, const std::filesystem::path& path);
-
-/// The uniform-scale transform of isoforge's grids: voxel (i, j, k) at origin + (i, j, k) *
-/// voxel_size. \throw Error naming `what` if OpenVDB cannot represent it: a voxel size not
-/// positive and finite, or so small that OpenVDB's transforms reject the scale (below about
-/// 1e-5: its determinant must exceed 1e-15), or a non-finite origin.
-[[nodiscard]] openvdb::math::Transform::Ptr vdb_transform(double voxel_size, const Vec3& origin,
-                                                          std::string_view what);
-
-/// Densifies the active bounding box of a grid (uniform voxel size required) into image data
-/// with point array named after the grid ("Scalars" if unnamed), float32, set as the active
-/// scalars. Voxel (i, j, k) is centred at world i * voxel size + translation, so the image's
-/// origin is the world position of the bbox's min corner voxel and its spacing the voxel size.
-/// Inactive voxels take the background value. \throw Error if the grid has no active voxels,
-/// the box has more than `max_voxels` voxels or the transform is not a uniform scale +
-/// translation.
-[[nodiscard]] ImageData vdb_to_image(const openvdb::FloatGrid& grid,
-                                     std::size_t max_voxels = std::size_t{1} << 28);
-/// Converts a scalar point array of image data (active scalars if `array` is empty) to a float
-/// grid; values within `tolerance` of `background` (|v - background| <= tolerance) stay inactive
-/// and are pruned. Point (i, j, k) becomes voxel (i, j, k); the transform is a uniform scale by
-/// the spacing plus a translation by the origin. The grid is named after the array; its class
-/// stays GRID_UNKNOWN (set it yourself for a level set or fog volume). Requires equal positive
-/// spacing on all axes (to 1e-9 relative). \throw Error otherwise, or if the array is missing or
-/// has more than one component, or background/tolerance are not finite (tolerance >= 0).
-[[nodiscard]] openvdb::FloatGrid::Ptr image_to_vdb(const ImageData& image,
-                                                   std::string_view array = {},
-                                                   float background = 0.0f, float tolerance = 0.0f);
 
 }  // namespace isoforge
