@@ -16,8 +16,8 @@
 #include <string>
 #include <utility>
 
-#include "core/subset.hpp"
-#include "core/union_find.hpp"
+#include "isoforge/core/subset.hpp"
+#include "isoforge/core/union_find.hpp"
 
 namespace isoforge {
 
@@ -25,6 +25,8 @@ namespace {
 
 constexpr const char* kOp = "connectivity";
 constexpr std::int32_t kNone = std::numeric_limits<std::int32_t>::max();
+// Progress is reported every 2^20 cells (or points) of a labelling loop.
+constexpr std::size_t kProgressMask = (std::size_t{1} << 20) - 1;
 
 enum Kind : int { kVerts = 0, kLines = 1, kPolys = 2, kStrips = 3 };
 
@@ -72,12 +74,15 @@ void for_each_edge(int kind, std::span<const Index> ids, F&& f) {
 // Provisional labels (connected through shared points), numbered in order of each component's
 // smallest cell id. Returns the number of components.
 template <class T>
-std::size_t label_by_points(const PolyData& pd, std::vector<std::int32_t>& label) {
+std::size_t label_by_points(const PolyData& pd, std::vector<std::int32_t>& label,
+                            const ProgressCallback& progress) {
   UnionFind<T> sets(pd.num_points());
-  for_each_cell(pd, [&](std::size_t, int, std::span<const Index> ids) {
+  const double nc = static_cast<double>(pd.num_cells());
+  for_each_cell(pd, [&](std::size_t c, int, std::span<const Index> ids) {
     for (std::size_t i = 1; i < ids.size(); ++i) {
       sets.unite(static_cast<T>(ids[i - 1]), static_cast<T>(ids[i]));
     }
+    if ((c & kProgressMask) == kProgressMask) report_progress(progress, 0.8 * (static_cast<double>(c) / nc), kOp);
   });
   std::vector<std::int32_t> root_label(pd.num_points(), -1);
   std::int32_t next = 0;
@@ -93,7 +98,8 @@ std::size_t label_by_points(const PolyData& pd, std::vector<std::int32_t>& label
 // edge uses are bucketed by their smaller point (a counting sort), then sorted by the larger
 // one within each bucket; the cells of equal edges are united.
 template <class T>
-std::size_t label_by_edges(const PolyData& pd, std::vector<std::int32_t>& label) {
+std::size_t label_by_edges(const PolyData& pd, std::vector<std::int32_t>& label,
+                           const ProgressCallback& progress) {
   const std::size_t np = pd.num_points(), nc = pd.num_cells();
   std::vector<T> start(np + 1, 0);
   for_each_cell(pd, [&](std::size_t, int kind, std::span<const Index> ids) {
@@ -115,8 +121,12 @@ std::size_t label_by_edges(const PolyData& pd, std::vector<std::int32_t>& label)
   for (std::size_t p = np; p > 0; --p) start[p] = start[p - 1];
   start[0] = 0;
 
+  report_progress(progress, 0.4, kOp);
   UnionFind<T> sets(nc);
   for (std::size_t p = 0; p < np; ++p) {
+    if ((p & kProgressMask) == kProgressMask) {
+      report_progress(progress, 0.4 + 0.5 * (static_cast<double>(p) / static_cast<double>(np)), kOp);
+    }
     const auto first = uses.begin() + static_cast<std::ptrdiff_t>(start[p]);
     const auto last = uses.begin() + static_cast<std::ptrdiff_t>(start[p + 1]);
     if (last - first < 2) continue;
@@ -254,19 +264,22 @@ ConnectivityResult run(const PolyData& input, const ConnectivityOptions& options
   std::vector<std::int32_t> comp(nc);
   std::size_t ncomp = 0;
   if (options.connected_by == ConnectedBy::Point) {
-    ncomp = np < k32 ? label_by_points<std::uint32_t>(input, comp)
-                     : label_by_points<std::uint64_t>(input, comp);
+    const ProgressCallback labels = progress_range(options.progress, 0.0, 0.5);
+    ncomp = np < k32 ? label_by_points<std::uint32_t>(input, comp, labels)
+                     : label_by_points<std::uint64_t>(input, comp, labels);
   } else {
     std::size_t ids = 0;
     for (const CellArray* a : cell_arrays(input)) ids += a->connectivity().size();
-    ncomp = np < k32 && nc < k32 && 2 * ids < k32 ? label_by_edges<std::uint32_t>(input, comp)
-                                                  : label_by_edges<std::uint64_t>(input, comp);
+    const ProgressCallback labels = progress_range(options.progress, 0.0, 0.5);
+    ncomp = np < k32 && nc < k32 && 2 * ids < k32
+                ? label_by_edges<std::uint32_t>(input, comp, labels)
+                : label_by_edges<std::uint64_t>(input, comp, labels);
   }
   report_progress(options.progress, 0.5, kOp);
 
   // 2. Number by decreasing size; the stable sort keeps the smallest-cell order among ties.
   ConnectivityResult r;
-  r.components = ncomp;
+  r.stats.components = ncomp;
   std::vector<std::size_t> sizes(ncomp, 0);
   for (std::int32_t l : comp) ++sizes[static_cast<std::size_t>(l)];
   std::vector<double> areas;
@@ -286,21 +299,21 @@ ConnectivityResult run(const PolyData& input, const ConnectivityOptions& options
                      [&](std::size_t a, std::size_t b) { return sizes[a] > sizes[b]; });
   }
   std::vector<std::int32_t> rank(ncomp);
-  r.sizes.resize(ncomp);
-  if (!areas.empty()) r.areas.resize(ncomp);
+  r.stats.sizes.resize(ncomp);
+  if (!areas.empty()) r.stats.areas.resize(ncomp);
   for (std::size_t i = 0; i < ncomp; ++i) {
     rank[order[i]] = static_cast<std::int32_t>(i);
-    r.sizes[i] = sizes[order[i]];
-    if (!areas.empty()) r.areas[i] = areas[order[i]];
+    r.stats.sizes[i] = sizes[order[i]];
+    if (!areas.empty()) r.stats.areas[i] = areas[order[i]];
   }
   for (std::int32_t& l : comp) l = rank[static_cast<std::size_t>(l)];
 
   // 3. Selection.
   const std::vector<char> sel = select_components(input, options, comp, ncomp);
   for (std::size_t i = 0; i < ncomp; ++i) {
-    if (sel[i]) r.selected.push_back(i);
+    if (sel[i]) r.stats.selected.push_back(i);
   }
-  const bool all_cells = r.selected.size() == ncomp;
+  const bool all_cells = r.stats.selected.size() == ncomp;
   report_progress(options.progress, 0.6, kOp);
 
   // 4. Points of the selected cells, labeled with the smallest component using them.
@@ -434,7 +447,7 @@ ConnectivityResult run(const PolyData& input, const ConnectivityOptions& options
     out.point_data.add(std::move(point_ids));
     out.cell_data.add(std::move(cell_ids));
   }
-  r.cell_component = std::move(comp);
+  r.stats.cell_component = std::move(comp);
   report_progress(options.progress, 1.0, kOp);
   return r;
 }

@@ -1,16 +1,69 @@
-// contour(): dispatch on the dataset type.
+// contour(): the one dispatcher on the dataset type (and, for structured data, on its
+// dimension) to the contour kernels of contour_internal.hpp.
 
 #include "isoforge/contour/contour.hpp"
 
 #include "contour_internal.hpp"
+#include "contour_output.hpp"
 
 namespace isoforge {
 
-PolyData contour(DatasetRef input, const ContourOptions& options, ContourStats* stats) {
-  using namespace contour_detail;
-  if (const auto* img = input.get_if<ImageData>()) return contour_image(*img, options, stats);
-  if (const auto* pd = input.get_if<PolyData>()) return contour_polydata(*pd, options, stats);
-  return contour_cells(input, options, stats);
+using namespace contour_detail;
+
+namespace {
+
+ContourResult contour_structured_grid(const StructuredGrid& grid, const ContourOptions& options) {
+  grid.validate();
+  const DataArray& scalars = contour_scalars(grid.point_data, options, "contour");
+  ContourResult r;
+  r.output = structured_dimension(grid.dims) == 3
+                 ? marching_cubes_grid(grid, scalars, options, r.stats)
+                 : marching_squares_grid(grid, scalars, options, r.stats);
+  return r;
+}
+
+ContourResult contour_unstructured_grid(const UnstructuredGrid& grid, const ContourOptions& options) {
+  grid.validate();
+  const DataArray& scalars = contour_scalars(grid.point_data, options, "contour");
+  const CellRun run{&grid.cells, &grid.types, CellType::Empty, 0};
+  ContourResult r;
+  r.output = marching_cells(grid.points, grid.point_data, grid.cell_data,
+                            std::span<const CellRun>(&run, 1), scalars, options, r.stats);
+  return r;
+}
+
+ContourResult contour_polydata(const PolyData& input, const ContourOptions& options) {
+  input.validate();
+  const DataArray& scalars = contour_scalars(input.point_data, options, "contour");
+  const std::size_t nv = input.verts.size(), nl = input.lines.size(), np = input.polys.size();
+  const CellRun runs[] = {
+      {&input.lines, nullptr, CellType::PolyLine, nv},
+      {&input.polys, nullptr, CellType::Polygon, nv + nl},
+      {&input.strips, nullptr, CellType::TriangleStrip, nv + nl + np},
+  };
+  ContourResult r;
+  r.output = marching_cells(input.points, input.point_data, input.cell_data, runs, scalars,
+                            options, r.stats);
+  return r;
+}
+
+}  // namespace
+
+ContourResult contour_image(const ImageData& input, const ContourOptions& options) {
+  input.validate();
+  const DataArray& scalars = contour_scalars(input.point_data, options, "contour_image");
+  ContourResult r;
+  r.output = structured_dimension(input.dims) == 3
+                 ? marching_cubes_image(input, scalars, options, r.stats)
+                 : marching_squares_image(input, scalars, options, r.stats);
+  return r;
+}
+
+ContourResult contour(DatasetRef input, const ContourOptions& options) {
+  if (const auto* img = input.get_if<ImageData>()) return contour_image(*img, options);
+  if (const auto* sg = input.get_if<StructuredGrid>()) return contour_structured_grid(*sg, options);
+  if (const auto* ug = input.get_if<UnstructuredGrid>()) return contour_unstructured_grid(*ug, options);
+  return contour_polydata(*input.get_if<PolyData>(), options);
 }
 
 }  // namespace isoforge

@@ -39,8 +39,9 @@
 #include <immintrin.h>
 #endif
 
-#include "contour_internal.hpp"
-#include "isoforge/io/vdb.hpp"
+#include "contour_output.hpp"
+#include "isoforge/core/parallel.hpp"
+#include "isoforge/sparse/grid.hpp"
 #include "tables.hpp"
 
 namespace isoforge {
@@ -104,42 +105,6 @@ struct Block {
   std::array<std::uint16_t, 24> rank{};  // the block's points before word w's first one
   std::uint32_t edge_points = 0, centers = 0, tris = 0, ambiguous = 0, skipped = 0;
 };
-
-/// World position of voxels: translation + index * h (a uniform scale + translation).
-struct WorldMap {
-  double o[3];
-  double h;
-  [[nodiscard]] double coordinate(int axis, std::int64_t i) const {
-    return o[axis] + static_cast<double>(i) * h;
-  }
-};
-
-WorldMap world_map(const openvdb::FloatGrid& grid, const std::string& what) {
-  const openvdb::math::Transform& xf = grid.transform();
-  if (!xf.isLinear()) throw Error(what + ": non-linear (frustum) transforms are not supported");
-  // Row vectors: world = (index, 1) * M; rows 0-2 are the images of the index axes, row 3 the
-  // translation (exact copies of a scale-translate map's values).
-  const openvdb::Mat4d m = xf.baseMap()->getAffineMap()->getMat4();
-  const double s = m(0, 0);
-  const double tol = 1e-9 * std::abs(s);
-  bool uniform = std::isfinite(s) && s > 0;
-  for (int r = 0; r < 3 && uniform; ++r) {
-    for (int c = 0; c < 3; ++c) {
-      const double expect = r == c ? s : 0.0;
-      if (!(std::abs(m(r, c) - expect) <= tol)) uniform = false;
-    }
-    if (!std::isfinite(m(3, r))) uniform = false;
-  }
-  if (!uniform) {
-    throw Error(what + ": transform is not a uniform scale + translation (index axes map to (" +
-                std::to_string(m(0, 0)) + ", " + std::to_string(m(0, 1)) + ", " +
-                std::to_string(m(0, 2)) + "), (" + std::to_string(m(1, 0)) + ", " +
-                std::to_string(m(1, 1)) + ", " + std::to_string(m(1, 2)) + "), (" +
-                std::to_string(m(2, 0)) + ", " + std::to_string(m(2, 1)) + ", " +
-                std::to_string(m(2, 2)) + "))");
-  }
-  return {{m(3, 0), m(3, 1), m(3, 2)}, s};
-}
 
 constexpr std::array<Word, 8> kAllAbove = {~Word{0}, ~Word{0}, ~Word{0}, ~Word{0},
                                            ~Word{0}, ~Word{0}, ~Word{0}, ~Word{0}};
@@ -272,7 +237,7 @@ constexpr std::array<Key, 8> kNeighbour = {neighbour_key(0), neighbour_key(1), n
 
 class VdbContourer {
  public:
-  VdbContourer(const openvdb::FloatGrid& grid, const WorldMap& map, const ContourOptions& options)
+  VdbContourer(const openvdb::FloatGrid& grid, const UniformTransform& map, const ContourOptions& options)
       : tree_(grid.tree()), map_(map), opt_(options) {}
 
   // Setup: the visited blocks, their neighbours and value sources.
@@ -326,16 +291,15 @@ class VdbContourer {
   }
 
   // Pass 1: classification of every block's voxels, then edge masks and counts per block.
-  void count() {
+  void count(const ProgressCallback& progress) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks_.size(), 64),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                         for (std::size_t b = r.begin(); b != r.end(); ++b) classify(blocks_[b]);
                       });
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks_.size(), 16),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        Neighbourhood nh;
-                        for (std::size_t b = r.begin(); b != r.end(); ++b) count_block(nh, b);
-                      });
+    parallel_for_range(blocks_.size(), 16, [&](std::size_t begin, std::size_t end) {
+      Neighbourhood nh;
+      for (std::size_t b = begin; b != end; ++b) count_block(nh, b);
+    }, progress, "contour");
   }
 
   struct Totals {
@@ -363,18 +327,17 @@ class VdbContourer {
   }
 
   // Pass 3: points, attributes and triangles.
-  void generate(float* pts, float* scalars, float* normals, Index* conn) {
+  void generate(float* pts, float* scalars, float* normals, Index* conn,
+                const ProgressCallback& progress) {
     pts_ = pts;
     scalars_ = scalars;
     normals_ = normals;
     conn_ = conn;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks_.size(), 16),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        Accessor acc(tree_);
-                        Neighbourhood nh;
-                        for (std::size_t b = r.begin(); b != r.end(); ++b)
-                          generate_block(acc, nh, b);
-                      });
+    parallel_for_range(blocks_.size(), 16, [&](std::size_t begin, std::size_t end) {
+      Accessor acc(tree_);
+      Neighbourhood nh;
+      for (std::size_t b = begin; b != end; ++b) generate_block(acc, nh, b);
+    }, progress, "contour");
   }
 
  private:
@@ -491,7 +454,7 @@ class VdbContourer {
 
   // Central differences in world units at local voxel (x, y, z) (needs the margin).
   Vec3 gradient(const Neighbourhood& nh, int x, int y, int z) const {
-    const double d = 2.0 * map_.h;
+    const double d = 2.0 * map_.voxel_size;
     return {
         (static_cast<double>(nh.value(x + 1, y, z)) - static_cast<double>(nh.value(x - 1, y, z))) /
             d,
@@ -538,11 +501,11 @@ class VdbContourer {
           for (int c = 0; c < 3; ++c) {
             // As the dense contour: coordinate(i) + t * h along the edge.
             const double w =
-                c == a ? map_.coordinate(c, g[c]) + t * map_.h : map_.coordinate(c, g[c]);
+                c == a ? map_.coordinate(c, g[c]) + t * map_.voxel_size : map_.coordinate(c, g[c]);
             q[c] = static_cast<float>(w);
           }
           if (scalars_) {
-            double v = 0;  // the sums of InterpolatedArrays
+            double v = 0;  // the sums of AttributeInterpolator
             v += (1.0 - t) * v0;
             v += t * v1;
             scalars_[p] = static_cast<float>(v);
@@ -555,7 +518,7 @@ class VdbContourer {
         }
       }
     }
-    ISOFORGE_ASSERT(p == base + static_cast<Index>(blk.edge_points));
+    check_invariant(p == base + static_cast<Index>(blk.edge_points), "block edge points = count");
     // Cell-interior points and triangles.
     const CaseTable& table = voxel_table();
     const auto& edges = edge_info();
@@ -579,7 +542,7 @@ class VdbContourer {
         const int vx = x + (ei.c0 & 1), vy = y + ((ei.c0 >> 1) & 1), vz = z + ((ei.c0 >> 2) & 1);
         const int d = (vx >> 3) | (vy >> 3) << 1 | (vz >> 3) << 2;
         const std::int32_t ob = blk.nb[static_cast<std::size_t>(d)];
-        ISOFORGE_ASSERT(ob >= 0);
+        check_invariant(ob >= 0, "the owner block of an edge exists");
         const Block& owner = blocks_[static_cast<std::size_t>(ob)];
         const auto w = static_cast<std::size_t>(8 * ei.axis + (vx & 7));
         const int bit = 8 * (vy & 7) + (vz & 7);
@@ -589,8 +552,8 @@ class VdbContourer {
       tri += var.triangles;
       center += var.centers;
     });
-    ISOFORGE_ASSERT(tri == tri_end);
-    ISOFORGE_ASSERT(center == point_offset_[b + 1]);
+    check_invariant(tri == tri_end, "block triangles = count");
+    check_invariant(center == point_offset_[b + 1], "block points = count");
   }
 
   // A point inside cell (x, y, z): the mean of the crossings on `edges`, computed exactly like
@@ -632,7 +595,7 @@ class VdbContourer {
   }
 
   const Tree& tree_;
-  WorldMap map_;
+  UniformTransform map_;
   const ContourOptions& opt_;
   std::vector<Block> blocks_;
   std::vector<Index> point_offset_, tri_offset_;
@@ -647,30 +610,27 @@ class VdbContourer {
 
 }  // namespace
 
-PolyData contour_vdb(const openvdb::FloatGrid& grid, const ContourOptions& options,
-                     VdbContourStats* stats) {
+VdbContourResult contour_vdb(const openvdb::FloatGrid& grid, const ContourOptions& options) {
   ensure_openvdb_initialized();
   const std::string name = grid.getName().empty() ? std::string("Scalars") : grid.getName();
   const std::string what = "contour_vdb: grid '" + name + "'";
-  if (options.values.empty()) throw Error(what + ": no isovalues given");
-  for (double v : options.values) {
-    if (!std::isfinite(v)) throw Error(what + ": isovalue " + std::to_string(v) + " is not finite");
-  }
+  check_values(options, what.c_str());
   if (!options.array.empty() && options.array != name) {
     throw Error(what + ": no point array named '" + options.array + "' (the grid's values are '" +
                 name + "')");
   }
-  const WorldMap map = world_map(grid, what);
+  const UniformTransform map = uniform_transform(grid, what);
 
   VdbContourer c(grid, map, options);
   c.build_blocks();
-  VdbContourStats local;
+  VdbContourResult r;
+  VdbContourStats& local = r.stats;
   local.leaves = c.leaves();
   local.blocks = c.blocks();
   const bool gradient = options.normals == ContourNormals::Gradient;
-  PolyData out = contour_each_value(options, [&](std::size_t v) {
+  r.output = contour_each_value(options, [&](std::size_t v, const ProgressCallback& progress) {
     c.set_isovalue(options.values[v]);
-    c.count();
+    c.count(progress_range(progress, 0.0, 0.4));
     const auto totals = c.offsets();
     const auto npts = static_cast<std::size_t>(totals.points);
     const auto ntris = static_cast<std::size_t>(totals.tris);
@@ -690,7 +650,7 @@ PolyData contour_vdb(const openvdb::FloatGrid& grid, const ContourOptions& optio
     c.generate(part.points.floats().data(),
                options.interpolate_attributes ? scalars.values<float>().data() : nullptr,
                gradient ? normals.values<float>().data() : nullptr,
-               part.polys.connectivity().data());
+               part.polys.connectivity().data(), progress_range(progress, 0.4, 1.0));
     if (options.interpolate_attributes)
       part.point_data.add(std::move(scalars), AttributeRole::Scalars);
     if (gradient) part.point_data.add(std::move(normals), AttributeRole::Normals);
@@ -700,8 +660,7 @@ PolyData contour_vdb(const openvdb::FloatGrid& grid, const ContourOptions& optio
     local.skipped_cells += totals.skipped;
     return part;
   });
-  if (stats) *stats = local;
-  return out;
+  return r;
 }
 
 }  // namespace isoforge

@@ -1,16 +1,9 @@
-// Marching cells on structured and unstructured grids (Lorensen & Cline, "Marching cubes",
+// Marching cells on unstructured grids and polygonal data (Lorensen & Cline, "Marching cubes",
 // SIGGRAPH '87, generalised to every linear cell type through the generated case tables of
 // tables.hpp; ambiguous quad faces resolved by the asymptotic decider of Nielson & Hamann,
 // Visualization '91).
 //
-// Structured grids with three dimensions > 1 are contoured like 3D images (contour_image.cpp):
-// one bit per sample, per-row counts from word operations, prefix sums into exact output
-// offsets, row-parallel generation, and the same point numbering (per row of points: its x-, y-
-// and z-edge crossings, then the centre points of its voxels), but the crossings interpolate the
-// grid's own points. Lower-dimensional structured grids go to marching squares
-// (contour_lines.cpp).
-//
-// Unstructured grids (and polygonal data, through contour_cell_runs) are contoured cell by cell
+// Unstructured grids and polygonal data are contoured cell by cell
 // in input order, after a parallel pass that finds the cells with points on both sides: 3D cells
 // give triangles from their case tables, 2D cells give segments that are joined into polylines,
 // 1D cells give one vertex per crossed segment. Points are merged by global edge (min point id,
@@ -35,8 +28,9 @@
 #include <variant>
 
 #include "contour_internal.hpp"
-#include "lattice.hpp"
-#include "marching.hpp"
+#include "contour_output.hpp"
+#include "isoforge/core/polylines.hpp"
+#include "polygon_segments.hpp"
 #include "tables.hpp"
 
 namespace isoforge::contour_detail {
@@ -59,16 +53,6 @@ double oriented_volume(const CellTopology& topo, const Vec3* corners) {
   return v;
 }
 
-
-PolyData contour_structured_grid(const StructuredGrid& grid, const ContourOptions& options,
-                                 ContourStats* stats) {
-  grid.validate();
-  if (structured_dimension(grid.dims) < 3) return contour_structured_grid_2d(grid, options, stats);
-  // Hexahedra read in voxel corner order: the lattice kernel with the grid's own points.
-  const DataArray& scalars = contour_scalars(grid.point_data, options, "contour");
-  return contour_lattice(GridGeometry{grid}, grid.dims, scalars, grid.point_data, grid.cell_data,
-                         options, stats);
-}
 
 // ------------------------------------------------------------------------------------------------
 // Lists of cells (unstructured grids, polygonal data).
@@ -295,8 +279,7 @@ class CellContourer {
     const std::size_t nv = verts_.size(), nl = lines.first.size(), nt = tri_cell_.size();
     PolyData out;
     out.points = Points(np);
-    InterpolatedArrays arrays(point_data, cell_data, np, nv + nl + nt, opt_.interpolate_attributes,
-                              opt_.normals == ContourNormals::Gradient);
+    ContourArrays arrays(point_data, cell_data, np, nv + nl + nt, opt_);
     float* xyz = out.points.floats().data();
     // Edge crossings (in parallel: each writes its own point), then centres.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, np, 1024),
@@ -311,7 +294,7 @@ class CellContourer {
                           xyz[3 * p] = static_cast<float>(x.x);
                           xyz[3 * p + 1] = static_cast<float>(x.y);
                           xyz[3 * p + 2] = static_cast<float>(x.z);
-                          arrays.interpolate(p, static_cast<std::size_t>(s.a),
+                          arrays.attributes.interpolate(p, static_cast<std::size_t>(s.a),
                                              static_cast<std::size_t>(s.b), t);
                           if (arrays.normals) {
                             const Vec3 ga = (*gradients)[static_cast<std::size_t>(s.a)],
@@ -320,7 +303,7 @@ class CellContourer {
                           }
                         }
                       });
-    std::vector<InterpolatedArrays::Term> terms;
+    std::vector<AttributeInterpolator::Term> terms;
     for (std::size_t p = 0; p < np; ++p) {
       const Source& s = sources_[p];
       if (s.a >= 0) continue;
@@ -348,14 +331,14 @@ class CellContourer {
       xyz[3 * p] = static_cast<float>(x.x);
       xyz[3 * p + 1] = static_cast<float>(x.y);
       xyz[3 * p + 2] = static_cast<float>(x.z);
-      arrays.combine(p, terms);
+      arrays.attributes.combine(p, terms);
       if (arrays.normals) store_normal(arrays.normals + 3 * p, g, opt_.flip);
     }
     // Cells: vertices, polylines, triangles (the PolyData cell order).
     if (cells) {
-      for (std::size_t k = 0; k < nv; ++k) arrays.copy_cell(k, vert_cell_[k]);
-      for (std::size_t k = 0; k < nl; ++k) arrays.copy_cell(nv + k, seg_cell_[lines.first[k]]);
-      for (std::size_t k = 0; k < nt; ++k) arrays.copy_cell(nv + nl + k, tri_cell_[k]);
+      for (std::size_t k = 0; k < nv; ++k) arrays.attributes.copy_cell(k, vert_cell_[k]);
+      for (std::size_t k = 0; k < nl; ++k) arrays.attributes.copy_cell(nv + k, seg_cell_[lines.first[k]]);
+      for (std::size_t k = 0; k < nt; ++k) arrays.attributes.copy_cell(nv + nl + k, tri_cell_[k]);
     }
     out.verts.offsets().resize(nv + 1);
     for (std::size_t k = 0; k <= nv; ++k) out.verts.offsets()[k] = static_cast<Index>(k);
@@ -364,7 +347,7 @@ class CellContourer {
     out.polys.offsets().resize(nt + 1);
     for (std::size_t k = 0; k <= nt; ++k) out.polys.offsets()[k] = static_cast<Index>(3 * k);
     out.polys.connectivity() = std::move(tris_);
-    arrays.move_into(out.point_data, out.cell_data);
+    arrays.move_into(out);
     stats.points += np;
     stats.cells += nv + segs_.size() / 2 + nt;
     stats.ambiguous_faces += ambiguous_;
@@ -471,18 +454,16 @@ class CellContourer {
 
 }  // namespace
 
-PolyData contour_cell_runs(const Points& points, const Attributes& point_data,
-                           const Attributes& cell_data, std::span<const CellRun> runs,
-                           const ContourOptions& options, ContourStats* stats, const char* what) {
-  const DataArray& scalars = contour_scalars(point_data, options, what);
+PolyData marching_cells(const Points& points, const Attributes& point_data,
+                        const Attributes& cell_data, std::span<const CellRun> runs,
+                        const DataArray& scalars, const ContourOptions& options,
+                        ContourStats& stats) {
   std::vector<Vec3> gradients;
   if (options.normals == ContourNormals::Gradient)
     gradients = point_gradients(points, scalars, runs);
   std::size_t total = 0;
   for (const CellRun& r : runs) total += r.cells->size();
-  const double nvalues = static_cast<double>(options.values.size());
-  ContourStats local;
-  PolyData out = contour_each_value(options, [&](std::size_t v) {
+  return contour_each_value(options, [&](std::size_t v, const ProgressCallback& progress) {
     return scalars.visit([&](const auto& vec) {
       using T = typename std::decay_t<decltype(vec)>::value_type;
       CellContourer<T> c(points, vec.data(), options.values[v], options);
@@ -510,31 +491,14 @@ PolyData contour_cell_runs(const Points& points, const Attributes& point_data,
       for_each_cell(runs, [&](const CellView& cell) {
         if (crossed[done]) c.cell(cell);
         if (++done % 65536 == 0) {
-          report_progress(
-              options.progress,
-              (static_cast<double>(v) + static_cast<double>(done) / static_cast<double>(total)) /
-                  nvalues,
-              "contour");
+          report_progress(progress, static_cast<double>(done) / static_cast<double>(total),
+                          "contour");
         }
       });
       return c.finish(point_data, cell_data,
-                      options.normals == ContourNormals::Gradient ? &gradients : nullptr, local);
+                      options.normals == ContourNormals::Gradient ? &gradients : nullptr, stats);
     });
   });
-  if (stats) *stats = local;
-  return out;
-}
-
-PolyData contour_cells(DatasetRef input, const ContourOptions& options, ContourStats* stats) {
-  if (const auto* img = input.get_if<ImageData>()) return contour_image(*img, options, stats);
-  if (const auto* pd = input.get_if<PolyData>()) return contour_polydata(*pd, options, stats);
-  if (const auto* sg = input.get_if<StructuredGrid>())
-    return contour_structured_grid(*sg, options, stats);
-  const auto& ug = *input.get_if<UnstructuredGrid>();
-  ug.validate();
-  const CellRun run{&ug.cells, &ug.types, CellType::Empty, 0};
-  return contour_cell_runs(ug.points, ug.point_data, ug.cell_data,
-                           std::span<const CellRun>(&run, 1), options, stats, "contour");
 }
 
 }  // namespace isoforge::contour_detail

@@ -27,8 +27,9 @@
 #include <span>
 #include <vector>
 
-#include "contour_internal.hpp"
-#include "marching.hpp"
+#include "bit_rows.hpp"
+#include "contour_output.hpp"
+#include "isoforge/core/parallel.hpp"
 #include "tables.hpp"
 
 namespace isoforge::contour_detail {
@@ -44,15 +45,6 @@ struct LatticeCounts {
 struct RowCounts {
   std::uint32_t x = 0, y = 0, z = 0, centers = 0, tris = 0, ambiguous = 0;
 };
-
-/// Whether a hexahedron given by its corners in voxel order is mirrored with respect to the voxel
-/// table's reference cell: the sign of its Jacobian at the centre (trilinear map).
-inline bool mirrored_voxel(const Vec3* c) {
-  const Vec3 dx = (c[1] - c[0]) + (c[3] - c[2]) + (c[5] - c[4]) + (c[7] - c[6]);
-  const Vec3 dy = (c[2] - c[0]) + (c[3] - c[1]) + (c[6] - c[4]) + (c[7] - c[5]);
-  const Vec3 dz = (c[4] - c[0]) + (c[5] - c[1]) + (c[6] - c[2]) + (c[7] - c[3]);
-  return dot(dx, cross(dy, dz)) < 0;
-}
 
 /// Image data: point (i, j, k) at origin + (i, j, k) * spacing.
 struct ImageGeometry {
@@ -147,13 +139,14 @@ class LatticeContourer {
     }
   }
 
-  /// Passes 1-3. Returns the totals (x = all points, tris = all triangles).
-  LatticeCounts count() {
+  /// Passes 1-3, reporting the fraction of rows counted. Returns the totals (x = all points,
+  /// tris = all triangles).
+  LatticeCounts count(const ProgressCallback& progress) {
     bits_.resize(static_cast<std::size_t>(rows_ * words_));
     classify_rows(v_, nx_, rows_, iso_, bits_.data());
     counts_.assign(static_cast<std::size_t>(rows_), RowCounts{});
-    tbb::parallel_for(tbb::blocked_range<Index>(0, rows_, 16), [&](const tbb::blocked_range<Index>& r) {
-      for (Index row = r.begin(); row != r.end(); ++row) {
+    parallel_for_range(static_cast<std::size_t>(rows_), 16, [&](std::size_t begin, std::size_t end) {
+      for (auto row = static_cast<Index>(begin); row != static_cast<Index>(end); ++row) {
         const Index j = row % ny_, k = row / ny_;
         RowCounts& rc = counts_[static_cast<std::size_t>(row)];
         const Word* b00 = row_bits(j, k);
@@ -173,7 +166,7 @@ class LatticeContourer {
                               rc.centers += var.centers;
                             });
       }
-    });
+    }, progress, "contour");
     point_offset_.resize(static_cast<std::size_t>(rows_) + 1);
     tri_offset_.resize(static_cast<std::size_t>(rows_) + 1);
     point_offset_[0] = 0;
@@ -191,17 +184,19 @@ class LatticeContourer {
   }
 
   /// Pass 4 into preallocated outputs (3 floats per point, 3 ids per triangle, and the cell
-  /// offsets 3 t for triangle t: `offsets[0]` is set by the caller).
-  void generate(float* pts, Index* conn, Index* offsets, const InterpolatedArrays& arrays) const {
+  /// offsets 3 t for triangle t: `offsets[0]` is set by the caller), reporting the fraction of
+  /// rows generated.
+  void generate(float* pts, Index* conn, Index* offsets, const ContourArrays& arrays,
+                const ProgressCallback& progress) const {
     const CaseTable& table = voxel_table();
     // Cell edge e -> (crossing mask, offset along x); masks 0-3 are the x-edges of sample rows
     // 00 10 01 11, 4-5 the y-edges of rows 00 01, 6-7 the z-edges of rows 00 10.
     static constexpr int kEdgeMask[12] = {0, 1, 2, 3, 4, 4, 5, 5, 6, 6, 7, 7};
     static constexpr int kEdgeDi[12] = {0, 0, 0, 0, 0, 1, 0, 1, 0, 1, 0, 1};
-    tbb::parallel_for(tbb::blocked_range<Index>(0, rows_, 8), [&](const tbb::blocked_range<Index>& r) {
+    parallel_for_range(static_cast<std::size_t>(rows_), 8, [&](std::size_t begin, std::size_t end) {
       std::vector<Word> masks(static_cast<std::size_t>(8 * words_));
       std::vector<Index> prefix(static_cast<std::size_t>(8 * (words_ + 1)));
-      for (Index row = r.begin(); row != r.end(); ++row) {
+      for (auto row = static_cast<Index>(begin); row != static_cast<Index>(end); ++row) {
         if (row + kPrefetchRows < rows_) prefetch_row(row + kPrefetchRows);
         const Index j = row % ny_, k = row / ny_;
         const auto ur = static_cast<std::size_t>(row);
@@ -240,7 +235,7 @@ class LatticeContourer {
             }
           }
         }
-        ISOFORGE_ASSERT(p == point_offset_[ur] + rc.x + rc.y + rc.z);
+        check_invariant(p == point_offset_[ur] + rc.x + rc.y + rc.z, "row edge points = count");
         // Rows of cells without triangles (most of them, for a compact surface) skip the
         // per-row set-up below.
         if (j + 1 >= ny_ || k + 1 >= nz_ || rc.tris == 0) continue;
@@ -300,15 +295,15 @@ class LatticeContourer {
               tri[1] = edge_id(edges[mirrored ? e + 2 : e + 1]);
               tri[2] = edge_id(edges[mirrored ? e + 1 : e + 2]);
               offsets[t + 1] = 3 * (t + 1);
-              if (arrays.cell_data) arrays.copy_cell(static_cast<std::size_t>(t), static_cast<std::size_t>(cell));
+              if (arrays.cell_data) arrays.attributes.copy_cell(static_cast<std::size_t>(t), static_cast<std::size_t>(cell));
               ++t;
             }
             center += var.centers;
                             });
-        ISOFORGE_ASSERT(t == tri_offset_[ur + 1]);
-        ISOFORGE_ASSERT(center == point_offset_[ur + 1]);
+        check_invariant(t == tri_offset_[ur + 1], "row triangles = count");
+        check_invariant(center == point_offset_[ur + 1], "row points = count");
       }
-    });
+    }, progress, "contour");
   }
 
  private:
@@ -413,7 +408,7 @@ class LatticeContourer {
   }
 
   // The crossing on the edge from (i, j, k) along +axis.
-  void emit(float* pts, const InterpolatedArrays& arrays, Index out, Index i, Index j, Index k, int axis) const {
+  void emit(float* pts, const ContourArrays& arrays, Index out, Index i, Index j, Index k, int axis) const {
     Index e[3] = {i, j, k};
     ++e[axis];
     const double t = crossing(value(i, j, k), value(e[0], e[1], e[2]), iso_);
@@ -421,8 +416,8 @@ class LatticeContourer {
     pts[3 * out] = static_cast<float>(x.x);
     pts[3 * out + 1] = static_cast<float>(x.y);
     pts[3 * out + 2] = static_cast<float>(x.z);
-    if (arrays.has_point_arrays()) {
-      arrays.interpolate(static_cast<std::size_t>(out), static_cast<std::size_t>(id(i, j, k)),
+    if (arrays.attributes.has_point_arrays()) {
+      arrays.attributes.interpolate(static_cast<std::size_t>(out), static_cast<std::size_t>(id(i, j, k)),
                          static_cast<std::size_t>(id(e[0], e[1], e[2])), t);
     }
     if (arrays.normals) {
@@ -432,11 +427,11 @@ class LatticeContourer {
   }
 
   // A point inside cell (i, j, k): the mean of the crossings on `edges` (see tables.hpp).
-  void emit_center(float* pts, const InterpolatedArrays& arrays, Index out,
+  void emit_center(float* pts, const ContourArrays& arrays, Index out,
                    std::span<const std::uint8_t> edges, Index i, Index j, Index k) const {
     const auto& topo = voxel_table().topology();
     Vec3 x{0, 0, 0}, g{0, 0, 0};
-    InterpolatedArrays::Term terms[24];
+    AttributeInterpolator::Term terms[24];
     const double w = 1.0 / static_cast<double>(edges.size());
     std::size_t nt = 0;
     for (const std::uint8_t e : edges) {
@@ -456,8 +451,8 @@ class LatticeContourer {
     pts[3 * out] = static_cast<float>(x.x);
     pts[3 * out + 1] = static_cast<float>(x.y);
     pts[3 * out + 2] = static_cast<float>(x.z);
-    if (arrays.has_point_arrays()) {
-      arrays.combine(static_cast<std::size_t>(out), std::span<const InterpolatedArrays::Term>(terms, nt));
+    if (arrays.attributes.has_point_arrays()) {
+      arrays.attributes.combine(static_cast<std::size_t>(out), std::span<const AttributeInterpolator::Term>(terms, nt));
     }
     if (arrays.normals) store_normal(arrays.normals + 3 * out, g, opt_.flip);
   }
@@ -471,42 +466,5 @@ class LatticeContourer {
   std::vector<RowCounts> counts_;
   std::vector<Index> point_offset_, tri_offset_;
 };
-
-/// Contours one isovalue of a lattice (every dimension >= 2).
-template <class T, class Geometry>
-PolyData contour_lattice_value(const Geometry& geometry, const Dims& dims, const T* values, double iso,
-                               const Attributes& point_data, const Attributes& cell_data,
-                               const ContourOptions& options, ContourStats& stats) {
-  LatticeContourer<T, Geometry> c(geometry, dims, values, iso, options);
-  const LatticeCounts total = c.count();
-  const auto npts = static_cast<std::size_t>(total.x);
-  const auto ntris = static_cast<std::size_t>(total.tris);
-  PolyData out = triangle_output(npts, ntris);
-  out.polys.offsets()[0] = 0;
-  InterpolatedArrays arrays(point_data, cell_data, npts, ntris, options.interpolate_attributes,
-                            options.normals == ContourNormals::Gradient);
-  c.generate(out.points.floats().data(), out.polys.connectivity().data(), out.polys.offsets().data(), arrays);
-  arrays.move_into(out.point_data, out.cell_data);
-  stats.points += npts;
-  stats.cells += ntris;
-  stats.ambiguous_faces += static_cast<std::size_t>(total.ambiguous);
-  return out;
-}
-
-/// Contours every isovalue of `options` (tagging IsovalueIndex), appends and finishes.
-template <class Geometry>
-PolyData contour_lattice(const Geometry& geometry, const Dims& dims, const DataArray& scalars,
-                         const Attributes& point_data, const Attributes& cell_data,
-                         const ContourOptions& options, ContourStats* stats) {
-  ContourStats local;
-  PolyData out = contour_each_value(options, [&](std::size_t v) {
-    return scalars.visit([&](const auto& vec) {
-      return contour_lattice_value(geometry, dims, vec.data(), options.values[v], point_data, cell_data,
-                                   options, local);
-    });
-  });
-  if (stats) *stats = local;
-  return out;
-}
 
 }  // namespace isoforge::contour_detail

@@ -1,8 +1,8 @@
 // Isolines: marching squares on 2D images and 2D structured grids (Lorensen & Cline, "Marching
 // cubes", SIGGRAPH '87, in two dimensions; Maple, "Geometric design and space planning using the
 // marching squares and marching cube algorithms", GMAG 2003), with saddle pixels resolved by the
-// asymptotic decider (Nielson & Hamann, Visualization '91); crossing points of 1D images and
-// grids; isolines of polygonal data; and the joining of segments into continuous polylines.
+// asymptotic decider (Nielson & Hamann, Visualization '91), and crossing points of 1D images and
+// grids.
 //
 // Marching squares is organised like the 3D image contour: one bit per sample; per-row counts
 // from word operations (crossings are popcounts of XORs; a pixel neither all above nor all below
@@ -29,137 +29,15 @@
 #include <cstring>
 #include <limits>
 
+#include "bit_rows.hpp"
 #include "contour_internal.hpp"
-#include "marching.hpp"
+#include "contour_output.hpp"
+#include "isoforge/core/parallel.hpp"
+#include "isoforge/core/polylines.hpp"
+#include "polygon_segments.hpp"
 #include "tables.hpp"
 
 namespace isoforge::contour_detail {
-
-// ------------------------------------------------------------------------------------------------
-// Joining segments into polylines.
-
-Polylines join_segments(std::span<const Index> segments, std::size_t points,
-                        const std::function<bool(std::size_t, std::size_t)>& joinable) {
-  const std::size_t ns = segments.size() / 2;
-  // Per point, its two segments when it has exactly two (else none), each stored as s when the
-  // point is the segment's first point and ~s when it is its second, with the segment's other
-  // point: a walk along a chain reads one record per step. The slots are filled in parallel;
-  // their order within a record never matters.
-  constexpr Index kNone = std::numeric_limits<Index>::min();
-  struct Link {
-    Index seg[2];
-    Index far[2];
-  };
-  Buffer<Link> links(points);
-  Buffer<std::uint32_t> degree(points);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points, 1 << 14),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t p = r.begin(); p != r.end(); ++p) degree[p] = 0;
-                    });
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, ns, 1 << 14),
-      [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t s = r.begin(); s != r.end(); ++s) {
-          for (std::size_t e = 0; e < 2; ++e) {
-            const auto p = static_cast<std::size_t>(segments[2 * s + e]);
-            const std::uint32_t slot =
-                std::atomic_ref<std::uint32_t>(degree[p]).fetch_add(1, std::memory_order_relaxed);
-            if (slot < 2) {
-              links[p].seg[slot] = e == 0 ? static_cast<Index>(s) : ~static_cast<Index>(s);
-              links[p].far[slot] = segments[2 * s + 1 - e];
-            }
-          }
-        }
-      });
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points, 1 << 14),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t p = r.begin(); p != r.end(); ++p) {
-                        if (degree[p] != 2) links[p].seg[0] = links[p].seg[1] = kNone;
-                      }
-                    });
-  degree = {};
-  auto decode = [](Index v) { return v >= 0 ? v : ~v; };
-  // From segment `cur` through point p: the next segment (or -1), whether it starts at p, and
-  // its other point.
-  struct Step {
-    Index seg;
-    bool starts;
-    Index far;
-  };
-  auto step = [&](std::size_t cur, Index p) -> Step {
-    const Link& l = links[static_cast<std::size_t>(p)];
-    if (l.seg[0] == kNone) return {-1, false, 0};
-    const int k = decode(l.seg[0]) == static_cast<Index>(cur) ? 1 : 0;
-    const Index n = decode(l.seg[k]);
-    if (joinable && !joinable(cur, static_cast<std::size_t>(n))) return {-1, false, 0};
-    return {n, l.seg[k] >= 0, l.far[k]};
-  };
-  Polylines out;
-  std::vector<std::uint8_t> used(ns, 0);
-  std::vector<Index> back;
-  out.offsets.reserve(ns / 8 + 1);
-  out.connectivity.reserve(ns + ns / 8 + 1);
-  for (std::size_t s = 0; s < ns; ++s) {
-    if (used[s]) continue;
-    used[s] = 1;
-    // Forward from s until a free end, or around a loop back to s. (Chains are paths or cycles,
-    // so a walk meets no used segment other than s.)
-    const std::size_t mark = out.connectivity.size();
-    std::size_t forward = 1, backward = 0;
-    Index p = segments[2 * s + 1];
-    out.connectivity.push_back(segments[2 * s]);
-    out.connectivity.push_back(p);
-    bool loop = false;
-    for (std::size_t cur = s;;) {
-      const Step n = step(cur, p);
-      if (n.seg < 0) break;
-      if (static_cast<std::size_t>(n.seg) == s) {
-        loop = true;
-        break;
-      }
-      cur = static_cast<std::size_t>(n.seg);
-      used[cur] = 1;
-      (n.starts ? forward : backward) += 1;
-      p = n.far;
-      out.connectivity.push_back(p);
-    }
-    if (!loop) {
-      // Open: prepend the part behind s's first point.
-      back.clear();
-      p = segments[2 * s];
-      for (std::size_t cur = s;;) {
-        const Step n = step(cur, p);
-        if (n.seg < 0) break;
-        cur = static_cast<std::size_t>(n.seg);
-        used[cur] = 1;
-        (n.starts ? backward : forward) += 1;  // walked against the chain's direction
-        p = n.far;
-        back.push_back(p);
-      }
-      if (!back.empty()) {
-        out.connectivity.insert(out.connectivity.begin() + static_cast<std::ptrdiff_t>(mark),
-                                back.rbegin(), back.rend());
-      }
-    }
-    // Along the direction most segments have; ties keep s's own direction.
-    if (backward > forward) {
-      std::reverse(out.connectivity.begin() + static_cast<std::ptrdiff_t>(mark),
-                   out.connectivity.end());
-    }
-    out.offsets.push_back(static_cast<Index>(out.connectivity.size()));
-    out.first.push_back(s);
-  }
-  return out;
-}
-
-bool SameCellData::operator()(std::size_t a, std::size_t b) const {
-  if (a == b) return true;
-  for (const DataArray& arr : *cell_data_) {
-    const std::size_t tb = scalar_size(arr.type()) * static_cast<std::size_t>(arr.components());
-    if (std::memcmp(arr.bytes() + a * tb, arr.bytes() + b * tb, tb) != 0) return false;
-  }
-  return true;
-}
 
 namespace {
 
@@ -278,11 +156,11 @@ class SquareContourer {
   }
 
   // Pass 2: crossings and segments per row, then their prefix sums.
-  void count() {
+  void count(const ProgressCallback& progress) {
     rows_.assign(static_cast<std::size_t>(nv_), RowCounts{});
-    tbb::parallel_for(
-        tbb::blocked_range<Index>(0, nv_, 64), [&](const tbb::blocked_range<Index>& r) {
-          for (Index v = r.begin(); v != r.end(); ++v) {
+    parallel_for_range(
+        static_cast<std::size_t>(nv_), 64, [&](std::size_t begin, std::size_t end) {
+          for (auto v = static_cast<Index>(begin); v != static_cast<Index>(end); ++v) {
             RowCounts& rc = rows_[static_cast<std::size_t>(v)];
             const Word* a = row_bits(v);
             for (Index w = 0; w < words_; ++w) {
@@ -300,7 +178,7 @@ class SquareContourer {
               rc.ambiguous += std::popcount(saddle);
             }
           }
-        });
+        }, progress, "contour");
     point_offset_.assign(static_cast<std::size_t>(nv_) + 1, 0);
     segment_offset_.assign(static_cast<std::size_t>(nv_) + 1, 0);
     for (std::size_t v = 0; v < static_cast<std::size_t>(nv_); ++v) {
@@ -317,15 +195,16 @@ class SquareContourer {
   // Pass 3: the segments of every pixel row, as links between points: succ[from] = to and bit 0
   // of flags[to] set (in a lattice every point has at most one segment leaving it and one
   // arriving); with `cells`, cell_out[from] and cell_in[to] record the pixel.
-  void generate_links(Index* succ, std::uint8_t* flags, Index* cell_out, Index* cell_in) const {
-    tbb::parallel_for(
-        tbb::blocked_range<Index>(0, nv_ - 1, 16), [&](const tbb::blocked_range<Index>& r) {
+  void generate_links(Index* succ, std::uint8_t* flags, Index* cell_out, Index* cell_in,
+                      const ProgressCallback& progress) const {
+    parallel_for_range(
+        static_cast<std::size_t>(nv_ - 1), 16, [&](std::size_t begin, std::size_t end) {
           // Crossing masks of the u-edges of rows v and v+1 and of the v-edges between them, with
           // their per-word prefix counts.
           std::vector<Word> masks(static_cast<std::size_t>(3 * words_));
           std::vector<Index> prefix(static_cast<std::size_t>(3 * (words_ + 1)));
           const auto& table = square_table();
-          for (Index v = r.begin(); v != r.end(); ++v) {
+          for (auto v = static_cast<Index>(begin); v != static_cast<Index>(end); ++v) {
             const Word* a = row_bits(v);
             const Word* b = row_bits(v + 1);
             Word* lo = masks.data();
@@ -380,13 +259,13 @@ class SquareContourer {
                 }
               }
             }
-            ISOFORGE_ASSERT(s == segment_offset_[vv + 1]);
+            check_invariant(s == segment_offset_[vv + 1], "row segments = count");
           }
-        });
+        }, progress, "contour");
   }
 
   // Pass 4: the points of every row, with interpolated attributes and normals.
-  void generate_points(float* pts, const InterpolatedArrays& arrays) const {
+  void generate_points(float* pts, const ContourArrays& arrays) const {
     tbb::parallel_for(tbb::blocked_range<Index>(0, nv_, 16),
                       [&](const tbb::blocked_range<Index>& r) {
                         for (Index v = r.begin(); v != r.end(); ++v) {
@@ -411,13 +290,14 @@ class SquareContourer {
                               }
                             }
                           }
-                          ISOFORGE_ASSERT(p == point_offset_[static_cast<std::size_t>(v) + 1]);
+                          check_invariant(p == point_offset_[static_cast<std::size_t>(v) + 1],
+                                          "row points = count");
                         }
                       });
   }
 
  private:
-  void emit(float* pts, const InterpolatedArrays& arrays, Index id, Index u0, Index v0, Index u1,
+  void emit(float* pts, const ContourArrays& arrays, Index id, Index u0, Index v0, Index u1,
             Index v1) const {
     const double t = crossing(value(u0, v0), value(u1, v1), iso_);
     const Vec3 a = lat_.position(u0, v0), b = lat_.position(u1, v1);
@@ -425,18 +305,11 @@ class SquareContourer {
     pts[3 * id] = static_cast<float>(x.x);
     pts[3 * id + 1] = static_cast<float>(x.y);
     pts[3 * id + 2] = static_cast<float>(x.z);
-    arrays.interpolate(static_cast<std::size_t>(id), static_cast<std::size_t>(u0 + nu_ * v0),
+    arrays.attributes.interpolate(static_cast<std::size_t>(id), static_cast<std::size_t>(u0 + nu_ * v0),
                        static_cast<std::size_t>(u1 + nu_ * v1), t);
     if (arrays.normals) {
       const Vec3 ga = gradient(u0, v0), gb = gradient(u1, v1);
-      Vec3 g = ga + (gb - ga) * t;
-      const double len = norm(g);
-      g = len > 0 && std::isfinite(len) ? g / len : Vec3{0, 0, 0};
-      if (opt_.flip) g = -g;
-      float* n = arrays.normals + 3 * id;
-      n[0] = static_cast<float>(g.x);
-      n[1] = static_cast<float>(g.y);
-      n[2] = static_cast<float>(g.z);
+      store_normal(arrays.normals + 3 * id, ga + (gb - ga) * t, opt_.flip);
     }
   }
 
@@ -478,10 +351,11 @@ class SquareContourer {
 template <class T, class Lattice>
 PolyData contour_squares(const Lattice& lat, const T* values, Index nu, Index nv, double iso,
                          const Attributes& point_data, const Attributes& cell_data,
-                         const ContourOptions& opt, ContourStats& stats) {
+                         const ContourOptions& opt, ContourStats& stats,
+                         const ProgressCallback& progress) {
   SquareContourer<T, Lattice> c(lat, values, nu, nv, iso, opt);
   c.classify();
-  c.count();
+  c.count(progress_range(progress, 0.0, 0.5));
   const auto np = static_cast<std::size_t>(c.points());
   const auto ns = static_cast<std::size_t>(c.segments());
   // Cell data survives on polylines that join segments of pixels with equal cell data.
@@ -496,7 +370,7 @@ PolyData contour_squares(const Lattice& lat, const T* values, Index nu, Index nv
                       }
                     });
   c.generate_links(succ.data(), flags.data(), cells ? cell_out.data() : nullptr,
-                   cells ? cell_in.data() : nullptr);
+                   cells ? cell_in.data() : nullptr, progress_range(progress, 0.5, 0.9));
   if (cells) {
     // A polyline ends where the pixel data changes: bit 1 marks points where a chain is cut.
     const SameCellData same(cell_data);
@@ -517,16 +391,15 @@ PolyData contour_squares(const Lattice& lat, const T* values, Index nu, Index nv
   PolyData out;
   out.points = Points(DataArray::uninitialized("Points", ScalarType::Float32, 3, np));
   const std::size_t nl = lines.first.size();
-  InterpolatedArrays arrays(point_data, cell_data, np, nl, opt.interpolate_attributes,
-                            opt.normals == ContourNormals::Gradient);
+  ContourArrays arrays(point_data, cell_data, np, nl, opt);
   c.generate_points(out.points.floats().data(), arrays);
   if (cells) {
     for (std::size_t l = 0; l < nl; ++l) {
-      arrays.copy_cell(l, static_cast<std::size_t>(cell_out[lines.first[l]]));  // its first point
+      arrays.attributes.copy_cell(l, static_cast<std::size_t>(cell_out[lines.first[l]]));  // its first point
     }
   }
   out.lines = CellArray(std::move(lines.offsets), std::move(lines.connectivity));
-  arrays.move_into(out.point_data, out.cell_data);
+  arrays.move_into(out);
   stats.points += np;
   stats.cells += ns;
   stats.ambiguous_faces += static_cast<std::size_t>(c.ambiguous());
@@ -547,8 +420,7 @@ PolyData contour_points(const Lattice& lat, const T* values, Index nu, double is
   const std::size_t np = edges.size();
   PolyData out;
   out.points = Points(np);
-  InterpolatedArrays arrays(point_data, cell_data, np, np, opt.interpolate_attributes,
-                            opt.normals == ContourNormals::Gradient);
+  ContourArrays arrays(point_data, cell_data, np, np, opt);
   float* pts = out.points.floats().data();
   auto& offsets = out.verts.offsets();
   offsets.resize(np + 1);
@@ -561,21 +433,16 @@ PolyData contour_points(const Lattice& lat, const T* values, Index nu, double is
     pts[3 * k] = static_cast<float>(x.x);
     pts[3 * k + 1] = static_cast<float>(x.y);
     pts[3 * k + 2] = static_cast<float>(x.z);
-    arrays.interpolate(k, static_cast<std::size_t>(u), static_cast<std::size_t>(u + 1), t);
-    if (arrays.cell_data) arrays.copy_cell(k, static_cast<std::size_t>(u));
+    arrays.attributes.interpolate(k, static_cast<std::size_t>(u), static_cast<std::size_t>(u + 1), t);
+    if (arrays.cell_data) arrays.attributes.copy_cell(k, static_cast<std::size_t>(u));
     if (arrays.normals) {
       const Vec3 ga = c.gradient(u, 0), gb = c.gradient(u + 1, 0);
-      Vec3 g = ga + (gb - ga) * t;
-      const double len = norm(g);
-      g = len > 0 && std::isfinite(len) ? g / len : Vec3{0, 0, 0};
-      if (opt.flip) g = -g;
-      for (int i = 0; i < 3; ++i)
-        arrays.normals[3 * k + static_cast<std::size_t>(i)] = static_cast<float>(g[i]);
+      store_normal(arrays.normals + 3 * k, ga + (gb - ga) * t, opt.flip);
     }
     out.verts.connectivity()[k] = static_cast<Index>(k);
     offsets[k + 1] = static_cast<Index>(k + 1);
   }
-  arrays.move_into(out.point_data, out.cell_data);
+  arrays.move_into(out);
   stats.points += np;
   stats.cells += np;
   return out;
@@ -583,22 +450,19 @@ PolyData contour_points(const Lattice& lat, const T* values, Index nu, double is
 
 // Every isovalue on a lattice: the varying axes of `dims` (at most two) become u and v.
 template <class Lattice>
-PolyData contour_lattice(const Lattice& lat, Index nu, Index nv, const Attributes& point_data,
-                         const Attributes& cell_data, const DataArray& scalars,
-                         const ContourOptions& options, ContourStats* stats) {
-  ContourStats local;
-  PolyData out = contour_each_value(options, [&](std::size_t v) {
+PolyData lattice_lines(const Lattice& lat, Index nu, Index nv, const Attributes& point_data,
+                       const Attributes& cell_data, const DataArray& scalars,
+                       const ContourOptions& options, ContourStats& stats) {
+  return contour_each_value(options, [&](std::size_t v, const ProgressCallback& progress) {
     const double iso = options.values[v];
     return scalars.visit([&](const auto& vec) {
       using T = typename std::decay_t<decltype(vec)>::value_type;
       if (nv > 1)
         return contour_squares<T>(lat, vec.data(), nu, nv, iso, point_data, cell_data, options,
-                                  local);
-      return contour_points<T>(lat, vec.data(), nu, iso, point_data, cell_data, options, local);
+                                  stats, progress);
+      return contour_points<T>(lat, vec.data(), nu, iso, point_data, cell_data, options, stats);
     });
   });
-  if (stats) *stats = local;
-  return out;
 }
 
 // The varying axes of structured dims (at most two, in increasing order); nu, nv = 1 if absent.
@@ -607,7 +471,7 @@ void lattice_axes(const Dims& dims, int axes[2], Index& nu, Index& nv) {
   axes[0] = axes[1] = -1;
   for (int a = 0; a < 3; ++a) {
     if (dims[static_cast<std::size_t>(a)] > 1) {
-      ISOFORGE_ASSERT(n < 2);
+      check_invariant(n < 2, "at most two varying axes");
       axes[n++] = a;
     }
   }
@@ -617,11 +481,8 @@ void lattice_axes(const Dims& dims, int axes[2], Index& nu, Index& nv) {
 
 }  // namespace
 
-PolyData contour_image_2d(const ImageData& input, const ContourOptions& options,
-                          ContourStats* stats) {
-  input.validate();
-  const DataArray& scalars = contour_scalars(input.point_data, options, "contour");
-  if (structured_dimension(input.dims) > 2) throw Error("contour: image is 3D, not 2D");
+PolyData marching_squares_image(const ImageData& input, const DataArray& scalars,
+                                const ContourOptions& options, ContourStats& stats) {
   int axes[2];
   Index nu, nv;
   lattice_axes(input.dims, axes, nu, nv);
@@ -629,30 +490,16 @@ PolyData contour_image_2d(const ImageData& input, const ContourOptions& options,
   lat.origin = input.origin;
   if (axes[0] >= 0) lat.du[axes[0]] = input.spacing[axes[0]];
   if (axes[1] >= 0) lat.dv[axes[1]] = input.spacing[axes[1]];
-  return contour_lattice(lat, nu, nv, input.point_data, input.cell_data, scalars, options, stats);
+  return lattice_lines(lat, nu, nv, input.point_data, input.cell_data, scalars, options, stats);
 }
 
-PolyData contour_structured_grid_2d(const StructuredGrid& grid, const ContourOptions& options,
-                                    ContourStats* stats) {
-  const DataArray& scalars = contour_scalars(grid.point_data, options, "contour");
+PolyData marching_squares_grid(const StructuredGrid& grid, const DataArray& scalars,
+                               const ContourOptions& options, ContourStats& stats) {
   int axes[2];
   Index nu, nv;
   lattice_axes(grid.dims, axes, nu, nv);
   const GridLattice lat{&grid.points, nu};
-  return contour_lattice(lat, nu, nv, grid.point_data, grid.cell_data, scalars, options, stats);
-}
-
-PolyData contour_polydata(const PolyData& input, const ContourOptions& options,
-                          ContourStats* stats) {
-  input.validate();
-  const std::size_t nv = input.verts.size(), nl = input.lines.size(), np = input.polys.size();
-  const CellRun runs[] = {
-      {&input.lines, nullptr, CellType::PolyLine, nv},
-      {&input.polys, nullptr, CellType::Polygon, nv + nl},
-      {&input.strips, nullptr, CellType::TriangleStrip, nv + nl + np},
-  };
-  return contour_cell_runs(input.points, input.point_data, input.cell_data, runs, options, stats,
-                           "contour");
+  return lattice_lines(lat, nu, nv, grid.point_data, grid.cell_data, scalars, options, stats);
 }
 
 }  // namespace isoforge::contour_detail

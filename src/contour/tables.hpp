@@ -26,6 +26,8 @@
 #include <span>
 #include <vector>
 
+#include "isoforge/core/vec.hpp"
+
 namespace isoforge::contour_detail {
 
 /// A cell's corners, edges and faces (faces as corner cycles; orientation is fixed up by the
@@ -101,6 +103,15 @@ const CaseTable& pyramid_table();
 /// Voxel corner c is hexahedron corner kHexToVoxel[c] (VTK orders: voxel is x fastest, the
 /// hexahedron goes around each quad).
 inline constexpr std::array<int, 8> kHexToVoxel = {0, 1, 3, 2, 4, 5, 7, 6};
+
+/// Whether a hexahedron given by its corners in voxel order is mirrored with respect to the voxel
+/// table's reference cell: the sign of its Jacobian at the centre (trilinear map).
+inline bool mirrored_voxel(const Vec3* c) {
+  const Vec3 dx = (c[1] - c[0]) + (c[3] - c[2]) + (c[5] - c[4]) + (c[7] - c[6]);
+  const Vec3 dy = (c[2] - c[0]) + (c[3] - c[1]) + (c[6] - c[4]) + (c[7] - c[5]);
+  const Vec3 dz = (c[4] - c[0]) + (c[5] - c[1]) + (c[6] - c[2]) + (c[7] - c[3]);
+  return dot(dx, cross(dy, dz)) < 0;
+}
 
 /// The asymptotic decider on a quad face with values v0..v3 in cyclic order, relative to the
 /// isovalue c: true when the corners at or above c are connected across the face.

@@ -152,7 +152,7 @@ PolyData two_spheres(Index n) {
   Bounds b;
   b.extend({-2, -1.5, -1.5});
   b.extend({2, 1.5, 1.5});
-  return contour_image(sample_image(f, GridSpec::from_bounds(b, {n, n, n})));
+  return contour_image(sample_image(f, GridSpec::from_bounds(b, {n, n, n}))).output;
 }
 
 }  // namespace
@@ -160,12 +160,12 @@ PolyData two_spheres(Index n) {
 TEST(Connectivity, TwoTrianglesALineAndAVertexAreFourComponents) {
   const PolyData pd = sample_mesh(false);
   const ConnectivityResult r = connectivity(pd);
-  EXPECT_EQ(r.components, 4u);
+  EXPECT_EQ(r.stats.components, 4u);
   // All of size 1: numbered by smallest cell id (vertex, line, T0, T1).
-  EXPECT_EQ(r.sizes, (std::vector<std::size_t>{1, 1, 1, 1}));
-  EXPECT_EQ(r.cell_component, (std::vector<std::int32_t>{0, 1, 2, 3}));
-  EXPECT_EQ(r.selected, (std::vector<std::size_t>{0, 1, 2, 3}));
-  EXPECT_TRUE(r.areas.empty());
+  EXPECT_EQ(r.stats.sizes, (std::vector<std::size_t>{1, 1, 1, 1}));
+  EXPECT_EQ(r.stats.cell_component, (std::vector<std::int32_t>{0, 1, 2, 3}));
+  EXPECT_EQ(r.stats.selected, (std::vector<std::size_t>{0, 1, 2, 3}));
+  EXPECT_TRUE(r.stats.areas.empty());
   // Mode All: every cell; the unused points 9 and 10 are dropped.
   EXPECT_EQ(r.output.num_cells(), 4u);
   EXPECT_EQ(r.output.num_points(), 9u);
@@ -180,10 +180,10 @@ TEST(Connectivity, TwoTrianglesALineAndAVertexAreFourComponents) {
 TEST(Connectivity, SizesOrderComponents) {
   const PolyData pd = sample_mesh(true);
   const ConnectivityResult r = connectivity(pd);
-  ASSERT_EQ(r.components, 4u);
+  ASSERT_EQ(r.stats.components, 4u);
   // {T0, T2} has 2 cells: component 0; then vertex, line, T1 by smallest cell id.
-  EXPECT_EQ(r.sizes, (std::vector<std::size_t>{2, 1, 1, 1}));
-  EXPECT_EQ(r.cell_component, (std::vector<std::int32_t>{1, 2, 0, 3, 0}));
+  EXPECT_EQ(r.stats.sizes, (std::vector<std::size_t>{2, 1, 1, 1}));
+  EXPECT_EQ(r.stats.cell_component, (std::vector<std::int32_t>{1, 2, 0, 3, 0}));
   // All points but 10 are used, renumbered in increasing id (0..9 unchanged).
   EXPECT_EQ(r.output.num_points(), 10u);
   EXPECT_EQ(ints(r.output.point_data.get("ComponentId")),
@@ -202,14 +202,14 @@ TEST(Connectivity, BowTieIsOneComponentByPointTwoByEdge) {
   pd.polys.add({0, 1, 2});
   pd.polys.add({2, 3, 4});
   const ConnectivityResult by_point = connectivity(pd);
-  EXPECT_EQ(by_point.components, 1u);
-  EXPECT_EQ(by_point.sizes, (std::vector<std::size_t>{2}));
+  EXPECT_EQ(by_point.stats.components, 1u);
+  EXPECT_EQ(by_point.stats.sizes, (std::vector<std::size_t>{2}));
 
   ConnectivityOptions o;
   o.connected_by = ConnectedBy::Edge;
   const ConnectivityResult by_edge = connectivity(pd, o);
-  EXPECT_EQ(by_edge.components, 2u);
-  EXPECT_EQ(by_edge.cell_component, (std::vector<std::int32_t>{0, 1}));
+  EXPECT_EQ(by_edge.stats.components, 2u);
+  EXPECT_EQ(by_edge.stats.cell_component, (std::vector<std::int32_t>{0, 1}));
   // The shared point takes the smallest component of the output cells using it.
   EXPECT_EQ(ints(by_edge.output.point_data.get("ComponentId")),
             (std::vector<std::int32_t>{0, 0, 0, 1, 1}));
@@ -236,19 +236,19 @@ TEST(Connectivity, EdgeCriterionCoversLinesStripsAndVerts) {
   ConnectivityOptions o;
   o.connected_by = ConnectedBy::Edge;
   const ConnectivityResult e = connectivity(pd, o);
-  EXPECT_EQ(e.cell_component, reference_labels(pd, true));
+  EXPECT_EQ(e.stats.cell_component, reference_labels(pd, true));
   // {1, 3} and {4, 5} (2 cells; by smallest cell), then {0} and {2}.
-  EXPECT_EQ(e.components, 4u);
-  EXPECT_EQ(e.cell_component, (std::vector<std::int32_t>{2, 0, 3, 0, 1, 1}));
+  EXPECT_EQ(e.stats.components, 4u);
+  EXPECT_EQ(e.stats.cell_component, (std::vector<std::int32_t>{2, 0, 3, 0, 1, 1}));
   // By point they are all one: 0-strip-3-line36-6-line456-poly547, and poly208 through 0 and 2.
   const ConnectivityResult p = connectivity(pd);
-  EXPECT_EQ(p.components, 1u);
+  EXPECT_EQ(p.stats.components, 1u);
 }
 
 TEST(Connectivity, LargestKeepsOnlyTheUsedPointsAndCarriesAttributes) {
   const PolyData pd = sample_mesh(true);
   const ConnectivityResult r = connectivity(pd, mode(Mode::Largest));
-  EXPECT_EQ(r.selected, (std::vector<std::size_t>{0}));
+  EXPECT_EQ(r.stats.selected, (std::vector<std::size_t>{0}));
   const PolyData& out = r.output;
   EXPECT_NO_THROW(out.validate());
   EXPECT_EQ(out.num_cells(), 2u);
@@ -270,7 +270,7 @@ TEST(Connectivity, LargestNTakesTheNLargest) {
   ConnectivityOptions o = mode(Mode::LargestN);
   o.count = 2;
   const ConnectivityResult r = connectivity(pd, o);
-  EXPECT_EQ(r.selected, (std::vector<std::size_t>{0, 1}));
+  EXPECT_EQ(r.stats.selected, (std::vector<std::size_t>{0, 1}));
   EXPECT_EQ(r.output.num_cells(), 3u);  // vertex, T0, T2
   EXPECT_EQ(r.output.verts.size(), 1u);
   EXPECT_EQ(r.output.polys.size(), 2u);
@@ -282,7 +282,7 @@ TEST(Connectivity, LargestNTakesTheNLargest) {
 
   o.count = 10;  // more than there are: all of them
   const ConnectivityResult all = connectivity(pd, o);
-  EXPECT_EQ(all.selected.size(), 4u);
+  EXPECT_EQ(all.stats.selected.size(), 4u);
   EXPECT_EQ(all.output.num_cells(), 5u);
 }
 
@@ -291,7 +291,7 @@ TEST(Connectivity, ClosestToPointPicksTheComponentOfTheNearestUsedPoint) {
   ConnectivityOptions o = mode(Mode::ClosestToPoint);
   o.point = {10.4, 0.3, 5};
   ConnectivityResult r = connectivity(pd, o);
-  EXPECT_EQ(r.selected, (std::vector<std::size_t>{3}));
+  EXPECT_EQ(r.stats.selected, (std::vector<std::size_t>{3}));
   EXPECT_EQ(r.output.num_cells(), 1u);
   EXPECT_EQ(r.output.num_points(), 3u);
   EXPECT_EQ(int64s(r.output.point_data.get("pid")), (std::vector<std::int64_t>{3, 4, 5}));
@@ -300,7 +300,7 @@ TEST(Connectivity, ClosestToPointPicksTheComponentOfTheNearestUsedPoint) {
   // Point 10 (x = 100) is used by no cell: the vertex at x = 30 is the nearest used point.
   o.point = {99, 0, 0};
   r = connectivity(pd, o);
-  EXPECT_EQ(r.selected, (std::vector<std::size_t>{1}));
+  EXPECT_EQ(r.stats.selected, (std::vector<std::size_t>{1}));
   EXPECT_EQ(r.output.verts.size(), 1u);
   EXPECT_EQ(r.output.num_points(), 1u);
   EXPECT_EQ(int64s(r.output.point_data.get("pid")), (std::vector<std::int64_t>{8}));
@@ -311,7 +311,7 @@ TEST(Connectivity, SpecifiedAndSeededSelections) {
   ConnectivityOptions o = mode(Mode::Specified);
   o.components = {3, 2, 3};
   ConnectivityResult r = connectivity(pd, o);
-  EXPECT_EQ(r.selected, (std::vector<std::size_t>{2, 3}));
+  EXPECT_EQ(r.stats.selected, (std::vector<std::size_t>{2, 3}));
   EXPECT_EQ(r.output.num_cells(), 2u);  // line, T1
   EXPECT_EQ(r.output.num_points(), 5u);
   EXPECT_EQ(int64s(r.output.point_data.get("pid")), (std::vector<std::int64_t>{3, 4, 5, 6, 7}));
@@ -328,13 +328,13 @@ TEST(Connectivity, SpecifiedAndSeededSelections) {
   o = mode(Mode::PointSeeded);
   o.seeds = {7, 10};  // the line's end; an unused point selects nothing
   r = connectivity(pd, o);
-  EXPECT_EQ(r.selected, (std::vector<std::size_t>{2}));
+  EXPECT_EQ(r.stats.selected, (std::vector<std::size_t>{2}));
   EXPECT_EQ(int64s(r.output.cell_data.get("cid")), (std::vector<std::int64_t>{1}));
 
   o = mode(Mode::CellSeeded);
   o.seeds = {4, 0};
   r = connectivity(pd, o);
-  EXPECT_EQ(r.selected, (std::vector<std::size_t>{0, 1}));
+  EXPECT_EQ(r.stats.selected, (std::vector<std::size_t>{0, 1}));
   EXPECT_EQ(int64s(r.output.cell_data.get("cid")), (std::vector<std::int64_t>{0, 2, 4}));
 }
 
@@ -364,18 +364,18 @@ TEST(Connectivity, AreaOrdersByArea) {
   pd.polys.add({0, 3, 4});
   pd.polys.add({5, 6, 7});
   const ConnectivityResult by_cells = connectivity(pd, mode(Mode::Largest));
-  EXPECT_EQ(by_cells.sizes, (std::vector<std::size_t>{3, 1}));
+  EXPECT_EQ(by_cells.stats.sizes, (std::vector<std::size_t>{3, 1}));
   EXPECT_EQ(by_cells.output.num_cells(), 3u);
 
   ConnectivityOptions o = mode(Mode::Largest);
   o.size_by = ComponentSize::Area;
   const ConnectivityResult by_area = connectivity(pd, o);
-  EXPECT_EQ(by_area.sizes, (std::vector<std::size_t>{1, 3}));
-  ASSERT_EQ(by_area.areas.size(), 2u);
-  EXPECT_DOUBLE_EQ(by_area.areas[0], 50.0);
-  EXPECT_DOUBLE_EQ(by_area.areas[1], 1.5);
+  EXPECT_EQ(by_area.stats.sizes, (std::vector<std::size_t>{1, 3}));
+  ASSERT_EQ(by_area.stats.areas.size(), 2u);
+  EXPECT_DOUBLE_EQ(by_area.stats.areas[0], 50.0);
+  EXPECT_DOUBLE_EQ(by_area.stats.areas[1], 1.5);
   EXPECT_EQ(by_area.output.num_cells(), 1u);
-  EXPECT_EQ(by_area.cell_component, (std::vector<std::int32_t>{1, 1, 1, 0}));
+  EXPECT_EQ(by_area.stats.cell_component, (std::vector<std::int32_t>{1, 1, 1, 0}));
 }
 
 TEST(Connectivity, MatchesABreadthFirstReferenceOnRandomMeshes) {
@@ -401,11 +401,11 @@ TEST(Connectivity, MatchesABreadthFirstReferenceOnRandomMeshes) {
       o.connected_by = by_edge ? ConnectedBy::Edge : ConnectedBy::Point;
       const ConnectivityResult r = connectivity(pd, o);
       const auto expected = reference_labels(pd, by_edge);
-      ASSERT_EQ(r.cell_component, expected) << "trial " << trial << " by_edge " << by_edge;
+      ASSERT_EQ(r.stats.cell_component, expected) << "trial " << trial << " by_edge " << by_edge;
       std::size_t total = 0;
-      for (std::size_t s : r.sizes) total += s;
+      for (std::size_t s : r.stats.sizes) total += s;
       EXPECT_EQ(total, pd.num_cells());
-      EXPECT_TRUE(std::is_sorted(r.sizes.rbegin(), r.sizes.rend()));
+      EXPECT_TRUE(std::is_sorted(r.stats.sizes.rbegin(), r.stats.sizes.rend()));
       EXPECT_NO_THROW(r.output.validate());
     }
   }
@@ -416,9 +416,9 @@ TEST(Connectivity, TwoSeparateSpheresAreTwoClosedComponents) {
   const PolyData pd = two_spheres(48);
   ASSERT_GT(pd.polys.size(), 0u);
   const ConnectivityResult r = connectivity(pd);
-  ASSERT_EQ(r.components, 2u);
-  EXPECT_EQ(r.sizes[0] + r.sizes[1], pd.polys.size());
-  EXPECT_GT(r.sizes[0], r.sizes[1]);
+  ASSERT_EQ(r.stats.components, 2u);
+  EXPECT_EQ(r.stats.sizes[0] + r.stats.sizes[1], pd.polys.size());
+  EXPECT_GT(r.stats.sizes[0], r.stats.sizes[1]);
   EXPECT_EQ(r.output.num_points(), pd.num_points());
   EXPECT_TRUE(r.output.point_data.has("IsovalueIndex"));
 
@@ -426,7 +426,7 @@ TEST(Connectivity, TwoSeparateSpheresAreTwoClosedComponents) {
     ConnectivityOptions o = mode(Mode::Specified);
     o.components = {c};
     const PolyData part = connectivity(pd, o).output;
-    EXPECT_EQ(part.polys.size(), r.sizes[c]);
+    EXPECT_EQ(part.polys.size(), r.stats.sizes[c]);
     const SurfaceTopology t = analyze_topology(part);
     ASSERT_EQ(t.components.size(), 1u) << c;
     EXPECT_TRUE(t.closed()) << c;
@@ -452,14 +452,14 @@ TEST(Connectivity, TwoSeparateSpheresAreTwoClosedComponents) {
   // Sharing an edge or a point gives the same components on a manifold surface; so does area.
   ConnectivityOptions by_edge;
   by_edge.connected_by = ConnectedBy::Edge;
-  EXPECT_EQ(connectivity(pd, by_edge).cell_component, r.cell_component);
+  EXPECT_EQ(connectivity(pd, by_edge).stats.cell_component, r.stats.cell_component);
   ConnectivityOptions by_area;
   by_area.size_by = ComponentSize::Area;
   const ConnectivityResult a = connectivity(pd, by_area);
-  EXPECT_EQ(a.cell_component, r.cell_component);
+  EXPECT_EQ(a.stats.cell_component, r.stats.cell_component);
   const double pi = std::acos(-1.0);
-  EXPECT_NEAR(a.areas[0], 4 * pi * 0.7 * 0.7, 0.05 * 4 * pi * 0.7 * 0.7);
-  EXPECT_NEAR(a.areas[1], 4 * pi * 0.45 * 0.45, 0.05 * 4 * pi * 0.45 * 0.45);
+  EXPECT_NEAR(a.stats.areas[0], 4 * pi * 0.7 * 0.7, 0.05 * 4 * pi * 0.7 * 0.7);
+  EXPECT_NEAR(a.stats.areas[1], 4 * pi * 0.45 * 0.45, 0.05 * 4 * pi * 0.45 * 0.45);
 }
 
 TEST(Connectivity, IsDeterministic) {
@@ -469,8 +469,8 @@ TEST(Connectivity, IsDeterministic) {
     o.point = {0.9, 0, 0};
     const ConnectivityResult a = connectivity(pd, o), b = connectivity(pd, o);
     EXPECT_EQ(a.output, b.output);
-    EXPECT_EQ(a.cell_component, b.cell_component);
-    EXPECT_EQ(a.sizes, b.sizes);
+    EXPECT_EQ(a.stats.cell_component, b.stats.cell_component);
+    EXPECT_EQ(a.stats.sizes, b.stats.sizes);
   }
   const PolyData small = sample_mesh(true);
   EXPECT_EQ(connectivity(small).output, connectivity(small).output);
@@ -486,8 +486,8 @@ TEST(Connectivity, RvalueInputGivesTheSameResult) {
         const ConnectivityResult a = connectivity(pd, o);
         const ConnectivityResult b = connectivity(std::move(copy), o);
         EXPECT_EQ(a.output, b.output);
-        EXPECT_EQ(a.cell_component, b.cell_component);
-        EXPECT_EQ(a.selected, b.selected);
+        EXPECT_EQ(a.stats.cell_component, b.stats.cell_component);
+        EXPECT_EQ(a.stats.selected, b.stats.selected);
         EXPECT_EQ(copy, PolyData{});  // NOLINT(bugprone-use-after-move): documented state
       }
     }
@@ -516,7 +516,7 @@ TEST(Connectivity, EmptyInputHasNoComponents) {
   pd.points.push_back({1, 2, 3});
   for (Mode m : {Mode::All, Mode::Largest, Mode::ClosestToPoint}) {
     const ConnectivityResult r = connectivity(pd, mode(m));
-    EXPECT_EQ(r.components, 0u);
+    EXPECT_EQ(r.stats.components, 0u);
     EXPECT_EQ(r.output.num_cells(), 0u);
     EXPECT_EQ(r.output.num_points(), 0u);
   }
@@ -528,7 +528,7 @@ TEST(Connectivity, ComponentIdsCanBeLeftOut) {
   const ConnectivityResult r = connectivity(sample_mesh(true), o);
   EXPECT_FALSE(r.output.point_data.has("ComponentId"));
   EXPECT_FALSE(r.output.cell_data.has("ComponentId"));
-  EXPECT_EQ(r.cell_component.size(), 5u);
+  EXPECT_EQ(r.stats.cell_component.size(), 5u);
 }
 
 TEST(Connectivity, BadInputThrowsNamingTheProblem) {
@@ -567,6 +567,34 @@ TEST(Connectivity, BadInputThrowsNamingTheProblem) {
   EXPECT_THROW((void)connectivity(pd, cancel), Cancelled);
 }
 
+TEST(Connectivity, ProgressAdvancesWhileLabelling) {
+  // 3 million triangles (a 1500 x 1000 grid of quads, two triangles each): labelling reports
+  // every 2^20 cells (by point) or points (by edge), not only at its end.
+  PolyData pd;
+  const Index nx = 1501, ny = 1001;
+  for (Index j = 0; j < ny; ++j)
+    for (Index i = 0; i < nx; ++i) pd.points.push_back({double(i), double(j), 0});
+  for (Index j = 0; j + 1 < ny; ++j)
+    for (Index i = 0; i + 1 < nx; ++i) {
+      const Index a = i + nx * j;
+      pd.polys.add({a, a + 1, a + nx + 1});
+      pd.polys.add({a, a + nx + 1, a + nx});
+    }
+  for (const ConnectedBy by : {ConnectedBy::Point, ConnectedBy::Edge}) {
+    ConnectivityOptions o;
+    o.connected_by = by;
+    std::vector<double> seen;
+    o.progress = [&](double f) {
+      seen.push_back(f);
+      return true;
+    };
+    EXPECT_EQ(connectivity(pd, o).stats.components, 1u);
+    EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+    EXPECT_GE(std::count_if(seen.begin(), seen.end(), [](double f) { return f > 0 && f < 0.5; }), 2);
+    EXPECT_DOUBLE_EQ(seen.back(), 1.0);
+  }
+}
+
 // A timing run, not part of the suite: a 10M-triangle grid mesh (both triangles of every quad).
 // Run with --gtest_also_run_disabled_tests --gtest_filter='*TenMillion*'.
 TEST(Connectivity, DISABLED_TenMillionTriangles) {
@@ -601,8 +629,8 @@ TEST(Connectivity, DISABLED_TenMillionTriangles) {
       const ConnectivityResult r = connectivity(pd, o);
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       std::printf("%zu triangles, by %s, mode %s: %zu components in %.3f s\n", pd.polys.size(),
-                  by_edge ? "edge" : "point", m == Mode::All ? "All" : "Largest", r.components, s);
-      EXPECT_EQ(r.components, static_cast<std::size_t>((n - 1 + 99) / 100));
+                  by_edge ? "edge" : "point", m == Mode::All ? "All" : "Largest", r.stats.components, s);
+      EXPECT_EQ(r.stats.components, static_cast<std::size_t>((n - 1 + 99) / 100));
     }
   }
   PolyData copy = pd;
@@ -610,5 +638,5 @@ TEST(Connectivity, DISABLED_TenMillionTriangles) {
   const ConnectivityResult r = connectivity(std::move(copy));
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf("%zu triangles, by point, mode All, rvalue input: %zu components in %.3f s\n",
-              r.output.polys.size(), r.components, s);
+              r.output.polys.size(), r.stats.components, s);
 }

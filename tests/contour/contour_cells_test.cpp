@@ -13,6 +13,7 @@
 #include <random>
 #include <set>
 
+#include "support/result.hpp"
 #include "support/surface_checks.hpp"
 #include "contour/tables.hpp"
 #include "isoforge/contour/contour.hpp"
@@ -219,7 +220,7 @@ TEST(ContourStructured, WarpedGridGivesAClosedSphere) {
   StructuredGrid g = structured_box({n, n, n}, warp);
   add_sphere_field(g, kCentre, kRadius);
   ContourStats st;
-  const PolyData pd = contour(g, {}, &st);
+  const PolyData pd = test::split_result(contour(g, {}), st);
   EXPECT_EQ(st.cells, pd.polys.size());
   EXPECT_EQ(st.points, pd.points.size());
   expect_sphere(pd, "warped", 0.02);
@@ -227,7 +228,7 @@ TEST(ContourStructured, WarpedGridGivesAClosedSphere) {
   StructuredGrid mirrored =
       structured_box({n, n, n}, [&](Index i, Index j, Index k) { return warp(i, j, n - 1 - k); });
   add_sphere_field(mirrored, kCentre, kRadius);
-  const PolyData pm = contour(mirrored, {});
+  const PolyData pm = contour(mirrored, {}).output;
   expect_sphere(pm, "mirrored", 0.02);
   EXPECT_NEAR(signed_volume(pm), signed_volume(pd), 1e-3);
 }
@@ -256,7 +257,7 @@ TEST(ContourStructured, AxisAlignedGridEqualsTheImage) {
   ContourOptions o;
   o.values = {-0.3, 0.2, 0.6};
   ContourStats si, sg;
-  const PolyData a = contour(img, o, &si), b = contour(g, o, &sg);
+  const PolyData a = test::split_result(contour(img, o), si), b = test::split_result(contour(g, o), sg);
   ASSERT_GT(a.polys.size(), 1000u);
   EXPECT_GT(si.ambiguous_faces, 0u);
   EXPECT_EQ(si.points, sg.points);
@@ -288,9 +289,9 @@ TEST(ContourStructured, GradientNormalsAndDeterminism) {
     PolyData one;
     {
       tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-      one = contour(g, o);
+      one = contour(g, o).output;
     }
-    const PolyData many = contour(g, o);
+    const PolyData many = contour(g, o).output;
     EXPECT_TRUE(one == many);
     const DataArray* nrm = many.point_data.normals();
     ASSERT_NE(nrm, nullptr);
@@ -320,7 +321,7 @@ TEST(ContourStructured, SurfaceGridsGiveIsolinesAndCurvesGiveVertices) {
     }
   g.point_data.add(std::move(f), AttributeRole::Scalars);
   ContourStats st;
-  const PolyData pd = contour(g, {}, &st);
+  const PolyData pd = test::split_result(contour(g, {}), st);
   ASSERT_EQ(pd.lines.size(), 1u);
   auto ids = pd.lines.cell(0);
   EXPECT_EQ(ids.front(), ids.back());
@@ -346,7 +347,7 @@ TEST(ContourStructured, SurfaceGridsGiveIsolinesAndCurvesGiveVertices) {
       structured_box(img.dims, [&](Index i, Index j, Index k) { return img.point(i, j, k); });
   img.point_data = g.point_data;
   flat.point_data = g.point_data;
-  const PolyData pi = contour(img, {}), pf = contour(flat, {});
+  const PolyData pi = contour(img, {}).output, pf = contour(flat, {}).output;
   EXPECT_TRUE(pi.lines == pf.lines);
   ASSERT_EQ(pi.points.size(), pf.points.size());
   for (std::size_t p = 0; p < pi.points.size(); ++p)
@@ -359,7 +360,7 @@ TEST(ContourStructured, SurfaceGridsGiveIsolinesAndCurvesGiveVertices) {
                        AttributeRole::Scalars);
   ContourOptions o;
   o.values = {1.5};
-  const PolyData pc = contour(curve, o);
+  const PolyData pc = contour(curve, o).output;
   EXPECT_EQ(pc.verts.size(), 3u);
   EXPECT_EQ(pc.points.size(), 3u);
   const Vec3 expected = (curve.points[1] + curve.points[2]) / 2.0;
@@ -387,7 +388,7 @@ TEST(ContourUnstructured, SphereInEveryDecompositionIsClosedAndGenusZero) {
   for (Case& c : cases) {
     c.mesh.sphere_field(kCentre, kRadius);
     ContourStats st;
-    const PolyData pd = contour(c.mesh.grid(), {}, &st);
+    const PolyData pd = test::split_result(contour(c.mesh.grid(), {}), st);
     EXPECT_EQ(st.cells, pd.polys.size()) << c.name;
     EXPECT_TRUE(pd.lines.empty() && pd.verts.empty()) << c.name;
     expect_sphere(pd, c.name, 0.05);  // chords of the sphere at about six cells per radius
@@ -423,7 +424,7 @@ TEST(ContourUnstructured, EveryCaseOfEveryCellTypeClosesWhenEnclosed) {
           v[sz(ids[k])] = ((bits >> k) & 1) ? mag(rng) : -mag(rng);
         g.point_data.add(DataArray::from_vector<double>("s", 1, v), AttributeRole::Scalars);
         ContourStats st;
-        const PolyData pd = contour(g, {}, &st);
+        const PolyData pd = test::split_result(contour(g, {}), st);
         ambiguous += st.ambiguous_faces;
         const std::string what = std::string(c.name) + " case " + std::to_string(bits);
         if (bits == 0) {
@@ -446,12 +447,12 @@ TEST(ContourUnstructured, MirroredCellsKeepTheOrientation) {
   CubeMesh m = uniform_mesh(14, CubeMesh::Hex);
   m.sphere_field(kCentre, kRadius);
   UnstructuredGrid g = m.grid();
-  const PolyData normal = contour(g, {});
+  const PolyData normal = contour(g, {}).output;
   for (std::size_t c = 0; c < g.types.size(); ++c) {
     auto ids = g.cells.cell(c);
     for (int q = 0; q < 4; ++q) std::swap(ids[sz(q)], ids[sz(q + 4)]);
   }
-  const PolyData mirrored = contour(g, {});
+  const PolyData mirrored = contour(g, {}).output;
   expect_sphere(normal, "hex", 0.05);
   expect_sphere(mirrored, "mirrored hex", 0.05);
   // (the same loops, possibly triangulated differently)
@@ -464,7 +465,7 @@ TEST(ContourUnstructured, MirroredCellsKeepTheOrientation) {
     std::swap(ids[1], ids[2]);
     std::swap(ids[4], ids[5]);
   }
-  expect_sphere(contour(gw, {}), "right-handed wedges", 0.05);
+  expect_sphere(contour(gw, {}).output, "right-handed wedges", 0.05);
 }
 
 TEST(ContourUnstructured, PostPressureIsManifoldWithBordersOnTheBoundary) {
@@ -499,7 +500,7 @@ TEST(ContourUnstructured, PostPressureIsManifoldWithBordersOnTheBoundary) {
   o.array = "Pressure";
   o.values = {0.5, 0.8, 1.1, 1.4};
   ContourStats st;
-  const PolyData pd = contour(g, o, &st);
+  const PolyData pd = test::split_result(contour(g, o), st);
   ASSERT_GT(pd.polys.size(), 500u);
   const SurfaceTopology t = analyze_topology(pd);
   EXPECT_EQ(t.non_manifold_edges, 0u);
@@ -665,7 +666,7 @@ TEST(ContourUnstructured, BoundaryPolygonsGiveTheSurfaceBorderAsPolylines) {
     ContourOptions o;
     o.values = {0.0, 0.15};
     ContourStats st;
-    const PolyData pd = contour(g, o, &st);
+    const PolyData pd = test::split_result(contour(g, o), st);
     ASSERT_GT(pd.polys.size(), 0u) << what;
     ASSERT_GT(pd.lines.size(), 0u) << what;
     const SurfaceTopology t = analyze_topology(pd);
@@ -701,7 +702,7 @@ TEST(ContourUnstructured, BoundaryPolygonsGiveTheSurfaceBorderAsPolylines) {
     DataArray cell("cell", ScalarType::Int64, 1, g.types.size());
     for (std::size_t c = 0; c < g.types.size(); ++c) cell.set(c, 0, static_cast<double>(c));
     g.cell_data.add(std::move(cell));
-    const PolyData withcd = contour(g, o);
+    const PolyData withcd = contour(g, o).output;
     EXPECT_EQ(withcd.lines.size(), segs.size()) << what;
     const DataArray& cd = withcd.cell_data.get("cell");
     for (std::size_t c = 0; c < withcd.lines.size(); ++c)
@@ -719,7 +720,7 @@ TEST(ContourUnstructured, NormalsAndFlip) {
       ContourOptions o;
       o.normals = mode;
       o.flip = flip;
-      const PolyData pd = contour(m.grid(), o);
+      const PolyData pd = contour(m.grid(), o).output;
       const DataArray* nrm = pd.point_data.normals();
       ASSERT_NE(nrm, nullptr);
       for (std::size_t i = 0; i < pd.points.size(); ++i) {
@@ -748,7 +749,7 @@ TEST(ContourUnstructured, LinesAndVerticesOfAGrid) {
   ContourOptions o;
   o.values = {2.5};
   ContourStats st;
-  const PolyData pd = contour(g, o, &st);
+  const PolyData pd = test::split_result(contour(g, o), st);
   ASSERT_EQ(pd.verts.size(), 3u);  // segments 2-3 and 3-4 of the polyline, 2-3 of the line
   ASSERT_EQ(pd.points.size(), 2u);
   EXPECT_EQ(st.cells, 3u);
@@ -816,9 +817,9 @@ TEST(ContourUnstructured, DeterministicForAnyThreadCount) {
   PolyData one;
   {
     tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-    one = contour(g, o);
+    one = contour(g, o).output;
   }
-  const PolyData many = contour(g, o);
+  const PolyData many = contour(g, o).output;
   EXPECT_GT(many.lines.size(), 0u);
   EXPECT_GT(many.polys.size(), 0u);
   EXPECT_TRUE(one == many);

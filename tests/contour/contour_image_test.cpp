@@ -6,6 +6,7 @@
 #include <numbers>
 #include <random>
 
+#include "support/result.hpp"
 #include "support/surface_checks.hpp"
 #include "isoforge/contour/contour.hpp"
 #include "isoforge/core/mesh_topology.hpp"
@@ -34,7 +35,7 @@ PolyData contour_function(const F& f, double lo, double hi, Index n, ContourOpti
   Bounds b;
   b.extend({lo, lo, lo});
   b.extend({hi, hi, hi});
-  return contour_image(sample_image(f, GridSpec::from_bounds(b, {n, n, n})), o);
+  return contour_image(sample_image(f, GridSpec::from_bounds(b, {n, n, n})), o).output;
 }
 
 }  // namespace
@@ -54,7 +55,7 @@ TEST(ContourImage, EveryCubeCaseIsClosedAndManifoldWhenEnclosed) {
         v[static_cast<std::size_t>(i + 4 * (j + 4 * k))] = ((c >> corner) & 1) ? mag(rng) : -mag(rng);
       }
       ContourStats st;
-      const PolyData pd = contour_image(image_of({4, 4, 4}, v), {}, &st);
+      const PolyData pd = test::split_result(contour_image(image_of({4, 4, 4}, v), {}), st);
       ambiguous += st.ambiguous_faces;
       if (c == 0) {
         EXPECT_EQ(pd.polys.size(), 0u);
@@ -83,7 +84,7 @@ TEST(ContourImage, RandomTwoByTwoByTwoBlocksAreCrackFree) {
           float m = std::abs(u(rng)) + 0.01f;
           v[static_cast<std::size_t>(i + 5 * (j + 5 * k))] = coin(rng) ? m : -m;
         }
-    const PolyData pd = contour_image(image_of({5, 5, 5}, v));
+    const PolyData pd = contour_image(image_of({5, 5, 5}, v)).output;
     if (pd.polys.empty()) continue;
     expect_closed_manifold(pd, "trial " + std::to_string(trial));
   }
@@ -138,7 +139,7 @@ TEST(ContourImage, IntegerDataAtAnIntegerValueStaysManifoldWithoutDegeneracies) 
         for (Index i = 1; i < n - 1; ++i) v[static_cast<std::size_t>(i + n * (j + n * k))] = static_cast<float>(d(rng));
     ContourOptions o;
     o.values = {1.0};  // many samples equal the isovalue exactly
-    const PolyData pd = contour_image(image_of({n, n, n}, v), o);
+    const PolyData pd = contour_image(image_of({n, n, n}, v), o).output;
     ASSERT_GT(pd.polys.size(), 0u);
     expect_closed_manifold(pd, "trial " + std::to_string(trial));
     // No zero-area triangle and no two points at the same place.
@@ -159,7 +160,7 @@ TEST(ContourImage, NaNSamplesCountAsBelow) {
   std::vector<float> v(125, -1.0f);
   v[static_cast<std::size_t>(2 + 5 * (2 + 5 * 2))] = 1.0f;  // one above sample in the middle
   v[static_cast<std::size_t>(3 + 5 * (2 + 5 * 2))] = std::numeric_limits<float>::quiet_NaN();
-  const PolyData pd = contour_image(image_of({5, 5, 5}, v));
+  const PolyData pd = contour_image(image_of({5, 5, 5}, v)).output;
   expect_closed_manifold(pd, "nan");
   for (std::size_t i = 0; i < pd.points.size(); ++i) ASSERT_TRUE(is_finite(pd.points[i]));
   // The crossing toward the NaN sample sits at the middle of its edge.
@@ -180,9 +181,9 @@ TEST(ContourImage, DeterministicForAnyThreadCount) {
   PolyData one;
   {
     tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-    one = contour_image(img, o);
+    one = contour_image(img, o).output;
   }
-  const PolyData many = contour_image(img, o);
+  const PolyData many = contour_image(img, o).output;
   EXPECT_TRUE(one == many);
   // Three isovalues, each tagged.
   const auto& idx = many.point_data.get("IsovalueIndex");
@@ -202,7 +203,7 @@ TEST(ContourImage, InterpolatesPointDataAndCopiesCellData) {
   DataArray vox("voxel", ScalarType::Int32, 1, img.num_cells());
   for (std::size_t i = 0; i < img.num_cells(); ++i) vox.set(i, 0, static_cast<double>(i));
   img.cell_data.add(std::move(vox));
-  const PolyData pd = contour_image(img);
+  const PolyData pd = contour_image(img).output;
   const DataArray& xi = pd.point_data.get("x");
   for (std::size_t i = 0; i < pd.points.size(); ++i) {
     EXPECT_NEAR(xi.get(i), pd.points[i].x, 1e-6);  // linear fields interpolate exactly
@@ -242,6 +243,35 @@ TEST(ContourImage, NormalsPointTowardIncreasingValuesUnlessFlipped) {
       EXPECT_GT(flip ? -signed_volume(pd) : signed_volume(pd), 0);
     }
   }
+}
+
+TEST(ContourImage, ProgressAdvancesWithinOneIsovalue) {
+  // One isovalue of a 96^3 volume: the counting and generating passes report as they go, not
+  // only at the end (a large contour used to sit at 0% until it finished).
+  const Index n = 96;
+  std::vector<float> v(static_cast<std::size_t>(n * n * n));
+  for (Index k = 0; k < n; ++k)
+    for (Index j = 0; j < n; ++j)
+      for (Index i = 0; i < n; ++i)
+        v[static_cast<std::size_t>(i + n * (j + n * k))] =
+            static_cast<float>(std::sin(0.3 * double(i)) + std::sin(0.2 * double(j)) + std::cos(0.25 * double(k)));
+  const ImageData img = image_of({n, n, n}, v);
+  ContourOptions o;
+  o.values = {0.5};
+  std::vector<double> seen;
+  o.progress = [&](double f) {
+    seen.push_back(f);
+    return true;
+  };
+  const ContourResult r = contour(img, o);
+  EXPECT_GT(r.stats.cells, 10000u);
+  ASSERT_GE(seen.size(), 20u);
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+  EXPECT_GT(std::count_if(seen.begin(), seen.end(), [](double f) { return f > 0 && f < 1; }), 10);
+  EXPECT_DOUBLE_EQ(seen.back(), 1.0);
+  // Cancelling midway stops the contour.
+  o.progress = [](double f) { return f < 0.3; };
+  EXPECT_THROW((void)contour(img, o), Cancelled);
 }
 
 TEST(ContourImage, BadInputIsAClearError) {

@@ -1,3 +1,4 @@
+#include "support/result.hpp"
 #include "support/surface_checks.hpp"
 #include "isoforge/contour/contour_sparse.hpp"
 
@@ -13,7 +14,8 @@
 #include "isoforge/core/mesh_topology.hpp"
 #include "isoforge/implicit/sample.hpp"
 #include "isoforge/implicit/sample_sparse.hpp"
-#include "isoforge/io/vdb.hpp"
+#include "isoforge/sparse/convert.hpp"
+#include "isoforge/sparse/grid.hpp"
 
 using namespace isoforge;
 using isoforge::test::cube_grid;
@@ -148,11 +150,11 @@ ImageData blob_image() {
 TEST(ContourSparse, LevelSetsMatchTheDenseContourExactly) {
   for (const Shape& s : shapes()) {
     const ImageData dense = sample_image(s.f, s.grid);
-    const auto grid = sample_level_set(s.f, s.grid);
+    const auto grid = sample_level_set(s.f, s.grid).output;
     VdbContourStats st;
-    const PolyData sp = contour_vdb(*grid, {}, &st);
+    const PolyData sp = test::split_result(contour_vdb(*grid, {}), st);
     ContourStats dst;
-    const PolyData dn = contour_image(dense, {}, &dst);
+    const PolyData dn = test::split_result(contour_image(dense, {}), dst);
     expect_same_surface(sp, dn, s.name);
     EXPECT_EQ(st.skipped_cells, 0u) << s.name;
     EXPECT_EQ(st.ambiguous_faces, dst.ambiguous_faces) << s.name;
@@ -170,8 +172,8 @@ TEST(ContourSparse, FlipOrientsInwardAndMatchesTheDenseFlip) {
   ContourOptions o;
   o.flip = true;
   o.normals = ContourNormals::Triangles;
-  const PolyData sp = contour_vdb(*sample_level_set(torus, g), o);
-  const PolyData dn = contour_image(sample_image(torus, g), o);
+  const PolyData sp = contour_vdb(*sample_level_set(torus, g).output, o).output;
+  const PolyData dn = contour_image(sample_image(torus, g), o).output;
   expect_closed_genus(sp, 1, "flipped torus");
   EXPECT_LT(signed_volume(sp), 0);
   // Triangle normals are computed from the same triangles in another order: compare loosely.
@@ -191,7 +193,7 @@ TEST(ContourSparse, GradientNormalsPointOutwardOnLevelSets) {
     ContourOptions o;
     o.normals = ContourNormals::Gradient;
     o.flip = flip;
-    const PolyData pd = contour_vdb(*sample_level_set(F::sphere(c, 0.6), g), o);
+    const PolyData pd = contour_vdb(*sample_level_set(F::sphere(c, 0.6), g).output, o).output;
     const DataArray* n = pd.point_data.find("Normals");
     ASSERT_NE(n, nullptr);
     ASSERT_GT(pd.points.size(), 0u);
@@ -215,8 +217,8 @@ TEST(ContourSparse, FogVolumeMatchesTheDenseContourOfItsImage) {
       o.values = {iso};
       o.flip = flip;
       o.normals = ContourNormals::Gradient;
-      const PolyData sp = contour_vdb(*grid, o);
-      const PolyData dn = contour_image(dense, o);
+      const PolyData sp = contour_vdb(*grid, o).output;
+      const PolyData dn = contour_image(dense, o).output;
       const std::string what = "blob at " + std::to_string(iso) + (flip ? " flipped" : "");
       expect_same_surface(sp, dn, what);  // including the gradient normals
       EXPECT_EQ(sp.point_data.scalars()->name(), "density");
@@ -249,15 +251,15 @@ TEST(ContourSparse, RandomFieldsMatchTheDenseContourInEveryCase) {
       }
   img.point_data.add(DataArray::from_vector<float>("noise", 1, std::move(v)),
                      AttributeRole::Scalars);
-  const auto grid = image_to_vdb(img, "", -10.0f);
+  const auto grid = image_to_vdb(img, {"", -10.0f});
   const ImageData dense = vdb_to_image(*grid);
   ASSERT_EQ(dense.dims, img.dims);
   ContourOptions o;
   o.values = {0.0, 0.25, -0.3};
   VdbContourStats st;
   ContourStats dst;
-  const PolyData sp = contour_vdb(*grid, o, &st);
-  const PolyData dn = contour_image(dense, o, &dst);
+  const PolyData sp = test::split_result(contour_vdb(*grid, o), st);
+  const PolyData dn = test::split_result(contour_image(dense, o), dst);
   EXPECT_GT(st.ambiguous_faces, 1000u);
   EXPECT_EQ(st.ambiguous_faces, dst.ambiguous_faces);
   expect_same_surface(sp, dn, "noise");
@@ -275,7 +277,7 @@ TEST(ContourSparse, RandomFieldsMatchTheDenseContourInEveryCase) {
   moved->transform().postTranslate(
       openvdb::Vec3d(-2.0 + 1003 * 0.25, 0.5 + 517 * 0.25, -4.25 + 21 * 0.25));
   ASSERT_EQ(moved->evalActiveVoxelBoundingBox().min(), openvdb::Coord(-1003, -517, -21));
-  expect_same_surface(contour_vdb(*moved, o), dn, "noise at negative coordinates");
+  expect_same_surface(contour_vdb(*moved, o).output, dn, "noise at negative coordinates");
 }
 
 TEST(ContourSparse, TilesContributeTheirValues) {
@@ -297,8 +299,8 @@ TEST(ContourSparse, TilesContributeTheirValues) {
   ContourOptions o;
   o.values = {0.5};
   VdbContourStats st;
-  const PolyData sp = contour_vdb(*grid, o, &st);
-  expect_same_surface(sp, contour_image(vdb_to_image(*grid), o), "box");
+  const PolyData sp = test::split_result(contour_vdb(*grid, o), st);
+  expect_same_surface(sp, contour_image(vdb_to_image(*grid), o).output, "box");
   EXPECT_EQ(st.skipped_cells, 0u);
   expect_closed_genus(sp, 0, "box");
 }
@@ -312,25 +314,25 @@ TEST(ContourSparse, TilesStraddlingTheIsovalueAreLeftOut) {
   VdbContourStats st;
   ContourOptions o;
   o.values = {0.5};
-  const PolyData pd = contour_vdb(*grid, o, &st);
+  const PolyData pd = test::split_result(contour_vdb(*grid, o), st);
   EXPECT_GT(st.skipped_cells, 0u);
   EXPECT_EQ(analyze_topology(pd).vertices, pd.points.size());
 }
 
 TEST(ContourSparse, DeterministicForAnyThreadCount) {
   const F f = F::torus({0, 0, 0}, {0, 1, 1}, 0.5, 0.2) | F::sphere({0.3, 0.2, 0.1}, 0.35);
-  const auto grid = sample_level_set(f, cube_grid(-1, 1, 97));
+  const auto grid = sample_level_set(f, cube_grid(-1, 1, 97)).output;
   ContourOptions o;
   o.values = {-0.02, 0.0, 0.03};
   o.normals = ContourNormals::Gradient;
   PolyData one;
   {
     tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-    one = contour_vdb(*grid, o);
+    one = contour_vdb(*grid, o).output;
   }
   for (std::size_t threads : {2u, 4u}) {
     tbb::global_control c(tbb::global_control::max_allowed_parallelism, threads);
-    const PolyData many = contour_vdb(*grid, o);
+    const PolyData many = contour_vdb(*grid, o).output;
     ASSERT_GT(one.points.size(), 0u);
     EXPECT_TRUE(std::ranges::equal(one.points.floats(), many.points.floats()));
     EXPECT_TRUE(std::ranges::equal(one.polys.connectivity(), many.polys.connectivity()));
@@ -349,17 +351,17 @@ TEST(ContourSparse, MultipleIsovaluesAreTaggedAndEqualSeparateRuns) {
   const F sphere = F::sphere({0, 0, 0}, 0.6);
   SparseSampleOptions so;
   so.half_width = 4;
-  const auto grid = sample_level_set(sphere, cube_grid(-1, 1, 45), so);
+  const auto grid = sample_level_set(sphere, cube_grid(-1, 1, 45), so).output;
   ContourOptions o;
   o.values = {-0.05, 0.0, 0.07};
   VdbContourStats st;
-  const PolyData all = contour_vdb(*grid, o, &st);
+  const PolyData all = test::split_result(contour_vdb(*grid, o), st);
   const auto index = all.point_data.get("IsovalueIndex").values<std::int32_t>();
   std::size_t at = 0, tris = 0;
   for (std::size_t v = 0; v < o.values.size(); ++v) {
     ContourOptions one;
     one.values = {o.values[v]};
-    const PolyData part = contour_vdb(*grid, one);
+    const PolyData part = contour_vdb(*grid, one).output;
     ASSERT_GT(part.points.size(), 0u);
     for (std::size_t i = 0; i < part.points.size(); ++i) {
       ASSERT_EQ(index[at + i], static_cast<std::int32_t>(v));
@@ -376,10 +378,10 @@ TEST(ContourSparse, MultipleIsovaluesAreTaggedAndEqualSeparateRuns) {
 }
 
 TEST(ContourSparse, AttributesFollowTheOptions) {
-  auto grid = sample_level_set(F::sphere({0, 0, 0}, 0.5), cube_grid(-1, 1, 33));
+  auto grid = sample_level_set(F::sphere({0, 0, 0}, 0.5), cube_grid(-1, 1, 33)).output;
   grid->setName("distance");
   ContourOptions o;
-  const PolyData with = contour_vdb(*grid, o);
+  const PolyData with = contour_vdb(*grid, o).output;
   ASSERT_NE(with.point_data.scalars(), nullptr);
   EXPECT_EQ(with.point_data.scalars()->name(), "distance");
   // Zero up to the crossing clamp (1/1024 of an edge whose values differ by at most 2 h).
@@ -387,7 +389,7 @@ TEST(ContourSparse, AttributesFollowTheOptions) {
   EXPECT_EQ(with.point_data.find("Normals"), nullptr);
   o.interpolate_attributes = false;
   o.normals = ContourNormals::Triangles;
-  const PolyData without = contour_vdb(*grid, o);
+  const PolyData without = contour_vdb(*grid, o).output;
   EXPECT_EQ(without.point_data.find("distance"), nullptr);
   EXPECT_NE(without.point_data.find("Normals"), nullptr);
   EXPECT_NE(without.point_data.find("IsovalueIndex"), nullptr);
@@ -397,7 +399,7 @@ TEST(ContourSparse, AttributesFollowTheOptions) {
 TEST(ContourSparse, EmptyGridGivesEmptyOutput) {
   const auto grid = openvdb::FloatGrid::create(1.0f);
   VdbContourStats st;
-  const PolyData pd = contour_vdb(*grid, {}, &st);
+  const PolyData pd = test::split_result(contour_vdb(*grid, {}), st);
   EXPECT_EQ(pd.points.size(), 0u);
   EXPECT_EQ(pd.polys.size(), 0u);
   EXPECT_NE(pd.point_data.find("IsovalueIndex"), nullptr);
@@ -406,7 +408,7 @@ TEST(ContourSparse, EmptyGridGivesEmptyOutput) {
 }
 
 TEST(ContourSparse, BadInputIsAClearError) {
-  auto grid = sample_level_set(F::sphere({0, 0, 0}, 0.5), cube_grid(-1, 1, 21));
+  auto grid = sample_level_set(F::sphere({0, 0, 0}, 0.5), cube_grid(-1, 1, 21)).output;
   ContourOptions o;
   o.values = {};
   EXPECT_THROW((void)contour_vdb(*grid, o), Error);

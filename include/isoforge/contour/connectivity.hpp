@@ -27,6 +27,7 @@
 
 #include "isoforge/core/dataset.hpp"
 #include "isoforge/core/progress.hpp"
+#include "isoforge/core/result.hpp"
 
 namespace isoforge {
 
@@ -70,8 +71,8 @@ struct ConnectivityOptions {
   ProgressCallback progress;  ///< called with the fraction done; false cancels
 };
 
-struct ConnectivityResult {
-  PolyData output;             ///< the selected components (see the file comment)
+/// What labelling found.
+struct ConnectivityStats {
   std::size_t components = 0;  ///< number of components of the input
   /// Cells of each component, by component id (non-increasing with ComponentSize::Cells).
   std::vector<std::size_t> sizes;
@@ -80,6 +81,9 @@ struct ConnectivityResult {
   std::vector<std::size_t> selected;  ///< ids of the components in the output, increasing
   std::vector<std::int32_t> cell_component;  ///< the component of every input cell
 };
+
+/// The selected components (see `connectivity`) and the labelling's statistics.
+using ConnectivityResult = Result<PolyData, ConnectivityStats>;
 
 /// Labels the connected components of `input` and extracts those `options.mode` selects.
 ///

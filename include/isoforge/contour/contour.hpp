@@ -26,6 +26,7 @@
 
 #include "isoforge/core/dataset.hpp"
 #include "isoforge/core/progress.hpp"
+#include "isoforge/core/result.hpp"
 
 namespace isoforge {
 
@@ -41,7 +42,7 @@ struct ContourOptions {
   ContourNormals normals = ContourNormals::None;
   bool interpolate_attributes = true;  ///< interpolate point data, copy cell data
   bool flip = false;                   ///< orient toward decreasing values instead
-  ProgressCallback progress;
+  ProgressCallback progress;           ///< fraction done; false cancels
 };
 
 /// Statistics of a contouring run.
@@ -51,21 +52,19 @@ struct ContourStats {
   std::size_t ambiguous_faces = 0;  ///< face decisions made by the asymptotic decider
 };
 
+using ContourResult = Result<PolyData, ContourStats>;
+
 /// Contours any dataset: 3D image data, structured and unstructured grids give triangles; 2D
 /// images (one dimension of 1) and polygons give polylines joined into continuous lines; lines
 /// give vertices. The output holds the point array "IsovalueIndex" (Int32: which of
 /// `options.values` each point belongs to), the interpolated input point arrays and, with
 /// normals, "Normals". \throw Error if the array is missing or has more than one component, the
 /// values are empty or not finite, or the dataset is invalid.
-[[nodiscard]] PolyData contour(DatasetRef input, const ContourOptions& options = {},
-                               ContourStats* stats = nullptr);
+[[nodiscard]] ContourResult contour(DatasetRef input, const ContourOptions& options = {});
 
-/// Marching cubes on a 3D image (every dimension ≥ 2), in the multi-pass, lock-free style of
-/// Flying Edges (Schroeder, Maynard & Geveci, LDAV 2015): classify samples into one bit each,
-/// count crossings and triangles per row with word-parallel bit operations, prefix-sum the counts
-/// into exact output offsets, then generate rows in parallel. Deterministic: the output is
-/// identical for any number of threads. Extra memory: one bit per sample plus per-row counts.
-[[nodiscard]] PolyData contour_image(const ImageData& input, const ContourOptions& options = {},
-                                     ContourStats* stats = nullptr);
+/// `contour` of image data: marching cubes on 3D images (Flying Edges' multi-pass organisation
+/// on bit planes, docs/algorithms/contour.md), marching squares on 2D ones. Deterministic: the
+/// output is identical for any number of threads. \throw Error as `contour`.
+[[nodiscard]] ContourResult contour_image(const ImageData& input, const ContourOptions& options = {});
 
 }  // namespace isoforge

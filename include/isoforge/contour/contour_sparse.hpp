@@ -22,6 +22,8 @@ struct VdbContourStats : ContourStats {
   std::size_t skipped_cells = 0;
 };
 
+using VdbContourResult = Result<PolyData, VdbContourStats>;
+
 /// Contours a float grid on its sparse tree: only the cells (cubes of 8 voxels) that touch a
 /// voxel of a leaf node are visited, i.e. the cells whose min corner lies in a leaf or in one of
 /// the -x/-y/-z neighbouring 8³ blocks; corner values are read through a value accessor, so
@@ -53,8 +55,7 @@ struct VdbContourStats : ContourStats {
 /// plus the output; nothing proportional to the index bounding box.
 /// \throw Error if the transform is not a uniform scale + translation, the values are empty or
 /// not finite, or `array` names another array.
-[[nodiscard]] PolyData contour_vdb(const openvdb::FloatGrid& grid,
-                                   const ContourOptions& options = {},
-                                   VdbContourStats* stats = nullptr);
+[[nodiscard]] VdbContourResult contour_vdb(const openvdb::FloatGrid& grid,
+                                           const ContourOptions& options = {});
 
 }  // namespace isoforge
