@@ -1,6 +1,6 @@
 #pragma once
-// Internal interface of the distance-field engine (distance.cpp), shared with the implicit
-// modeller, which needs its own value for samples beyond the band.
+// Private: the dense distance field with a chosen value beyond the band (distance.cpp), which the
+// implicit modeller needs, and the rows along x of points and segments (distance_rows.cpp).
 
 #include <array>
 #include <cstddef>
@@ -11,10 +11,10 @@
 namespace isoforge::model_detail {
 
 /// `distance_image` with samples beyond the band set to `far_value` (−far_value inside when
-/// signed) instead of the maximum distance.
-[[nodiscard]] ImageData distance_image(const PolyData& input, const GridSpec& grid,
-                                       const DistanceOptions& options, ScalarType type,
-                                       double far_value, DistanceStats* stats);
+/// signed) instead of the maximum distance; adds to `stats`.
+[[nodiscard]] ImageData distance_image_far(const PolyData& input, const GridSpec& grid,
+                                           const DistanceOptions& options, double far_value,
+                                           DistanceStats& stats);
 
 /// What `distance_rows` did.
 struct RowStats {

@@ -22,7 +22,8 @@
 // Pieces are rounded to chunks of 8 samples (rows are padded): caps shrink toward their ends and
 // the middle grows to cover what they gave up, so the kernels run on whole vectors. The rows of
 // a plane are set up in one vectorized loop per primitive, and one call per plane enters the
-// AVX-512 / AVX2 / baseline clone (core/simd_clones.hpp), so that per-row work stays small.
+// AVX-512 / AVX2 / baseline clone (ISOFORGE_SIMD_CLONES, src/CMakeLists.txt), so that per-row
+// work stays small.
 //
 // Methods: banded scan conversion of the primitives (vtkImplicitModeller's per-cell loop, cut
 // to the characteristic regions of S. Mauch, "A fast algorithm for computing the closest point
@@ -43,7 +44,6 @@
 #include <type_traits>
 #include <vector>
 
-#include "core/simd_clones.hpp"
 #include "distance_internal.hpp"
 
 namespace isoforge::model_detail {

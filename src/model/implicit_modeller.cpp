@@ -8,6 +8,7 @@
 
 #include "isoforge/model/implicit_modeller.hpp"
 
+#include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -20,27 +21,11 @@
 #include <utility>
 
 #include "distance_internal.hpp"
+#include "modeller_internal.hpp"
 
 namespace isoforge {
 
 namespace {
-
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
-DistanceOptions distance_options(const ImplicitModellerOptions& o, double max_distance) {
-  DistanceOptions d;
-  d.max_distance = max_distance;
-  d.signed_distance = o.signed_distance;
-  d.radius_array = o.radius_array;
-  d.strategy = o.strategy;
-  d.name = o.name;
-  d.progress = o.progress;
-  return d;
-}
 
 template <class T>
 void cap(ImageData& img, T value) {
@@ -76,8 +61,8 @@ template <class T>
 T fitting(double value, ScalarType type, const char* what) {
   const auto [lo, hi] = type_range<T>();
   if (std::isnan(value) || value < lo || value > hi) {
-    throw Error(std::string("implicit modeller: ") + what + " " + num(value) + " does not fit " +
-                std::string(scalar_type_name(type)));
+    throw Error(fmt::format("implicit modeller: {} {:g} does not fit {}", what, value,
+                            scalar_type_name(type)));
   }
   return static_cast<T>(value);
 }
@@ -133,14 +118,13 @@ ModellerGrid implicit_modeller_grid(const Bounds& input_bounds, const ImplicitMo
     }
   }
   if (!(o.maximum_distance > 0 && o.maximum_distance <= 1)) {
-    throw Error(
-        "implicit modeller: maximum distance must be a fraction in (0, 1] of the largest "
-        "side, got " +
-        num(o.maximum_distance));
+    throw Error(fmt::format("implicit modeller: maximum distance must be a fraction in (0, 1] of "
+                            "the largest side, got {:g}",
+                            o.maximum_distance));
   }
   if (!(o.adjust_distance >= 0) || !std::isfinite(o.adjust_distance)) {
-    throw Error("implicit modeller: adjust distance must be finite and >= 0, got " +
-                num(o.adjust_distance));
+    throw Error(fmt::format("implicit modeller: adjust distance must be finite and >= 0, got {:g}",
+                            o.adjust_distance));
   }
   const Bounds b = o.model_bounds.empty() ? input_bounds : o.model_bounds;
   if (b.empty() || !is_finite(b.min) || !is_finite(b.max)) {
@@ -177,15 +161,34 @@ double vtk_type_max(ScalarType type) {
   return visit_scalar_type(type, [](auto t) { return type_range<decltype(t)>().second; });
 }
 
-ImageData implicit_modeller(const PolyData& input, const ImplicitModellerOptions& o,
-                            DistanceStats* stats) {
+namespace model_detail {
+
+void check_modeller_input(const PolyData& input) {
   if (input.num_cells() == 0 || input.points.empty()) {
     throw Error("implicit modeller: the input is empty (no vertices, lines or polygons)");
   }
   if (input.points.first_non_finite() < input.points.size()) {
-    throw Error("implicit modeller: point " + std::to_string(input.points.first_non_finite()) +
-                " is not finite");
+    throw Error(fmt::format("implicit modeller: point {} is not finite",
+                            input.points.first_non_finite()));
   }
+}
+
+DistanceOptions modeller_distance_options(const ImplicitModellerOptions& o, double max_distance) {
+  DistanceOptions d;
+  d.max_distance = max_distance;
+  d.signed_distance = o.signed_distance;
+  d.radius_array = o.radius_array;
+  d.strategy = o.strategy;
+  d.name = o.name;
+  d.progress = o.progress;
+  return d;
+}
+
+}  // namespace model_detail
+
+ImplicitModellerResult implicit_modeller(const PolyData& input, const ImplicitModellerOptions& o) {
+  using namespace model_detail;
+  check_modeller_input(input);
   const ScalarType type = o.output_type;
   const double type_max = vtk_type_max(type);
   const double cap_value = o.cap_value.value_or(type_max);
@@ -204,16 +207,18 @@ ImageData implicit_modeller(const PolyData& input, const ImplicitModellerOptions
                 std::string(scalar_type_name(type)));
   }
   const ModellerGrid mg = implicit_modeller_grid(input.bounds(), o);
-  const DistanceOptions d = distance_options(o, mg.max_distance);
-  ImageData img;
+  DistanceOptions d = modeller_distance_options(o, mg.max_distance);
+  ImplicitModellerResult r;
+  ImageData& img = r.output;
   if (is_floating(type) && !o.clamp) {
     visit_scalar_type(type, [&](auto t) { (void)fitting<decltype(t)>(far_value, type, "far value"); });
-    img = model_detail::distance_image(input, mg.grid, d, type, far_value, stats);
+    d.type = type;
+    img = distance_image_far(input, mg.grid, d, far_value, r.stats);
   } else {
     // Clamped or integer: the exact field in Float64 (±inf beyond the band), then converted.
     const double scale = o.scale_to_maximum_distance ? type_max / mg.max_distance : 1.0;
-    img = model_detail::distance_image(input, mg.grid, d, ScalarType::Float64,
-                                       std::numeric_limits<double>::infinity(), stats);
+    d.type = ScalarType::Float64;
+    img = distance_image_far(input, mg.grid, d, std::numeric_limits<double>::infinity(), r.stats);
     DataArray& field = *img.point_data.active(AttributeRole::Scalars);
     DataArray out = visit_scalar_type(type, [&](auto t) {
       return convert_field<decltype(t)>(field, scale, far_value, o.clamp, mg.max_distance, type);
@@ -222,7 +227,7 @@ ImageData implicit_modeller(const PolyData& input, const ImplicitModellerOptions
     img.point_data.add(std::move(out), AttributeRole::Scalars);
   }
   if (o.capping) cap_boundary(img, cap_value);
-  return img;
+  return r;
 }
 
 void cap_boundary(ImageData& image, double value) {
@@ -233,25 +238,11 @@ void cap_boundary(ImageData& image, double value) {
     using T = decltype(t);
     const auto [lo, hi] = type_range<T>();
     if (value < lo || value > hi) {
-      throw Error("cap: the cap value " + num(value) + " does not fit the active scalars '" +
-                  s->name() + "' (" + std::string(scalar_type_name(s->type())) + ")");
+      throw Error(fmt::format("cap: the cap value {:g} does not fit the active scalars '{}' ({})",
+                              value, s->name(), scalar_type_name(s->type())));
     }
     cap(image, static_cast<T>(value));
   });
-}
-
-openvdb::FloatGrid::Ptr implicit_modeller_vdb(const PolyData& input,
-                                              const ImplicitModellerOptions& o,
-                                              DistanceStats* stats) {
-  if (input.num_cells() == 0 || input.points.empty()) {
-    throw Error("implicit modeller: the input is empty (no vertices, lines or polygons)");
-  }
-  if (input.points.first_non_finite() < input.points.size()) {
-    throw Error("implicit modeller: point " + std::to_string(input.points.first_non_finite()) +
-                " is not finite");
-  }
-  const ModellerGrid mg = implicit_modeller_grid(input.bounds(), o);
-  return distance_grid(input, mg.grid, distance_options(o, mg.max_distance), stats);
 }
 
 }  // namespace isoforge

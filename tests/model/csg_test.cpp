@@ -1,11 +1,11 @@
-#include "isoforge/model/csg.hpp"
+#include "isoforge/model/csg_sparse.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "isoforge/model/closest_point.hpp"
-#include "isoforge/model/distance.hpp"
+#include "isoforge/core/closest_point.hpp"
+#include "isoforge/model/distance_sparse.hpp"
 
 using namespace isoforge;
 
@@ -39,7 +39,7 @@ TEST(Csg, OffsetOfADistanceFieldIsTheSolidsLevelSet) {
   const GridSpec g = cube_grid(-1, 1, 41);
   DistanceOptions o;
   o.max_distance = 0.5;
-  const auto field = distance_grid(single_point({0, 0, 0}), g, o);
+  const auto field = distance_grid(single_point({0, 0, 0}), g, o).output;
   const auto ls = offset(*field, 0.3);
   EXPECT_EQ(ls->getGridClass(), openvdb::GRID_LEVEL_SET);
   EXPECT_FLOAT_EQ(ls->background(), 0.2f);
@@ -71,10 +71,10 @@ TEST(Csg, SparseCopyInPlaceAndDenseAgree) {
   DistanceOptions o;
   o.max_distance = 0.6;
   const PolyData a = single_point({-0.2, 0, 0}), b = single_point({0.25, 0.05, 0});
-  const auto la = offset(*distance_grid(a, g, o), 0.4);
-  const auto lb = offset(*distance_grid(b, g, o), 0.35);
-  const ImageData da = offset(distance_image(a, g, o), 0.4);
-  const ImageData db = offset(distance_image(b, g, o), 0.35);
+  const auto la = offset(*distance_grid(a, g, o).output, 0.4);
+  const auto lb = offset(*distance_grid(b, g, o).output, 0.35);
+  const ImageData da = offset(distance_image(a, g, o).output, 0.4);
+  const ImageData db = offset(distance_image(b, g, o).output, 0.35);
   for (CsgOperation op :
        {CsgOperation::Union, CsgOperation::Intersection, CsgOperation::Difference}) {
     const auto copy = csg(*la, *lb, op);
@@ -109,7 +109,7 @@ TEST(Csg, ErrorsNameTheProblem) {
   const GridSpec g = cube_grid(-1, 1, 17);
   DistanceOptions o;
   o.max_distance = 0.5;
-  const auto field = distance_grid(single_point({0, 0, 0}), g, o);
+  const auto field = distance_grid(single_point({0, 0, 0}), g, o).output;
   const auto ls = offset(*field, 0.2);
   try {
     (void)csg(*field, *ls, CsgOperation::Union);
@@ -117,15 +117,15 @@ TEST(Csg, ErrorsNameTheProblem) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("not a level set"), std::string::npos) << e.what();
   }
-  const auto other = offset(*distance_grid(single_point({0, 0, 0}), cube_grid(-1, 1, 21), o), 0.2);
+  const auto other = offset(*distance_grid(single_point({0, 0, 0}), cube_grid(-1, 1, 21), o).output, 0.2);
   try {
     (void)csg(*ls, *other, CsgOperation::Difference);
     FAIL();
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("different transforms"), std::string::npos) << e.what();
   }
-  ImageData a = distance_image(single_point({0, 0, 0}), g, o);
-  ImageData b = distance_image(single_point({0, 0, 0}), cube_grid(-1, 1, 18), o);
+  ImageData a = distance_image(single_point({0, 0, 0}), g, o).output;
+  ImageData b = distance_image(single_point({0, 0, 0}), cube_grid(-1, 1, 18), o).output;
   EXPECT_THROW((void)csg(a, b, CsgOperation::Union), Error);
   EXPECT_THROW((void)offset_surfaces(*ls, {0.5}), Error);  // outside the band
   EXPECT_THROW((void)offset_surfaces(a, {}), Error);

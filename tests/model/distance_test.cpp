@@ -13,6 +13,8 @@
 #include "isoforge/core/cell.hpp"
 #include "isoforge/core/mesh_topology.hpp"
 #include "isoforge/io/io.hpp"
+#include "isoforge/model/distance_sparse.hpp"
+#include "support/result.hpp"
 #include "support/expect_error.hpp"
 #include "support/meshes.hpp"
 
@@ -21,6 +23,12 @@ using isoforge::test::expect_error;
 using namespace isoforge;
 
 namespace {
+
+/// `o` with dense values of type `t`.
+DistanceOptions typed(DistanceOptions o, ScalarType t) {
+  o.type = t;
+  return o;
+}
 
 // A mixed input: a vertex cell of two points, a polyline, a line, a quad, a triangle and a strip.
 PolyData mixed_input() {
@@ -108,7 +116,7 @@ TEST(Distance, RandomBandSamplesAreExact) {
   DistanceOptions o;
   o.max_distance = 0.2;
   DistanceStats stats;
-  const ImageData img = distance_image(pd, g, o, ScalarType::Float64, &stats);
+  const ImageData img = test::split_result(distance_image(pd, g, typed(o, ScalarType::Float64)), stats);
   EXPECT_EQ(stats.points, 2u);
   EXPECT_EQ(stats.segments, 3u);
   EXPECT_EQ(stats.triangles, 2u + 1u + 3u);
@@ -184,10 +192,10 @@ TEST(Distance, RowsOfPointsAndSegmentsEqualTheBlockEngineBitForBit) {
     o.max_distance = c.maxd * c.scale;
     DistanceStats rows, engine;
     o.strategy = DistanceStrategy::Scatter;
-    const ImageData img = distance_image(pd, g, o, ScalarType::Float64, &rows);
+    const ImageData img = test::split_result(distance_image(pd, g, typed(o, ScalarType::Float64)), rows);
     const auto a = values<double>(img);
     o.strategy = DistanceStrategy::Gather;
-    const auto e = values<double>(distance_image(pd, g, o, ScalarType::Float64, &engine));
+    const auto e = values<double>(test::split_result(distance_image(pd, g, typed(o, ScalarType::Float64)), engine));
     EXPECT_EQ(rows.blocks, std::size_t(g.dims[2]));  // one per z-plane: the row path ran
     EXPECT_EQ(rows.active_voxels, engine.active_voxels);
     EXPECT_GT(rows.active_voxels, a.size() / 20);
@@ -201,7 +209,7 @@ TEST(Distance, RowsOfPointsAndSegmentsEqualTheBlockEngineBitForBit) {
     }
     // Float output: the same values rounded once.
     o.strategy = DistanceStrategy::Auto;
-    const auto f = values<float>(distance_image(pd, g, o));
+    const auto f = values<float>(distance_image(pd, g, o).output);
     for (std::size_t id = 0; id < a.size(); ++id) ASSERT_EQ(f[id], static_cast<float>(a[id]));
   }
 }
@@ -220,9 +228,9 @@ TEST(Distance, RowsOfThinGridsEqualTheBlockEngine) {
     o.max_distance = 0.3;
     o.strategy = DistanceStrategy::Scatter;
     DistanceStats rows;
-    const auto a = values<double>(distance_image(pd, g, o, ScalarType::Float64, &rows));
+    const auto a = values<double>(test::split_result(distance_image(pd, g, typed(o, ScalarType::Float64)), rows));
     o.strategy = DistanceStrategy::Gather;
-    const auto e = values<double>(distance_image(pd, g, o, ScalarType::Float64));
+    const auto e = values<double>(distance_image(pd, g, typed(o, ScalarType::Float64)).output);
     EXPECT_EQ(rows.blocks, std::size_t(d[2]));
     ASSERT_EQ(a, e) << d[0] << " x " << d[1] << " x " << d[2];
   }
@@ -250,9 +258,9 @@ TEST(Distance, RowsOfExtremeCoordinatesEqualTheBlockEngine) {
     o.max_distance = 0.3 * (c.offset > 0 ? c.offset : c.scale);
     o.strategy = DistanceStrategy::Scatter;
     DistanceStats rows;
-    const auto a = values<double>(distance_image(pd, g, o, ScalarType::Float64, &rows));
+    const auto a = values<double>(test::split_result(distance_image(pd, g, typed(o, ScalarType::Float64)), rows));
     o.strategy = DistanceStrategy::Gather;
-    const auto e = values<double>(distance_image(pd, g, o, ScalarType::Float64));
+    const auto e = values<double>(distance_image(pd, g, typed(o, ScalarType::Float64)).output);
     EXPECT_EQ(rows.blocks, 7u);
     ASSERT_EQ(a, e) << c.scale << " " << c.offset;
     // With a triangle the dense Scatter is the block engine too; and the sparse grid of both.
@@ -261,12 +269,12 @@ TEST(Distance, RowsOfExtremeCoordinatesEqualTheBlockEngine) {
     tri.polys.add({0, 1, 3});
     for (auto strategy : {DistanceStrategy::Scatter, DistanceStrategy::Gather}) {
       o.strategy = strategy;
-      const ImageData dense = distance_image(tri, g, o);
+      const ImageData dense = distance_image(tri, g, o).output;
       if (g.spacing.x < 1e-5) {  // beyond OpenVDB's transforms: a clear error, not theirs
         expect_error([&] { (void)distance_grid(tri, g, o); }, "OpenVDB cannot use the voxel size");
         continue;
       }
-      const auto grid = distance_grid(tri, g, o);
+      const auto grid = distance_grid(tri, g, o).output;
       const auto v = values<float>(dense);
       auto acc = grid->getConstAccessor();
       for (Index k = 0; k < 7; ++k)
@@ -307,7 +315,7 @@ TEST(Distance, SparseBandIsExactlyTheSamplesWithinTheMaximumDistance) {
   DistanceOptions o;
   o.max_distance = 0.15;
   DistanceStats stats;
-  const auto grid = distance_grid(pd, g, o, &stats);
+  const auto grid = test::split_result(distance_grid(pd, g, o), stats);
   EXPECT_EQ(grid->getGridClass(), openvdb::GRID_UNKNOWN);
   EXPECT_FLOAT_EQ(grid->background(), 0.15f);
   auto acc = grid->getConstAccessor();
@@ -344,9 +352,9 @@ TEST(Distance, ScatterAndGatherAreBitIdentical) {
   o.max_distance = 0.3;
   o.strategy = DistanceStrategy::Scatter;
   DistanceStats s1, s2;
-  const auto a = values<double>(distance_image(pd, g, o, ScalarType::Float64, &s1));
+  const auto a = values<double>(test::split_result(distance_image(pd, g, typed(o, ScalarType::Float64)), s1));
   o.strategy = DistanceStrategy::Gather;
-  const auto b = values<double>(distance_image(pd, g, o, ScalarType::Float64, &s2));
+  const auto b = values<double>(test::split_result(distance_image(pd, g, typed(o, ScalarType::Float64)), s2));
   EXPECT_EQ(s1.strategy, DistanceStrategy::Scatter);
   EXPECT_EQ(s2.strategy, DistanceStrategy::Gather);
   EXPECT_EQ(s1.active_voxels, s2.active_voxels);
@@ -360,9 +368,9 @@ TEST(Distance, BunnyStrategiesAgreeAndMatchBruteForce) {
   DistanceOptions o;
   o.max_distance = 0.1 * b.diagonal();
   o.strategy = DistanceStrategy::Scatter;
-  const auto a = values<float>(distance_image(bunny, g, o));
+  const auto a = values<float>(distance_image(bunny, g, o).output);
   o.strategy = DistanceStrategy::Gather;
-  const ImageData img = distance_image(bunny, g, o);
+  const ImageData img = distance_image(bunny, g, o).output;
   const auto c = values<float>(img);
   ASSERT_EQ(a, c);
   std::mt19937 rng(2);
@@ -379,8 +387,8 @@ TEST(Distance, DenseAndSparseAgreeBitForBitOnTheBand) {
     const GridSpec g = cube_grid(-0.25, 1.25, 64);
     DistanceOptions o;
     o.max_distance = 0.12;
-    const ImageData dense = distance_image(pd, g, o);
-    const auto grid = distance_grid(pd, g, o);
+    const ImageData dense = distance_image(pd, g, o).output;
+    const auto grid = distance_grid(pd, g, o).output;
     const auto v = values<float>(dense);
     auto acc = grid->getConstAccessor();
     std::size_t active = 0;
@@ -411,9 +419,9 @@ TEST(Distance, DeterministicForAnyThreadCount) {
       std::vector<float> one;
       {
         tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-        one = values<float>(distance_image(pd, g, o));
+        one = values<float>(distance_image(pd, g, o).output);
       }
-      ASSERT_EQ(one, values<float>(distance_image(pd, g, o)));
+      ASSERT_EQ(one, values<float>(distance_image(pd, g, o).output));
     }
   }
 }
@@ -426,7 +434,7 @@ TEST(Distance, SignedDistanceOfAClosedMesh) {
   o.signed_distance = true;
   for (auto s : {DistanceStrategy::Scatter, DistanceStrategy::Gather}) {
     o.strategy = s;
-    const ImageData img = distance_image(cube, g, o, ScalarType::Float64);
+    const ImageData img = distance_image(cube, g, typed(o, ScalarType::Float64)).output;
     const auto v = values<double>(img);
     for (std::size_t id = 0; id < v.size(); ++id) {
       const double ref = box_signed_distance(img.point(Index(id)));
@@ -438,7 +446,7 @@ TEST(Distance, SignedDistanceOfAClosedMesh) {
       }
     }
     // The sparse level set: same band values, inactive values ±background.
-    const auto grid = distance_grid(cube, g, o);
+    const auto grid = distance_grid(cube, g, o).output;
     EXPECT_EQ(grid->getGridClass(), openvdb::GRID_LEVEL_SET);
     auto acc = grid->getConstAccessor();
     EXPECT_FLOAT_EQ(acc.getValue(openvdb::Coord(20, 20, 20)), -0.3f);  // the center
@@ -456,7 +464,7 @@ TEST(Distance, SignedDistanceOfASphereAndAnInwardOrientedOne) {
   DistanceOptions o;
   o.max_distance = 0.25;
   o.signed_distance = true;
-  const auto out = values<double>(distance_image(sphere, g, o, ScalarType::Float64));
+  const auto out = values<double>(distance_image(sphere, g, typed(o, ScalarType::Float64)).output);
   // Reverse every triangle: the mesh encloses a negative volume and is flipped back.
   PolyData inward = sphere;
   inward.polys.clear();
@@ -464,12 +472,12 @@ TEST(Distance, SignedDistanceOfASphereAndAnInwardOrientedOne) {
     const auto ids = sphere.polys.cell(c);
     inward.polys.add({ids[0], ids[2], ids[1]});
   }
-  const auto in = values<double>(distance_image(inward, g, o, ScalarType::Float64));
+  const auto in = values<double>(distance_image(inward, g, typed(o, ScalarType::Float64)).output);
   ASSERT_EQ(out.size(), in.size());
   for (std::size_t i = 0; i < out.size(); ++i) {
     ASSERT_NEAR(out[i], in[i], 1e-12) << i;  // the same up to the kernel's vertex order
   }
-  const ImageData img = distance_image(sphere, g, o, ScalarType::Float64);
+  const ImageData img = distance_image(sphere, g, typed(o, ScalarType::Float64)).output;
   for (std::size_t id = 0; id < out.size(); ++id) {
     const double r = norm(img.point(Index(id)));
     if (std::abs(r - 0.6) < 0.2) {
@@ -528,7 +536,7 @@ TEST(Distance, PointsWithRadiiAreBalls) {
   DistanceOptions o;
   o.max_distance = 0.15;
   o.radius_array = "r";
-  const ImageData img = distance_image(pd, g, o, ScalarType::Float64);
+  const ImageData img = distance_image(pd, g, typed(o, ScalarType::Float64)).output;
   const auto v = values<double>(img);
   for (std::size_t id = 0; id < v.size(); ++id) {
     const Vec3 x = img.point(Index(id));
@@ -547,9 +555,9 @@ TEST(Distance, MemoryScalesWithAreaNotVolume) {
   DistanceStats s1, s2;
   DistanceOptions o;
   o.max_distance = 3 * 2.0 / 128;  // three voxels at 129³
-  (void)distance_grid(sphere, cube_grid(-1, 1, 129), o, &s1);
+  (void)test::split_result(distance_grid(sphere, cube_grid(-1, 1, 129), o), s1);
   o.max_distance = 3 * 2.0 / 256;  // three voxels at 257³
-  (void)distance_grid(sphere, cube_grid(-1, 1, 257), o, &s2);
+  (void)test::split_result(distance_grid(sphere, cube_grid(-1, 1, 257), o), s2);
   const double ratio = double(s2.active_voxels) / double(s1.active_voxels);
   EXPECT_GT(ratio, 3.5);  // doubling the resolution: area x4 (volume would be x8)
   EXPECT_LT(ratio, 4.5);
@@ -563,7 +571,7 @@ TEST(Distance, OpenVdbMeshToVolumeAgreesNearTheSurface) {
   DistanceOptions o;
   o.max_distance = 3 * g.spacing.x;
   o.signed_distance = true;
-  const auto ours = distance_grid(sphere, g, o);
+  const auto ours = distance_grid(sphere, g, o).output;
   auto a = vdb->getConstAccessor();
   std::size_t compared = 0;
   for (auto it = ours->cbeginValueOn(); it; ++it) {
@@ -601,7 +609,7 @@ TEST(Distance, BadInputIsAnErrorNamingTheProblem) {
   GridSpec uneven = g;
   uneven.spacing.y *= 2;
   expect_error([&] { (void)distance_grid(pd, uneven, o); }, "cubes");
-  expect_error([&] { (void)distance_image(pd, g, o, ScalarType::Int32); }, "float32 or float64");
+  expect_error([&] { (void)distance_image(pd, g, typed(o, ScalarType::Int32)); }, "float32 or float64");
 }
 
 TEST(Distance, CubicGridCoversTheBox) {

@@ -12,9 +12,11 @@
 #include "isoforge/contour/contour.hpp"
 #include "isoforge/contour/contour_sparse.hpp"
 #include "isoforge/core/mesh_topology.hpp"
+#include "isoforge/core/closest_point.hpp"
 #include "isoforge/io/io.hpp"
-#include "isoforge/model/closest_point.hpp"
-#include "isoforge/model/csg.hpp"
+#include "isoforge/model/csg_sparse.hpp"
+#include "isoforge/model/implicit_modeller_sparse.hpp"
+#include "support/result.hpp"
 #include "support/expect_error.hpp"
 #include "support/meshes.hpp"
 
@@ -92,7 +94,7 @@ TEST(ImplicitModeller, VtkDefaultsBoundsAndMaximumDistance) {
   EXPECT_DOUBLE_EQ(mg.grid.spacing.x, 9.225 / 49);
   EXPECT_EQ(mg.grid.dims, (Dims{50, 50, 50}));
   DistanceStats stats;
-  const ImageData img = implicit_modeller(in, {}, &stats);
+  const ImageData img = test::split_result(implicit_modeller(in, {}), stats);
   EXPECT_EQ(img.point_data.scalars()->name(), "ImageScalars");
   EXPECT_EQ(img.point_data.scalars()->type(), ScalarType::Float32);
   const auto v = values<float>(img);
@@ -122,11 +124,11 @@ TEST(ImplicitModeller, FarValueClampAndCapping) {
   o.sample_dimensions = {40, 12, 8};
   o.maximum_distance = 0.05;  // 0.45 world units
   o.capping = false;
-  const auto far = values<float>(implicit_modeller(in, o));
+  const auto far = values<float>(implicit_modeller(in, o).output);
   o.clamp = true;
-  const auto clamped = values<float>(implicit_modeller(in, o));
+  const auto clamped = values<float>(implicit_modeller(in, o).output);
   o.output_type = ScalarType::Float64;
-  const ImageData img64 = implicit_modeller(in, o);
+  const ImageData img64 = implicit_modeller(in, o).output;
   const auto d64 = values<double>(img64);
   std::size_t beyond = 0;
   for (std::size_t i = 0; i < far.size(); ++i) {
@@ -144,7 +146,7 @@ TEST(ImplicitModeller, FarValueClampAndCapping) {
   // Capping: every boundary sample holds the cap value, nothing else changes.
   o.capping = true;
   o.cap_value = 7;
-  const ImageData capped = implicit_modeller(in, o);
+  const ImageData capped = implicit_modeller(in, o).output;
   const auto c = values<double>(capped);
   for (Index k = 0; k < 8; ++k)
     for (Index j = 0; j < 12; ++j)
@@ -164,7 +166,7 @@ TEST(ImplicitModeller, OutputScalarTypesAsVtk) {
   o.sample_dimensions = {40, 12, 8};
   o.maximum_distance = 0.05;  // 0.45 world units
   o.output_type = ScalarType::Float64;
-  const ImageData ref = implicit_modeller(in, o);
+  const ImageData ref = implicit_modeller(in, o).output;
   const auto d = values<double>(ref);
   EXPECT_EQ(d[std::size_t(ref.point_id(0, 5, 5))], kVtkDoubleMax);  // capped
   EXPECT_EQ(vtk_type_max(ScalarType::Float64), kVtkDoubleMax);
@@ -176,7 +178,7 @@ TEST(ImplicitModeller, OutputScalarTypesAsVtk) {
                                      std::pair{ScalarType::UInt16, true}, std::pair{ScalarType::Int32, true}}) {
     o.output_type = type;
     o.scale_to_maximum_distance = scaled;
-    const ImageData img = implicit_modeller(in, o);
+    const ImageData img = implicit_modeller(in, o).output;
     const DataArray& a = *img.point_data.scalars();
     ASSERT_EQ(a.type(), type);
     const double tmax = vtk_type_max(type);
@@ -199,11 +201,11 @@ TEST(ImplicitModeller, OutputScalarTypesAsVtk) {
   o.capping = false;
   o.output_type = ScalarType::Float64;
   o.scale_to_maximum_distance = false;
-  const auto open = values<double>(implicit_modeller(in, o));
+  const auto open = values<double>(implicit_modeller(in, o).output);
   o.output_type = ScalarType::UInt16;
   o.scale_to_maximum_distance = true;
   o.clamp = true;
-  const ImageData clamped = implicit_modeller(in, o);
+  const ImageData clamped = implicit_modeller(in, o).output;
   std::size_t at_max = 0;
   for (std::size_t i = 0; i < open.size(); ++i) {
     const double v = clamped.point_data.scalars()->get(i);
@@ -227,9 +229,9 @@ TEST(ImplicitModeller, HelloOffsetSurfaceIsFiveClosedManifoldLetters) {
   o.sample_dimensions = {110, 40, 20};
   o.model_bounds = box({-1, -1, -1}, {10, 3, 1});
   o.maximum_distance = 0.25;
-  const ImageData img = implicit_modeller(hello(), o);
+  const ImageData img = implicit_modeller(hello(), o).output;
   EXPECT_NE(img.spacing.x, img.spacing.y);  // per-axis spacing
-  const PolyData surface = offset_surfaces(img, {0.25});
+  const PolyData surface = offset_surfaces(img, {0.25}).output;
   const SurfaceTopology t = analyze_topology(surface);
   EXPECT_TRUE(t.closed());
   EXPECT_TRUE(t.manifold());
@@ -247,7 +249,7 @@ TEST(ImplicitModeller, HelloOffsetSurfaceIsFiveClosedManifoldLetters) {
   }
   EXPECT_EQ(genera, (std::multiset<long>{0, 0, 0, 0, 1}));
   // connectivity() agrees and separates them (Fig. 1.29's tool).
-  EXPECT_EQ(connectivity(surface).components, 5u);
+  EXPECT_EQ(connectivity(surface).stats.components, 5u);
 }
 
 // Fig. 1.26: distance functions to a point, a line and a triangle; several offset surfaces of
@@ -268,8 +270,8 @@ TEST(ImplicitModeller, OffsetSurfacesOfAPointALineAndATriangle) {
     o.sample_dimensions = {61, 61, 61};
     o.model_bounds = box({-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2});
     o.maximum_distance = 0.25;  // 0.6 world units, beyond every offset
-    const ImageData img = implicit_modeller(*gen, o);
-    const PolyData all = offset_surfaces(img, offsets);
+    const ImageData img = implicit_modeller(*gen, o).output;
+    const PolyData all = offset_surfaces(img, offsets).output;
     const double h = img.spacing.x;
     for (int k = 0; k < 3; ++k) {
       const std::vector<Vec3> pts = points_of(all, k);
@@ -311,8 +313,8 @@ TEST(ImplicitModeller, BooleansOfPointAndLineGenerators) {
   const GridSpec g = GridSpec::from_bounds(box({-1.5, -1, -1}, {1.5, 1, 1}), {61, 41, 41});
   DistanceOptions o;
   o.max_distance = 0.75;
-  const ImageData dp = offset(distance_image(point, g, o), 0.5);
-  const ImageData dl = offset(distance_image(line, g, o), 0.25);
+  const ImageData dp = offset(distance_image(point, g, o).output, 0.5);
+  const ImageData dl = offset(distance_image(line, g, o).output, 0.25);
   const double h = g.spacing.x;
   const auto check = [&](const PolyData& s, CsgOperation op, const char* what) {
     ASSERT_GT(s.num_points(), 100u) << what;
@@ -329,16 +331,16 @@ TEST(ImplicitModeller, BooleansOfPointAndLineGenerators) {
     EXPECT_TRUE(t.manifold()) << what;
   };
   // The sparse level sets: unsigned distance fields offset into solids, then OpenVDB's CSG.
-  const auto sp = offset(*distance_grid(point, g, o), 0.5);
-  const auto sl = offset(*distance_grid(line, g, o), 0.25);
+  const auto sp = offset(*distance_grid(point, g, o).output, 0.5);
+  const auto sl = offset(*distance_grid(line, g, o).output, 0.25);
   std::size_t components[3];
   long genus[3];
   for (CsgOperation op :
        {CsgOperation::Union, CsgOperation::Intersection, CsgOperation::Difference}) {
-    const PolyData dense = offset_surfaces(csg(dp, dl, op), {0.0});
+    const PolyData dense = offset_surfaces(csg(dp, dl, op), {0.0}).output;
     check(dense, op, "dense");
     const auto grid = csg(*sp, *sl, op);
-    const PolyData sparse = offset_surfaces(*grid, {0.0});
+    const PolyData sparse = offset_surfaces(*grid, {0.0}).output;
     check(sparse, op, "sparse");
     // Same field on the band, so the same surface size.
     EXPECT_EQ(sparse.polys.size(), dense.polys.size()) << csg_operation_name(op);
@@ -367,13 +369,13 @@ TEST(ImplicitModeller, ConcaveGeneratorGivesSeveralSurfaces) {
   o.maximum_distance = 0.15;  // 0.36
   o.signed_distance = true;
   o.clamp = true;
-  const ImageData img = implicit_modeller(mesh, o);
-  const PolyData outer = offset_surfaces(img, {0.1});
-  const PolyData inner = offset_surfaces(img, {-0.2});  // deeper than the neck (radius 0.15)
-  EXPECT_EQ(connectivity(outer).components, 1u);
+  const ImageData img = implicit_modeller(mesh, o).output;
+  const PolyData outer = offset_surfaces(img, {0.1}).output;
+  const PolyData inner = offset_surfaces(img, {-0.2}).output;  // deeper than the neck (radius 0.15)
+  EXPECT_EQ(connectivity(outer).stats.components, 1u);
   const ConnectivityResult r = connectivity(inner);
-  EXPECT_EQ(r.components, 2u);
-  for (std::size_t c = 0; c < 2; ++c) EXPECT_GT(r.sizes[c], 100u);
+  EXPECT_EQ(r.stats.components, 2u);
+  for (std::size_t c = 0; c < 2; ++c) EXPECT_GT(r.stats.sizes[c], 100u);
   EXPECT_TRUE(analyze_topology(inner).closed());
 }
 
@@ -383,8 +385,8 @@ TEST(ImplicitModeller, SparseMatchesDenseOnTheBand) {
   o.model_bounds = box({-1, -1, -1}, {10, 10, 10});  // a cube: cubic voxels
   o.maximum_distance = 0.05;
   const PolyData in = hello();
-  const ImageData dense = implicit_modeller(in, o);
-  const auto grid = implicit_modeller_vdb(in, o);
+  const ImageData dense = implicit_modeller(in, o).output;
+  const auto grid = implicit_modeller_vdb(in, o).output;
   const auto v = values<float>(dense);
   std::size_t active = 0;
   for (auto it = grid->cbeginValueOn(); it; ++it) {
@@ -398,7 +400,7 @@ TEST(ImplicitModeller, SparseMatchesDenseOnTheBand) {
   // The sparse contour equals the dense one (the cap is far from the strokes).
   ContourOptions c;
   c.values = {0.25};
-  EXPECT_EQ(contour_vdb(*grid, c).polys.size(), contour_image(dense, c).polys.size());
+  EXPECT_EQ(contour_vdb(*grid, c).output.polys.size(), contour_image(dense, c).output.polys.size());
 }
 
 TEST(ImplicitModeller, BadInputIsAnErrorNamingTheProblem) {

@@ -33,11 +33,10 @@
 #include <optional>
 #include <string>
 
-#include <openvdb/openvdb.h>
-
 #include "isoforge/core/dataset.hpp"
+#include "isoforge/core/grid_spec.hpp"
 #include "isoforge/core/progress.hpp"
-#include "isoforge/implicit/sample.hpp"
+#include "isoforge/core/result.hpp"
 #include "isoforge/model/distance.hpp"
 
 namespace isoforge {
@@ -86,28 +85,20 @@ struct ModellerGrid {
 [[nodiscard]] ModellerGrid implicit_modeller_grid(const Bounds& input_bounds,
                                                   const ImplicitModellerOptions& options = {});
 
+using ImplicitModellerResult = Result<ImageData, DistanceStats>;
+
 /// The vtkImplicitModeller volume of `input` (see the file comment).
 /// \throw Error on an empty input, non-finite points, bad options (as implicit_modeller_grid,
 /// cap/far values that are NaN or do not fit the output type, signed distances into an unsigned
 /// type, scale_to_maximum_distance with a floating type), and everything `distance_image`
 /// rejects.
-[[nodiscard]] ImageData implicit_modeller(const PolyData& input,
-                                          const ImplicitModellerOptions& options = {},
-                                          DistanceStats* stats = nullptr);
+[[nodiscard]] ImplicitModellerResult implicit_modeller(const PolyData& input,
+                                                       const ImplicitModellerOptions& options = {});
 
 /// Sets the samples on the six faces of a 3D image's active scalars (1 component, any type) to
 /// `value` — the capping step of the modeller, for fields computed otherwise.
 /// \throw Error if the image has no 1-component active scalars, or `value` is NaN or does not
 /// fit their type.
 void cap_boundary(ImageData& image, double value);
-
-/// The same field in an OpenVDB narrow band (`distance_grid`) on the modeller's grid, which must
-/// then have cubic voxels (choose bounds and dimensions accordingly, e.g. a cube with equal
-/// dimensions and `adjust_bounds`). No capping: a sparse band has no boundary to cap; voxels
-/// beyond the maximum distance are inactive. On the band, values equal `implicit_modeller`'s
-/// Float32 values bit for bit. \throw Error as `implicit_modeller`, or on unequal spacing.
-[[nodiscard]] openvdb::FloatGrid::Ptr implicit_modeller_vdb(
-    const PolyData& input, const ImplicitModellerOptions& options = {},
-    DistanceStats* stats = nullptr);
 
 }  // namespace isoforge
