@@ -73,16 +73,18 @@ void add_contour_command(CLI::App& app, Context& ctx) {
       const auto grid = read_vdb_grid(args->in, args->grid);
       bar.stage("contouring");
       o.progress = bar.callback();
-      VdbContourStats vs;
-      surface = contour_vdb(*grid, o, &vs);
-      stats = vs;
+      auto r = contour_vdb(*grid, o);
+      surface = std::move(r.output);
+      stats = r.stats;
     } else {
       ReadOptions ro;
       ro.plot3d_q = args->q;
       const Dataset ds = read(args->in, ro);
       bar.stage("contouring");
       o.progress = bar.callback();
-      surface = contour(ds, o, &stats);
+      auto r = contour(ds, o);
+      surface = std::move(r.output);
+      stats = r.stats;
     }
     std::size_t components = 0;
     if (selections == 1) {
@@ -98,7 +100,7 @@ void add_contour_command(CLI::App& app, Context& ctx) {
         co.point = {args->closest[0], args->closest[1], args->closest[2]};
       }
       ConnectivityResult r = connectivity(std::move(surface), co);
-      components = r.components;
+      components = r.stats.components;
       surface = std::move(r.output);
     }
     bar.stage("writing");

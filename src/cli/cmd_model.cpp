@@ -15,8 +15,8 @@
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/vdb.hpp"
 #include "isoforge/model/attractor.hpp"
-#include "isoforge/model/csg.hpp"
-#include "isoforge/model/distance.hpp"
+#include "isoforge/model/csg_sparse.hpp"
+#include "isoforge/model/distance_sparse.hpp"
 #include "isoforge/model/implicit_modeller.hpp"
 #include "progress.hpp"
 
@@ -165,7 +165,8 @@ void add_distance_command(CLI::App& app, Context& ctx) {
     if (format == FileFormat::Vdb) {
       const GridSpec g = cubic_from_dims(b, dims, args->voxel_size);
       o.name = "distance";
-      auto grid = distance_grid(in, g, o, &stats);
+      auto [grid, grid_stats] = distance_grid(in, g, o);
+      stats = grid_stats;
       const double ms = elapsed_ms(t0);
       bar.stage("writing");
       write_vdb(*grid, args->out);
@@ -184,8 +185,9 @@ void add_distance_command(CLI::App& app, Context& ctx) {
       if (dims[a] < 2) throw Error("--dims: need at least 2 samples along every axis");
     }
     const GridSpec g = GridSpec::from_bounds(b, dims);
-    ImageData img =
-        distance_image(in, g, o, args->float64 ? ScalarType::Float64 : ScalarType::Float32, &stats);
+    o.type = args->float64 ? ScalarType::Float64 : ScalarType::Float32;
+    auto [img, image_stats] = distance_image(in, g, o);
+    stats = image_stats;
     if (args->cap)
       cap_boundary(img, std::isnan(args->cap_value) ? o.max_distance : args->cap_value);
     const double ms = elapsed_ms(t0);
@@ -256,12 +258,12 @@ void add_offset_command(CLI::App& app, Context& ctx) {
     if (in_format == FileFormat::Vdb) {
       const auto grid = read_vdb_grid(args->in, args->grid);
       bar.stage("contouring");
-      surface = offset_surfaces(*grid, args->distances);
+      surface = offset_surfaces(*grid, args->distances).output;
     } else {
       Dataset ds = read(args->in);
       if (auto* img = std::get_if<ImageData>(&ds)) {
         bar.stage("contouring");
-        surface = offset_surfaces(*img, args->distances);
+        surface = offset_surfaces(*img, args->distances).output;
       } else if (auto* pd = std::get_if<PolyData>(&ds)) {
         const Dims dims = parse_dims(args->dims, "--dims");
         const Bounds ib = pd->bounds();
@@ -279,9 +281,9 @@ void add_offset_command(CLI::App& app, Context& ctx) {
           const GridSpec g = cubic_grid(b, args->voxel_size);
           o.max_distance =
               args->max_distance > 0 ? args->max_distance : dmax + 2 * args->voxel_size;
-          const auto grid = distance_grid(*pd, g, o);
+          const auto grid = distance_grid(*pd, g, o).output;
           bar.stage("contouring");
-          surface = offset_surfaces(*grid, args->distances);
+          surface = offset_surfaces(*grid, args->distances).output;
         } else {
           for (int a = 0; a < 3; ++a) {
             if (dims[a] < 2) throw Error("--dims: need at least 2 samples along every axis");
@@ -289,10 +291,10 @@ void add_offset_command(CLI::App& app, Context& ctx) {
           const GridSpec g = GridSpec::from_bounds(b, dims);
           const double h = std::max({g.spacing.x, g.spacing.y, g.spacing.z});
           o.max_distance = args->max_distance > 0 ? args->max_distance : dmax + 2 * h;
-          ImageData img = distance_image(*pd, g, o);
+          ImageData img = distance_image(*pd, g, o).output;
           if (!args->no_cap) cap_boundary(img, o.max_distance);
           bar.stage("contouring");
-          surface = offset_surfaces(img, args->distances);
+          surface = offset_surfaces(img, args->distances).output;
         }
       } else {
         throw Error("offset: " + args->in + " is " + std::string(dataset_type_name(ds)) +
@@ -301,7 +303,7 @@ void add_offset_command(CLI::App& app, Context& ctx) {
     }
     const double ms = elapsed_ms(t0);
     bar.stage("connectivity");
-    const std::size_t components = connectivity(surface).components;
+    const std::size_t components = connectivity(surface).stats.components;
     bar.stage("writing");
     write(surface, args->out);
     bar.finish();
@@ -369,7 +371,7 @@ void add_csg_command(CLI::App& app, Context& ctx) {
         return;
       }
       bar.stage("contouring");
-      surface = offset_surfaces(*a, {0.0});
+      surface = offset_surfaces(*a, {0.0}).output;
     } else {
       const auto image_of = [](const std::string& path) {
         Dataset ds = read(path);
@@ -392,7 +394,7 @@ void add_csg_command(CLI::App& app, Context& ctx) {
         return;
       }
       bar.stage("contouring");
-      surface = offset_surfaces(r, {0.0});
+      surface = offset_surfaces(r, {0.0}).output;
     }
     bar.stage("writing");
     write(surface, args->out);
@@ -459,9 +461,9 @@ void add_attractor_command(CLI::App& app, Context& ctx) {
     t.progress = bar.callback();
     const auto t0 = std::chrono::steady_clock::now();
     if (format == FileFormat::VtkImageData) {
-      const TrajectoryDensity d = lorenz_density(o.lorenz, t);
+      const auto [volume, d] = lorenz_density(o.lorenz, t);
       bar.stage("writing");
-      write(d.volume, args->out);
+      write(volume, args->out);
       bar.finish();
       if (!ctx.quiet) {
         fmt::print(stderr,
@@ -473,15 +475,15 @@ void add_attractor_command(CLI::App& app, Context& ctx) {
     const AttractorResult r = lorenz_attractor(o);
     const double ms = elapsed_ms(t0);
     bar.stage("writing");
-    if (!args->volume.empty()) write(r.density.volume, args->volume);
-    write(r.surface, args->out);
+    if (!args->volume.empty()) write(r.output.volume, args->volume);
+    write(r.output.surface, args->out);
     bar.finish();
     if (!ctx.quiet) {
       fmt::print(stderr,
                  "wrote {}: {} triangles at {:g} visits; {} states counted, {} discarded outside "
                  "the box, max {} visits, {:.0f} ms\n",
-                 args->out, r.surface.polys.size(), o.value, r.density.counted, r.density.discarded,
-                 r.density.max_visits, ms);
+                 args->out, r.output.surface.polys.size(), o.value, r.stats.trajectory.counted,
+                 r.stats.trajectory.discarded, r.stats.trajectory.max_visits, ms);
     }
   });
 }

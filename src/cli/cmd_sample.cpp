@@ -85,8 +85,7 @@ void add_sample_command(CLI::App& app, Context& ctx) {
       o.half_width = args->half_width;
       bar.stage("sampling");
       o.progress = bar.callback();
-      SparseSampleStats stats;
-      auto grid = sample_level_set(f, g, o, &stats);
+      auto [grid, stats] = sample_level_set(f, g, o);
       grid->setName("F");
       bar.stage("writing");
       write_vdb(*grid, args->out);

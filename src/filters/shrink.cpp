@@ -2,7 +2,7 @@
 
 #include "isoforge/filters/shrink.hpp"
 
-#include "core/subset.hpp"
+#include "isoforge/core/subset.hpp"
 
 namespace isoforge {
 

@@ -14,7 +14,6 @@
 #include <limits>
 #include <numbers>
 
-#include "core/simd_clones.hpp"
 #include "function_node.hpp"
 #include "isoforge/core/error.hpp"
 
@@ -311,7 +310,7 @@ ImplicitFunction ice_cream_cone() {
 
 namespace implicit_detail {
 
-// Cloned for AVX-512 and AVX2 (core/simd_clones.hpp): 8 and 4 doubles per instruction, the same
+// Cloned for AVX-512 and AVX2 (ISOFORGE_SIMD_CLONES, src/CMakeLists.txt): 8 and 4 doubles per instruction, the same
 // bits as the baseline.
 ISOFORGE_SIMD_CLONES
 void eval_block(const Node& n, const double* x, const double* y, const double* z, std::size_t count,

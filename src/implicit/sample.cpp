@@ -9,7 +9,6 @@
 #include <cmath>
 #include <vector>
 
-#include "core/simd_clones.hpp"
 #include "function_node.hpp"
 
 namespace isoforge {
@@ -18,40 +17,8 @@ using implicit_detail::eval_block;
 using implicit_detail::eval_pruned;
 using implicit_detail::kBlock;
 
-GridSpec GridSpec::from_bounds(const Bounds& bounds, const Dims& dims) {
-  (void)checked_point_count(dims, "sample dims");
-  if (bounds.empty() || !is_finite(bounds.min) || !is_finite(bounds.max)) {
-    throw Error("sample bounds: the box is empty or not finite");
-  }
-  GridSpec g;
-  g.dims = dims;
-  g.origin = bounds.min;
-  for (int a = 0; a < 3; ++a) {
-    const double extent = bounds.max[a] - bounds.min[a];
-    if (dims[a] > 1) {
-      if (!(extent > 0)) {
-        throw Error("sample bounds: axis " + std::to_string(a) + " has zero extent but " +
-                    std::to_string(dims[a]) + " samples");
-      }
-      g.spacing[a] = extent / static_cast<double>(dims[a] - 1);
-    } else {
-      g.spacing[a] = extent > 0 ? extent : 1.0;
-    }
-  }
-  return g;
-}
-
 namespace {
 
-void check_grid(const GridSpec& g) {
-  (void)checked_point_count(g.dims, "sample grid");
-  if (!is_finite(g.origin) || !is_finite(g.spacing)) throw Error("sample grid: origin or spacing is not finite");
-  for (int a = 0; a < 3; ++a) {
-    if (g.dims[a] > 1 && !(g.spacing[a] > 0)) {
-      throw Error("sample grid: spacing along axis " + std::to_string(a) + " must be positive");
-    }
-  }
-}
 
 // One brick of at most kBx x kBy x kBz samples at (i0, j0, kk0) of a slab: coordinates filled,
 // evaluated with eval_pruned over the brick's box (boolean branches that cannot matter there are
@@ -127,7 +94,7 @@ template <class T>
   }
 }
 
-// Cloned as eval_block (core/simd_clones.hpp).
+// Cloned as eval_block (ISOFORGE_SIMD_CLONES, src/CMakeLists.txt).
 ISOFORGE_SIMD_CLONES
 void sample_brick(const ImplicitFunction::Node& node, const SlabAxes& a, Index i0, Index j0, Index kk0,
                   float* out) {
@@ -164,7 +131,7 @@ void sample_slab(const ImplicitFunction::Node& node, const GridSpec& g, Index k0
 }  // namespace
 
 ImageData sample_image(const ImplicitFunction& f, const GridSpec& grid, const SampleOptions& options) {
-  check_grid(grid);
+  grid.validate("sample grid");
   if (options.type != ScalarType::Float32 && options.type != ScalarType::Float64) {
     throw Error("sample: value type must be Float32 or Float64");
   }

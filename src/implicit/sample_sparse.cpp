@@ -16,7 +16,8 @@
 #include <vector>
 
 #include "function_node.hpp"
-#include "isoforge/io/vdb.hpp"
+#include "isoforge/core/parallel.hpp"
+#include "isoforge/sparse/grid.hpp"
 
 namespace isoforge {
 
@@ -87,8 +88,8 @@ bool all_equal(const Leaf& leaf) {
 
 }  // namespace
 
-openvdb::FloatGrid::Ptr sample_level_set(const ImplicitFunction& f, const GridSpec& grid,
-                                         const SparseSampleOptions& options, SparseSampleStats* stats) {
+SparseSampleResult sample_level_set(const ImplicitFunction& f, const GridSpec& grid,
+                                    const SparseSampleOptions& options) {
   ensure_openvdb_initialized();
   (void)checked_point_count(grid.dims, "sparse sample grid");
   const double h = grid.spacing.x;
@@ -125,10 +126,10 @@ openvdb::FloatGrid::Ptr sample_level_set(const ImplicitFunction& f, const GridSp
   std::vector<Leaf*> leaves(d.leaves.size(), nullptr);
   const auto& node = f.node();
   const Index nx = grid.dims[0], ny = grid.dims[1], nz = grid.dims[2];
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 8), [&](const tbb::blocked_range<std::size_t>& r) {
+  parallel_for_range(leaves.size(), 8, [&](std::size_t begin, std::size_t end) {
     static_assert(implicit_detail::kBlock >= 512, "a leaf is evaluated as one block");
     alignas(64) double x[512], y[512], z[512], v[512];
-    for (std::size_t li = r.begin(); li != r.end(); ++li) {
+    for (std::size_t li = begin; li != end; ++li) {
       const Coord o = d.leaves[li];
       auto* leaf = new Leaf(o, background, false);
       // Leaf voxel offset = (i << 6) + (j << 3) + k, the order the values are generated in.
@@ -153,7 +154,7 @@ openvdb::FloatGrid::Ptr sample_level_set(const ImplicitFunction& f, const GridSp
       }
       leaves[li] = leaf;
     }
-  });
+  }, progress_range(options.progress, 0.25, 0.9), "sparse sample");
   report_progress(options.progress, 0.9, "sparse sample");
 
   auto result = openvdb::FloatGrid::create(background);
@@ -174,14 +175,13 @@ openvdb::FloatGrid::Ptr sample_level_set(const ImplicitFunction& f, const GridSp
   }
   tree.prune();
   report_progress(options.progress, 1.0, "sparse sample");
-  if (stats) {
-    stats->active_voxels = static_cast<std::size_t>(tree.activeVoxelCount());
-    stats->leaves = kept;
-    stats->inside_tiles = d.tiles.size();
-    stats->evaluated_voxels = d.leaves.size() * 512;
-    stats->memory_bytes = static_cast<std::size_t>(tree.memUsage());
-  }
-  return result;
+  SparseSampleResult r{std::move(result), {}};
+  r.stats.active_voxels = static_cast<std::size_t>(tree.activeVoxelCount());
+  r.stats.leaves = kept;
+  r.stats.inside_tiles = d.tiles.size();
+  r.stats.evaluated_voxels = d.leaves.size() * 512;
+  r.stats.memory_bytes = static_cast<std::size_t>(tree.memUsage());
+  return r;
 }
 
 }  // namespace isoforge

@@ -6,7 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include "isoforge/implicit/sample.hpp"
-#include "core/subset.hpp"
+#include "isoforge/core/subset.hpp"
 
 namespace isoforge {
 

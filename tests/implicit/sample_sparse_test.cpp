@@ -1,3 +1,4 @@
+#include "support/result.hpp"
 #include "support/surface_checks.hpp"
 #include "isoforge/implicit/sample_sparse.hpp"
 
@@ -31,7 +32,7 @@ TEST(SparseSample, BandEqualsDenseSamplesExactly) {
   SparseSampleOptions o;
   o.half_width = 3;
   SparseSampleStats stats;
-  const auto grid = sample_level_set(f, g, o, &stats);
+  const auto grid = test::split_result(sample_level_set(f, g, o), stats);
   const ImageData dense = sample_image(f, g);
   const auto v = dense.point_data.scalars()->values<float>();
   const double band = 3 * h;
@@ -65,7 +66,7 @@ TEST(SparseSample, SkipsFarRegionsAndTilesTheInside) {
   // A sphere of radius 0.8 in [-1, 1]^3 at 513^3: most 8^3 blocks are culled.
   const GridSpec g = cube_grid(-1, 1, 513);
   SparseSampleStats stats;
-  const auto grid = sample_level_set(F::sphere({0, 0, 0}, 0.8), g, {}, &stats);
+  const auto grid = test::split_result(sample_level_set(F::sphere({0, 0, 0}, 0.8), g, {}), stats);
   const double voxels = 513.0 * 513.0 * 513.0;
   // The band (6 voxels) plus the 8-voxel leaves around a 205-voxel-radius sphere is about 6% of
   // the volume; without culling it would be all of it.
@@ -80,8 +81,8 @@ TEST(SparseSample, SkipsFarRegionsAndTilesTheInside) {
 TEST(SparseSample, MemoryScalesWithAreaNotVolume) {
   const F f = F::torus({0, 0, 0}, {0, 0, 1}, 0.6, 0.25);
   SparseSampleStats s1, s2;
-  (void)sample_level_set(f, cube_grid(-1, 1, 257), {}, &s1);
-  (void)sample_level_set(f, cube_grid(-1, 1, 513), {}, &s2);
+  (void)test::split_result(sample_level_set(f, cube_grid(-1, 1, 257), {}), s1);
+  (void)test::split_result(sample_level_set(f, cube_grid(-1, 1, 513), {}), s2);
   const double ratio = static_cast<double>(s2.active_voxels) / static_cast<double>(s1.active_voxels);
   EXPECT_GT(ratio, 3.5);  // doubling the resolution: area x4 (volume would be x8)
   EXPECT_LT(ratio, 4.5);
@@ -95,9 +96,9 @@ TEST(SparseSample, DeterministicForAnyThreadCount) {
   openvdb::FloatGrid::Ptr one;
   {
     tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-    one = sample_level_set(f, g);
+    one = sample_level_set(f, g).output;
   }
-  const auto many = sample_level_set(f, g);
+  const auto many = sample_level_set(f, g).output;
   ASSERT_EQ(one->activeVoxelCount(), many->activeVoxelCount());
   auto a = one->getConstAccessor();
   for (auto it = many->cbeginValueOn(); it; ++it) {

@@ -49,12 +49,13 @@ void contour_dense(benchmark::State& state) {
   o.interpolate_attributes = false;  // like the peers (ComputeScalarsOff)
   ContourStats stats;
   for (auto _ : state) {
-    PolyData pd = contour_image(img, o, &stats);
-    benchmark::DoNotOptimize(pd);
+    ContourResult r = contour_image(img, o);
+    benchmark::DoNotOptimize(r);
+    stats = r.stats;
     // Releasing the output is not part of contouring (the VTK peers release theirs outside the
     // timed Update()).
     state.PauseTiming();
-    pd = PolyData{};
+    r.output = PolyData{};
     state.ResumeTiming();
   }
   state.counters["threads"] = threads;
@@ -89,7 +90,7 @@ void contour_memory(benchmark::State& state) {
   for (auto _ : state) {
     { std::ofstream("/proc/self/clear_refs") << "5"; }
     const long base = status_kb("VmRSS:");
-    PolyData pd = contour_image(img, o);
+    PolyData pd = contour_image(img, o).output;
     const long peak = status_kb("VmHWM:");
     const double output = static_cast<double>(pd.points.size() * 3 * sizeof(float) +
                                               (pd.polys.offsets().size() + pd.polys.connectivity().size()) *

@@ -29,7 +29,7 @@ const openvdb::FloatGrid& cone(Index n) {
   g.spacing = {h, h, h};
   const auto m = static_cast<Index>(std::floor(1.4 / h)) + 1;
   g.dims = {n, m, m};
-  return *cache.emplace(n, sample_level_set(ice_cream_cone(), g)).first->second;
+  return *cache.emplace(n, sample_level_set(ice_cream_cone(), g).output).first->second;
 }
 
 int thread_count(std::int64_t arg) {
@@ -53,8 +53,9 @@ void contour_vdb_cone(benchmark::State& state) {
   o.interpolate_attributes = state.range(2) != 0;
   VdbContourStats stats;
   for (auto _ : state) {
-    PolyData pd = contour_vdb(grid, o, &stats);
-    benchmark::DoNotOptimize(pd);
+    VdbContourResult r = contour_vdb(grid, o);
+    benchmark::DoNotOptimize(r);
+    stats = r.stats;
   }
   set_common_counters(state, grid, threads);
   state.counters["points"] = static_cast<double>(stats.points);

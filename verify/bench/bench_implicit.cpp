@@ -55,8 +55,9 @@ void sparse_icecream(benchmark::State& state) {
   g.dims = {n, static_cast<Index>(1.4 / h) + 1, static_cast<Index>(1.4 / h) + 1};
   SparseSampleStats stats;
   for (auto _ : state) {
-    auto grid = sample_level_set(f, g, {}, &stats);
-    benchmark::DoNotOptimize(grid);
+    SparseSampleResult r = sample_level_set(f, g);
+    benchmark::DoNotOptimize(r);
+    stats = r.stats;
   }
   state.counters["active_voxels"] = static_cast<double>(stats.active_voxels);
   state.counters["tree_MB"] = static_cast<double>(stats.memory_bytes) / 1e6;

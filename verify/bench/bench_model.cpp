@@ -24,7 +24,7 @@
 
 #include "isoforge/io/io.hpp"
 #include "isoforge/model/attractor.hpp"
-#include "isoforge/model/distance.hpp"
+#include "isoforge/model/distance_sparse.hpp"
 #include "isoforge/model/implicit_modeller.hpp"
 
 namespace {
@@ -140,12 +140,13 @@ void modeller(benchmark::State& state) {
   tbb::global_control c(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
   const PolyData& in = input(name);
   const ImplicitModellerOptions o = modeller_options(name, n);
-  DistanceStats stats;
-  ImageData img;
+  ImplicitModellerResult r;
   for (auto _ : state) {
-    img = implicit_modeller(in, o, &stats);
-    benchmark::DoNotOptimize(img);
+    r = implicit_modeller(in, o);
+    benchmark::DoNotOptimize(r);
   }
+  const ImageData& img = r.output;
+  const DistanceStats& stats = r.stats;
   if (const char* dir = std::getenv("ISOFORGE_BENCH_OUT"); dir && state.range(2) == 0) {
     write(img, std::filesystem::path(dir) / (name + "_" + std::to_string(n) + ".vti"));
     if (name == "hello") {  // VTK's other output scalar types, for the peer to compare
@@ -161,7 +162,7 @@ void modeller(benchmark::State& state) {
         ImplicitModellerOptions ov = o;
         ov.output_type = v.type;
         ov.scale_to_maximum_distance = v.scaled;
-        write(implicit_modeller(in, ov),
+        write(implicit_modeller(in, ov).output,
               std::filesystem::path(dir) / (name + "_" + v.tag + "_" + std::to_string(n) + ".vti"));
       }
     }
@@ -191,9 +192,9 @@ void narrowband(benchmark::State& state) {
     if (state.range(1) == 0) {
       DistanceOptions o;
       o.max_distance = half_width * h;
-      DistanceStats st;
-      grid = distance_grid(mesh, g, o, &st);
-      state.counters["gather"] = st.strategy == DistanceStrategy::Gather;
+      DistanceGridResult r = distance_grid(mesh, g, o);
+      grid = std::move(r.output);
+      state.counters["gather"] = r.stats.strategy == DistanceStrategy::Gather;
     } else {
       grid = openvdb_mesh_to_volume(mesh, g, half_width, false);
     }
@@ -235,8 +236,9 @@ void crossover(benchmark::State& state) {
   o.strategy = state.range(1) == 0 ? DistanceStrategy::Scatter : DistanceStrategy::Gather;
   DistanceStats stats;
   for (auto _ : state) {
-    ImageData img = distance_image(pd, g, o, ScalarType::Float32, &stats);
-    benchmark::DoNotOptimize(img);
+    DistanceImageResult r = distance_image(pd, g, o);
+    benchmark::DoNotOptimize(r);
+    stats = r.stats;
   }
   state.SetLabel(std::string(state.range(1) == 0 ? "scatter" : "gather") + "/" + std::to_string(n));
   state.counters["segments"] = n;
@@ -252,9 +254,9 @@ void attractor(benchmark::State& state) {
     r = lorenz_attractor();
     benchmark::DoNotOptimize(r);
   }
-  state.counters["steps"] = double(r.density.counted + r.density.discarded);
-  state.counters["discarded"] = double(r.density.discarded);
-  state.counters["triangles"] = double(r.surface.polys.size());
+  state.counters["steps"] = double(r.stats.trajectory.counted + r.stats.trajectory.discarded);
+  state.counters["discarded"] = double(r.stats.trajectory.discarded);
+  state.counters["triangles"] = double(r.output.surface.polys.size());
   state.counters["threads"] = 1;
 }
 

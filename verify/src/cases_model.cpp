@@ -17,9 +17,9 @@
 #include "case_support.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/model/attractor.hpp"
-#include "isoforge/model/csg.hpp"
-#include "isoforge/model/distance.hpp"
-#include "isoforge/model/implicit_modeller.hpp"
+#include "isoforge/model/csg_sparse.hpp"
+#include "isoforge/model/distance_sparse.hpp"
+#include "isoforge/model/implicit_modeller_sparse.hpp"
 #include "mesh_distance.hpp"
 
 namespace isoforge::verify {
@@ -84,8 +84,8 @@ void distance_bunny(CaseResult& r) {
       box(b.min - b.size() * 0.1, b.max + b.size() * 0.1), {40, 40, 34});
   DistanceOptions o;
   o.max_distance = 0.1 * b.diagonal();
-  DistanceStats stats;
-  const ImageData img = distance_image(bunny, g, o, ScalarType::Float64, &stats);
+  o.type = ScalarType::Float64;
+  const auto [img, stats] = distance_image(bunny, g, o);
   std::vector<Vec3> pts(img.num_points());
   for (std::size_t id = 0; id < pts.size(); ++id) pts[id] = img.point(static_cast<Index>(id));
   const MeshDistance oracle(bunny);
@@ -99,7 +99,7 @@ void distance_bunny(CaseResult& r) {
   o.strategy = stats.strategy == DistanceStrategy::Gather ? DistanceStrategy::Scatter
                                                           : DistanceStrategy::Gather;
   r.is_true("Scatter and Gather give identical values",
-            scalars<double>(distance_image(bunny, g, o, ScalarType::Float64)) ==
+            scalars<double>(distance_image(bunny, g, o).output) ==
                 scalars<double>(img));
 }
 
@@ -131,8 +131,8 @@ void distance_segments(CaseResult& r) {
   const GridSpec g = GridSpec::from_bounds(box({-0.1, -0.1, -0.1}, {1.1, 1.1, 1.1}), {61, 57, 53});
   DistanceOptions o;
   o.max_distance = 0.08;
-  DistanceStats stats;
-  const ImageData img = distance_image(pd, g, o, ScalarType::Float64, &stats);
+  o.type = ScalarType::Float64;
+  const auto [img, stats] = distance_image(pd, g, o);
   std::vector<double> ref(img.num_points());
   for (std::size_t id = 0; id < ref.size(); ++id) {
     const Vec3 p = img.point(static_cast<Index>(id));
@@ -152,7 +152,7 @@ void distance_segments(CaseResult& r) {
   record_band(r, scalars<double>(img), ref, o.max_distance, o.max_distance, 1e-12);
   o.strategy = DistanceStrategy::Gather;
   r.is_true("the rows equal Gather (the block engine) bit for bit",
-            scalars<double>(distance_image(pd, g, o, ScalarType::Float64)) ==
+            scalars<double>(distance_image(pd, g, o).output) ==
                 scalars<double>(img));
 }
 
@@ -167,7 +167,8 @@ ImplicitModellerOptions hello_options() {
 }
 
 void hello_offset(CaseResult& r) {
-  const PolyData surface = offset_surfaces(implicit_modeller(hello(), hello_options()), {0.25});
+  const PolyData surface =
+      offset_surfaces(implicit_modeller(hello(), hello_options()).output, {0.25}).output;
   const MeshReport m = check_mesh(surface);
   note_mesh(r, m);
   record_closed_surface(r, m);
@@ -188,8 +189,8 @@ void hello_sparse_vs_dense(CaseResult& r) {
   o.sample_dimensions = {121, 51, 31};
   o.maximum_distance = 2.75 / 12;
   o.capping = false;  // the sparse modeller does not cap
-  const ImageData dense = implicit_modeller(hello(), o);
-  const auto grid = implicit_modeller_vdb(hello(), o);
+  const ImageData dense = implicit_modeller(hello(), o).output;
+  const auto grid = implicit_modeller_vdb(hello(), o).output;
   const auto v = scalars<float>(dense);
   auto acc = grid->getConstAccessor();
   std::size_t active = 0, differ = 0;
@@ -216,8 +217,8 @@ void booleans(CaseResult& r) {
   const GridSpec g = cubic_grid(box({-1.5, -1, -1}, {1.5, 1, 1}), Index{121});
   DistanceOptions o;
   o.max_distance = 0.75;
-  const auto ball = offset(*distance_grid(point, g, o), 0.5);
-  const auto capsule = offset(*distance_grid(line, g, o), 0.25);
+  const auto ball = offset(*distance_grid(point, g, o).output, 0.5);
+  const auto capsule = offset(*distance_grid(line, g, o).output, 0.25);
   const struct {
     CsgOperation op;
     long genus;
@@ -225,7 +226,7 @@ void booleans(CaseResult& r) {
                   {CsgOperation::Difference, 1}};
   for (const auto& e : expected) {
     const std::string name(csg_operation_name(e.op));
-    const PolyData s = offset_surfaces(*csg(*ball, *capsule, e.op), {0.0});
+    const PolyData s = offset_surfaces(*csg(*ball, *capsule, e.op), {0.0}).output;
     const MeshReport m = check_mesh(s);
     note_mesh(r, m, name + ": ");
     r.is_true(name + ": valid closed surface (closed, manifold, oriented, no degenerate faces, "
@@ -239,11 +240,11 @@ void booleans(CaseResult& r) {
 
 void attractor(CaseResult& r) {
   const AttractorResult a = lorenz_attractor();  // Fig. 1.25's defaults
-  r.note("trajectory", fmt::format("{} states counted, {} discarded, largest count {}",
-                                   a.density.counted, a.density.discarded, a.density.max_visits));
-  r.equal("states discarded (the default box holds the attractor)", a.density.discarded,
-          std::size_t{0});
-  const MeshReport m = check_mesh(a.surface);
+  const TrajectoryStats& t = a.stats.trajectory;
+  r.note("trajectory", fmt::format("{} states counted, {} discarded, largest count {}", t.counted,
+                                   t.discarded, t.max_visits));
+  r.equal("states discarded (the default box holds the attractor)", t.discarded, std::size_t{0});
+  const MeshReport m = check_mesh(a.output.surface);
   note_mesh(r, m);
   record_closed_surface(r, m);
 }

@@ -71,7 +71,8 @@ void plane_case(CaseResult& r) {
   const Vec3 normal{1, 2, 3};
   const double c = 1.0 / 32;
   const F plane = F::plane(normal * (c / 14.0), normal);
-  const PolyData mesh = contour_image(sample_image(plane, {img.dims, img.origin, img.spacing}));
+  const PolyData mesh =
+      contour_image(sample_image(plane, {img.dims, img.origin, img.spacing})).output;
   const SideReport s = check_side(mesh.points, plane, Side::On, 4, 1.0);
   r.note("contour", fmt::format("{} points, {} triangles", mesh.points.size(), mesh.polys.size()));
   r.at_least("triangles", static_cast<double>(mesh.polys.size()), 1);

@@ -16,7 +16,7 @@
 #include "isoforge/contour/contour.hpp"
 #include "isoforge/contour/contour_sparse.hpp"
 #include "isoforge/implicit/sample_sparse.hpp"
-#include "isoforge/io/vdb.hpp"
+#include "isoforge/sparse/convert.hpp"
 
 namespace isoforge::verify {
 
@@ -148,18 +148,18 @@ ImageData gyroid_image(const GridSpec& g) {
 
 PolyData dense_surface(const Shape& s, const GridSpec& g) {
   const ImageData img = s.f ? sample_image(*s.f, g) : gyroid_image(g);
-  return contour_image(img);
+  return contour_image(img).output;
 }
 
 PolyData sparse_surface(const Shape& s, const GridSpec& g) {
-  if (s.f) return contour_vdb(*sample_level_set(*s.f, g));
+  if (s.f) return contour_vdb(*sample_level_set(*s.f, g).output).output;
   // The gyroid has no ImplicitFunction: its samples are clamped to a narrow band of +-6h
   // (|grad| <= 2 sqrt(3) for the gyroid term, so every cell the surface crosses keeps its
   // values) and converted; +6h is the background and stays inactive.
   ImageData img = gyroid_image(g);
   const auto band = static_cast<float>(6 * g.spacing.x);
   for (float& x : img.point_data.get("F").values<float>()) x = std::clamp(x, -band, band);
-  return contour_vdb(*image_to_vdb(img, "F", band));
+  return contour_vdb(*image_to_vdb(img, {"F", band})).output;
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {

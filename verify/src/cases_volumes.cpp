@@ -124,8 +124,7 @@ void noise_case(CaseResult& r, Noise kind, Index n, unsigned seed, bool padded) 
     ContourOptions o;
     o.values = {iso};
     o.flip = true;  // high values inside: outward surfaces around them
-    ContourStats st;
-    const PolyData mesh = contour_image(img, o, &st);
+    const auto [mesh, st] = contour_image(img, o);
     if (mesh.polys.empty()) throw Error(fmt::format("no surface at isovalue {}", iso));
     const MeshReport m = check_mesh(mesh);
     tot.add(m, check_borders(mesh, domain, boundary_tolerance(domain)));
@@ -155,8 +154,7 @@ void real_case(CaseResult& r, const std::string& file, double iso, bool flip) {
   ContourOptions o;
   o.values = {iso};
   o.flip = flip;
-  ContourStats st;
-  const PolyData mesh = contour_image(*img, o, &st);
+  const auto [mesh, st] = contour_image(*img, o);
   const MeshReport m = check_mesh(mesh);
   const Bounds domain = img->bounds();
   const BorderReport b = check_borders(mesh, domain, boundary_tolerance(domain));

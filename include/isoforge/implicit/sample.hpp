@@ -6,27 +6,11 @@
 #include <string>
 
 #include "isoforge/core/dataset.hpp"
+#include "isoforge/core/grid_spec.hpp"
 #include "isoforge/core/progress.hpp"
 #include "isoforge/implicit/function.hpp"
 
 namespace isoforge {
-
-/// A regular grid of sample points: point (i, j, k) is at origin + (i, j, k) * spacing.
-struct GridSpec {
-  Dims dims{64, 64, 64};
-  Vec3 origin{0, 0, 0};
-  Vec3 spacing{1, 1, 1};
-
-  /// A grid whose first and last samples lie on the box corners (VTK's model bounds).
-  /// Axes with dims 1 sample the box's minimum. \throw Error on dims < 1, an empty or
-  /// non-finite box, or dims > 1 along an axis of zero extent.
-  [[nodiscard]] static GridSpec from_bounds(const Bounds& bounds, const Dims& dims);
-  /// Coordinate of sample `i` along `axis`, computed exactly as every sampler computes it (so
-  /// dense and sparse samples of one grid agree bit for bit).
-  [[nodiscard]] double coordinate(int axis, Index i) const {
-    return origin[axis] + static_cast<double>(i) * spacing[axis];
-  }
-};
 
 struct SampleOptions {
   std::string name = "F";           ///< name of the point scalars

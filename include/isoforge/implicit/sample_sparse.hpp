@@ -10,6 +10,7 @@
 #include <openvdb/openvdb.h>
 
 #include "isoforge/core/progress.hpp"
+#include "isoforge/core/result.hpp"
 #include "isoforge/implicit/function.hpp"
 #include "isoforge/implicit/sample.hpp"
 
@@ -29,6 +30,8 @@ struct SparseSampleStats {
   std::size_t memory_bytes = 0;      ///< the tree's memory use
 };
 
+using SparseSampleResult = Result<openvdb::FloatGrid::Ptr, SparseSampleStats>;
+
 /// Samples `f` on the grid `grid` (which must have equal spacing on all axes: VDB voxels are
 /// cubes) into a level set: voxel (i, j, k) of the VDB is sample (i, j, k) of the grid, with
 /// world position grid.origin + (i, j, k) * spacing. Active voxels hold F where
@@ -37,9 +40,7 @@ struct SparseSampleStats {
 /// follows OpenVDB's level-set convention. Values equal `sample_image` on the band exactly.
 /// Multi-threaded (TBB), deterministic.
 /// \throw Error on unequal spacing, half_width <= 0 or an invalid grid.
-[[nodiscard]] openvdb::FloatGrid::Ptr sample_level_set(const ImplicitFunction& f,
-                                                       const GridSpec& grid,
-                                                       const SparseSampleOptions& options = {},
-                                                       SparseSampleStats* stats = nullptr);
+[[nodiscard]] SparseSampleResult sample_level_set(const ImplicitFunction& f, const GridSpec& grid,
+                                                  const SparseSampleOptions& options = {});
 
 }  // namespace isoforge
