@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "io/detail/scanner.hpp"
+#include "detail/scanner.hpp"
 #include "isoforge/io/atomic_file.hpp"
 #include "isoforge/io/io.hpp"
-#include "isoforge/io/mesh_formats.hpp"
+#include "isoforge/io/off_obj.hpp"
 
 namespace isoforge {
 

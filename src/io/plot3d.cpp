@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "io/detail/scanner.hpp"
+#include "detail/scanner.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/plot3d.hpp"
 

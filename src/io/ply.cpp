@@ -4,7 +4,7 @@
 //
 // Reader: every element of the header is parsed (unknown elements are skipped value by value,
 // list counts included); "vertex" and "face" elements become points, point arrays, polys and
-// cell arrays as described in isoforge/io/mesh_formats.hpp. Writer: points, point arrays as
+// cell arrays as described in isoforge/io/ply.hpp. Writer: points, point arrays as
 // properties, polys and triangulated strips, cell arrays as face properties.
 
 #include <algorithm>
@@ -18,10 +18,10 @@
 #include <string>
 #include <vector>
 
-#include "io/detail/scanner.hpp"
+#include "detail/scanner.hpp"
 #include "isoforge/io/atomic_file.hpp"
 #include "isoforge/io/io.hpp"
-#include "isoforge/io/mesh_formats.hpp"
+#include "isoforge/io/ply.hpp"
 
 namespace isoforge {
 

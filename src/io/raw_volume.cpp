@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "io/detail/scanner.hpp"
+#include "detail/scanner.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/raw_volume.hpp"
 

@@ -51,7 +51,7 @@
 #include <utility>
 #include <vector>
 
-#include "io/detail/scanner.hpp"
+#include "detail/scanner.hpp"
 #include "isoforge/io/atomic_file.hpp"
 #include "isoforge/io/io.hpp"
 

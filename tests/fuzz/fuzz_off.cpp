@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <span>
 
-#include "isoforge/io/mesh_formats.hpp"
+#include "isoforge/io/off_obj.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const auto bytes = std::as_bytes(std::span(data, size));

@@ -1,7 +1,8 @@
 // Tests for the PLY reader/writer, the OFF reader/writer and the OBJ writer.
 
 #include "support/scratch.hpp"
-#include "isoforge/io/mesh_formats.hpp"
+#include "isoforge/io/off_obj.hpp"
+#include "isoforge/io/ply.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,24 @@
+#pragma once
+/// \file
+/// OFF (read and write) and Wavefront OBJ (write).
+
+#include <cstddef>
+#include <filesystem>
+#include <span>
+#include <string_view>
+
+#include "isoforge/core/dataset.hpp"
+
+namespace isoforge {
+
+[[nodiscard]] PolyData read_off(const std::filesystem::path& path);
+/// The same from the bytes of a file; `name` is used in error messages.
+[[nodiscard]] PolyData read_off(std::span<const std::byte> data, std::string_view name);
+/// Writes OFF (points and polys; strips triangulated). \throw Error if there are lines or verts.
+void write_off(const PolyData& mesh, const std::filesystem::path& path);
+
+/// Writes Wavefront OBJ: v (points), vn (active normals), vt (active tcoords), f (polys and
+/// triangulated strips), l (lines), p (verts).
+void write_obj(const PolyData& mesh, const std::filesystem::path& path);
+
+}  // namespace isoforge
