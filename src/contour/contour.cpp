@@ -22,7 +22,8 @@ ContourResult contour_structured_grid(const StructuredGrid& grid, const ContourO
   return r;
 }
 
-ContourResult contour_unstructured_grid(const UnstructuredGrid& grid, const ContourOptions& options) {
+ContourResult contour_unstructured_grid(const UnstructuredGrid& grid,
+                                        const ContourOptions& options) {
   grid.validate();
   const DataArray& scalars = contour_scalars(grid.point_data, options, "contour");
   const CellRun run{&grid.cells, &grid.types, CellType::Empty, 0};
@@ -42,8 +43,8 @@ ContourResult contour_polydata(const PolyData& input, const ContourOptions& opti
       {&input.strips, nullptr, CellType::TriangleStrip, nv + nl + np},
   };
   ContourResult r;
-  r.output = marching_cells(input.points, input.point_data, input.cell_data, runs, scalars,
-                            options, r.stats);
+  r.output = marching_cells(input.points, input.point_data, input.cell_data, runs, scalars, options,
+                            r.stats);
   return r;
 }
 
@@ -62,7 +63,8 @@ ContourResult contour_image(const ImageData& input, const ContourOptions& option
 ContourResult contour(DatasetRef input, const ContourOptions& options) {
   if (const auto* img = input.get_if<ImageData>()) return contour_image(*img, options);
   if (const auto* sg = input.get_if<StructuredGrid>()) return contour_structured_grid(*sg, options);
-  if (const auto* ug = input.get_if<UnstructuredGrid>()) return contour_unstructured_grid(*ug, options);
+  if (const auto* ug = input.get_if<UnstructuredGrid>())
+    return contour_unstructured_grid(*ug, options);
   return contour_polydata(*input.get_if<PolyData>(), options);
 }
 

@@ -22,7 +22,8 @@ void check_values(const ContourOptions& options, const char* who) {
 const DataArray& contour_scalars(const Attributes& point_data, const ContourOptions& options,
                                  const char* who) {
   check_values(options, who);
-  const DataArray* a = options.array.empty() ? point_data.scalars() : point_data.find(options.array);
+  const DataArray* a =
+      options.array.empty() ? point_data.scalars() : point_data.find(options.array);
   if (!a) {
     if (options.array.empty()) {
       throw Error(fmt::format("{}: the input has no active point scalars (name an array)", who));
@@ -30,8 +31,8 @@ const DataArray& contour_scalars(const Attributes& point_data, const ContourOpti
     throw Error(fmt::format("{}: no point array named '{}'", who, options.array));
   }
   if (a->components() != 1) {
-    throw Error(fmt::format("{}: array '{}' has {} components; contouring needs one", who, a->name(),
-                            a->components()));
+    throw Error(fmt::format("{}: array '{}' has {} components; contouring needs one", who,
+                            a->name(), a->components()));
   }
   return *a;
 }

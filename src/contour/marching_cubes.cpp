@@ -1,8 +1,8 @@
 // Marching cubes on 3D images and structured grids: the lattice kernel of marching_cubes.hpp with
 // the regular grid's geometry or the grid's own points, for every isovalue.
 
-#include "contour_internal.hpp"
 #include "marching_cubes.hpp"
+#include "contour_internal.hpp"
 
 namespace isoforge::contour_detail {
 
@@ -22,8 +22,8 @@ PolyData lattice_value(const Geometry& geometry, const Dims& dims, const T* valu
   PolyData out = triangle_output(npts, ntris);
   out.polys.offsets()[0] = 0;
   ContourArrays arrays(point_data, cell_data, npts, ntris, options);
-  c.generate(out.points.floats().data(), out.polys.connectivity().data(), out.polys.offsets().data(),
-             arrays, progress_range(progress, 0.4, 1.0));
+  c.generate(out.points.floats().data(), out.polys.connectivity().data(),
+             out.polys.offsets().data(), arrays, progress_range(progress, 0.4, 1.0));
   arrays.move_into(out);
   stats.points += npts;
   stats.cells += ntris;

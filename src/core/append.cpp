@@ -49,13 +49,15 @@ Attributes append_arrays(const std::vector<const Attributes*>& sets,
       if (!a || a->type() != proto.type() || a->components() != proto.components()) common = false;
     }
     if (!common) continue;
-    DataArray merged = DataArray::uninitialized(proto.name(), proto.type(), proto.components(), total);
+    DataArray merged =
+        DataArray::uninitialized(proto.name(), proto.type(), proto.components(), total);
     merged.set_lookup_table(proto.lookup_table());
     const std::size_t tb = scalar_size(proto.type()) * static_cast<std::size_t>(proto.components());
     std::size_t at = 0;
     for (const Range& r : ranges) {
       const DataArray& src = sets[r.set]->get(proto.name());
-      if (r.count > 0) std::memcpy(merged.bytes() + at * tb, src.bytes() + r.first * tb, r.count * tb);
+      if (r.count > 0)
+        std::memcpy(merged.bytes() + at * tb, src.bytes() + r.first * tb, r.count * tb);
       at += r.count;
     }
     out.add(std::move(merged));
@@ -82,14 +84,15 @@ PolyData append(std::vector<PolyData> parts) {
     np += parts[k].points.size();
     doubles = doubles || parts[k].points.type() == ScalarType::Float64;
   }
-  out.points = Points(DataArray::uninitialized("Points", doubles ? ScalarType::Float64 : ScalarType::Float32, 3, np));
+  out.points = Points(DataArray::uninitialized(
+      "Points", doubles ? ScalarType::Float64 : ScalarType::Float32, 3, np));
   for (std::size_t k = 0; k < parts.size(); ++k) {
     const Points& src = parts[k].points;
     const auto at = static_cast<std::size_t>(base[k]);
     if (src.type() == out.points.type()) {
       if (src.array().size_bytes() > 0) {
-        std::memcpy(out.points.array().bytes() + at * 3 * scalar_size(src.type()), src.array().bytes(),
-                    src.array().size_bytes());
+        std::memcpy(out.points.array().bytes() + at * 3 * scalar_size(src.type()),
+                    src.array().bytes(), src.array().size_bytes());
       }
     } else {
       for (std::size_t i = 0; i < src.size(); ++i) out.points.set(at + i, src[i]);
@@ -111,7 +114,8 @@ PolyData append(std::vector<PolyData> parts) {
   for (int kind = 0; kind < 4; ++kind) {
     for (std::size_t k = 0; k < parts.size(); ++k) {
       const PolyData& p = parts[k];
-      const std::size_t sizes[4] = {p.verts.size(), p.lines.size(), p.polys.size(), p.strips.size()};
+      const std::size_t sizes[4] = {p.verts.size(), p.lines.size(), p.polys.size(),
+                                    p.strips.size()};
       std::size_t first = 0;
       for (int q = 0; q < kind; ++q) first += sizes[q];
       cell_ranges.push_back({k, first, sizes[kind]});

@@ -55,7 +55,8 @@ GridSpec cubic_grid(const Bounds& bounds, double voxel_size, double padding) {
     throw Error("cubic grid: the box is empty or not finite");
   }
   if (!(voxel_size > 0) || !std::isfinite(voxel_size)) {
-    throw Error(fmt::format("cubic grid: voxel size must be positive and finite, got {:g}", voxel_size));
+    throw Error(
+        fmt::format("cubic grid: voxel size must be positive and finite, got {:g}", voxel_size));
   }
   if (!(padding >= 0) || !std::isfinite(padding)) {
     throw Error(fmt::format("cubic grid: padding must be finite and >= 0, got {:g}", padding));

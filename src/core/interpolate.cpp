@@ -83,12 +83,14 @@ void AttributeInterpolator::interpolate(std::size_t out, std::size_t a, std::siz
 void AttributeInterpolator::combine(std::size_t out, std::span<const Term> terms) const {
   // Distinct output tuples are distinct bytes: concurrent writes are safe.
   auto& dst = const_cast<Attributes&>(points_);
-  for (std::size_t i = 0; i < combine_.size(); ++i) combine_[i]((*src_points_)[i], dst[i], out, terms);
+  for (std::size_t i = 0; i < combine_.size(); ++i)
+    combine_[i]((*src_points_)[i], dst[i], out, terms);
 }
 
 void AttributeInterpolator::copy_point(std::size_t out, std::size_t in) const {
   auto& dst = const_cast<Attributes&>(points_);
-  for (std::size_t i = 0; i < points_.size(); ++i) copy_tuple_raw((*src_points_)[i], dst[i], out, in);
+  for (std::size_t i = 0; i < points_.size(); ++i)
+    copy_tuple_raw((*src_points_)[i], dst[i], out, in);
 }
 
 void AttributeInterpolator::copy_cell(std::size_t out, std::size_t in) const {

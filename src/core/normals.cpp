@@ -18,7 +18,8 @@ DataArray point_normals(const PolyData& surface) {
       const Vec3 d = surface.points[static_cast<std::size_t>(ids[k + 1])];
       const Vec3 n = cross(b - a, d - a);  // twice the area, along the normal
       for (const Index id : {ids[0], ids[k], ids[k + 1]}) {
-        for (int i = 0; i < 3; ++i) acc[3 * static_cast<std::size_t>(id) + static_cast<std::size_t>(i)] += n[i];
+        for (int i = 0; i < 3; ++i)
+          acc[3 * static_cast<std::size_t>(id) + static_cast<std::size_t>(i)] += n[i];
       }
     }
   }

@@ -30,8 +30,10 @@ class TrajectoryBinner {
     }
     for (int a = 0; a < 3; ++a) {
       if (o.dims[a] < 2) {
-        throw Error(fmt::format("trajectory density: dims must be at least 2 along every axis, "
-                                "got {} x {} x {}", o.dims[0], o.dims[1], o.dims[2]));
+        throw Error(
+            fmt::format("trajectory density: dims must be at least 2 along every axis, "
+                        "got {} x {} x {}",
+                        o.dims[0], o.dims[1], o.dims[2]));
       }
     }
     const std::size_t n = checked_point_count(o.dims, "trajectory density");
@@ -118,8 +120,9 @@ TrajectoryResult trajectory_density(const std::function<Vec3(const Vec3&)>& f,
 
 TrajectoryResult lorenz_density(const LorenzParameters& p, const TrajectoryOptions& options) {
   if (!std::isfinite(p.sigma) || !std::isfinite(p.rho) || !std::isfinite(p.beta)) {
-    throw Error(fmt::format("lorenz: the parameters must be finite (sigma {:g}, rho {:g}, beta {:g})",
-                            p.sigma, p.rho, p.beta));
+    throw Error(
+        fmt::format("lorenz: the parameters must be finite (sigma {:g}, rho {:g}, beta {:g})",
+                    p.sigma, p.rho, p.beta));
   }
   return integrate([&p](const Vec3& s) { return lorenz(p, s); }, options);
 }

@@ -114,7 +114,7 @@ ImageData offset(const ImageData& field, double distance) {
 }
 
 ContourResult offset_surfaces(const ImageData& field, const std::vector<double>& distances,
-                         ContourOptions options) {
+                              ContourOptions options) {
   if (distances.empty()) throw Error("offset surfaces: no distances given");
   options.values = distances;
   return contour_image(field, options);

@@ -66,9 +66,10 @@ void shift(openvdb::FloatGrid& field, double distance) {
   }
   if (!std::isfinite(distance)) throw Error("offset: the distance is not finite");
   if (!(std::abs(distance) < bg)) {
-    throw Error(fmt::format("offset: |distance| = {:g} is not inside the narrow band (half width "
-                            "{:g})",
-                            std::abs(distance), bg));
+    throw Error(
+        fmt::format("offset: |distance| = {:g} is not inside the narrow band (half width "
+                    "{:g})",
+                    std::abs(distance), bg));
   }
   shift(field, distance, bg - std::abs(distance));
 }
@@ -146,15 +147,16 @@ void offset_in_place(openvdb::FloatGrid& field, double distance) {
   shift(field, distance);
 }
 
-VdbContourResult offset_surfaces(const openvdb::FloatGrid& field, const std::vector<double>& distances,
-                         ContourOptions options) {
+VdbContourResult offset_surfaces(const openvdb::FloatGrid& field,
+                                 const std::vector<double>& distances, ContourOptions options) {
   if (distances.empty()) throw Error("offset surfaces: no distances given");
   const double bg = field.background();
   for (double d : distances) {
     if (!(std::abs(d) < bg)) {
-      throw Error(fmt::format("offset surfaces: distance {:g} is not inside the narrow band (half "
-                              "width {:g})",
-                              d, bg));
+      throw Error(
+          fmt::format("offset surfaces: distance {:g} is not inside the narrow band (half "
+                      "width {:g})",
+                      d, bg));
     }
   }
   options.values = distances;

@@ -68,9 +68,10 @@ ImageData dense_field(const PolyData& input, const GridSpec& g, const DistanceOp
     signs = std::make_unique<Pseudonormals>(build_pseudonormals(input, P, o.require_closed));
     const double hmax = std::max({g.spacing.x, g.spacing.y, g.spacing.z});
     if (o.max_distance < hmax) {
-      throw Error(fmt::format("distance: signed distance needs max_distance ({:g}) >= the largest "
-                              "spacing ({:g}) so that the band separates inside from outside",
-                              o.max_distance, hmax));
+      throw Error(
+          fmt::format("distance: signed distance needs max_distance ({:g}) >= the largest "
+                      "spacing ({:g}) so that the band separates inside from outside",
+                      o.max_distance, hmax));
     }
   }
   ImageData img = g.image();
@@ -90,8 +91,7 @@ ImageData dense_field(const PolyData& input, const GridSpec& g, const DistanceOp
         segments[i] = {P.vertices()[P.segments()[i][0]], P.vertices()[P.segments()[i][1]]};
       }
       report_progress(o.progress, 0.0, "distance");
-      const RowStats r =
-          distance_rows(centers, segments, g, o.max_distance, far, v, o.progress);
+      const RowStats r = distance_rows(centers, segments, g, o.max_distance, far, v, o.progress);
       stats.blocks = r.planes;
       stats.evaluations = r.evaluations;
       stats.active_voxels = r.active;
@@ -132,8 +132,10 @@ ImageData distance_image_far(const PolyData& input, const GridSpec& grid,
                              DistanceStats& stats) {
   check_common(grid, options);
   if (std::isnan(far_value)) throw Error("distance: the far value is NaN");
-  if (options.type == ScalarType::Float32) return dense_field<float>(input, grid, options, far_value, stats);
-  if (options.type == ScalarType::Float64) return dense_field<double>(input, grid, options, far_value, stats);
+  if (options.type == ScalarType::Float32)
+    return dense_field<float>(input, grid, options, far_value, stats);
+  if (options.type == ScalarType::Float64)
+    return dense_field<double>(input, grid, options, far_value, stats);
   throw Error("distance: output type must be float32 or float64, got " +
               std::string(scalar_type_name(options.type)));
 }

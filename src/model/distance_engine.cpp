@@ -45,7 +45,6 @@ namespace {
 
 constexpr u32 kNone = PrimitiveSet::kNone;
 
-
 // ---------------------------------------------------------------------------------------------
 // Row kernels of the Scatter strategy: plain loops the compiler vectorizes, cloned for AVX-512
 // and AVX2 (ISOFORGE_SIMD_CLONES, src/CMakeLists.txt); every clone computes the same bits as the
@@ -59,7 +58,8 @@ struct SegmentRow {
 
 // Squared distances from (x, y, z[m]) to c: exactly norm2(p - c).
 ISOFORGE_SIMD_CLONES
-void point_row(const Vec3& c, double x, double y, const double* __restrict z, int n, double* __restrict out) {
+void point_row(const Vec3& c, double x, double y, const double* __restrict z, int n,
+               double* __restrict out) {
   const double dx = x - c.x, dy = y - c.y;
   const double dxy = dx * dx + dy * dy;
   for (int m = 0; m < n; ++m) {
@@ -81,7 +81,8 @@ void point_row(const Vec3& c, double x, double y, const double* __restrict z, in
 
 // d2[m] = min(d2[m], v[m]) with ties to the smaller id (who[m] follows); true if any changed.
 ISOFORGE_SIMD_CLONES
-bool keep_min_row(const double* __restrict v, int n, double* __restrict d2, u32* __restrict who, u32 id) {
+bool keep_min_row(const double* __restrict v, int n, double* __restrict d2, u32* __restrict who,
+                  u32 id) {
   std::int64_t changed = 0;
   for (int m = 0; m < n; ++m) changed += keep_min_lane(v[m], d2[m], who[m], id);
   return changed != 0;
@@ -100,7 +101,8 @@ bool segment_min_row(const SegmentRow& s, double x, double y, const double* __re
     double t = (wxy + (z[m] - s.az) * s.uz) * s.inv;
     t = t < 0.0 ? 0.0 : t;
     t = 1.0 < t ? 1.0 : t;
-    const double dx = x - (s.ax + s.ux * t), dy = y - (s.ay + s.uy * t), dz = z[m] - (s.az + s.uz * t);
+    const double dx = x - (s.ax + s.ux * t), dy = y - (s.ay + s.uy * t),
+                 dz = z[m] - (s.az + s.uz * t);
     changed += keep_min_lane(dx * dx + dy * dy + dz * dz, d2[m], who[m], id);
   }
   return changed != 0;
@@ -547,8 +549,9 @@ class Engine {
       if (k1 < k0) return;
       const int n = static_cast<int>(k1 - k0 + 1);
       const int base = static_cast<int>(((i - blo[0]) * 8 + (j - blo[1])) * kz_ + (k0 - blo[2]));
-      out.row_dirty = batch(coord_[0][static_cast<std::size_t>(i)], coord_[1][static_cast<std::size_t>(j)],
-                            &coord_[2][static_cast<std::size_t>(k0)], n, d2 + base, who + base);
+      out.row_dirty =
+          batch(coord_[0][static_cast<std::size_t>(i)], coord_[1][static_cast<std::size_t>(j)],
+                &coord_[2][static_cast<std::size_t>(k0)], n, d2 + base, who + base);
       evals += static_cast<std::size_t>(n);
       refresh_row(i, j);
     };
@@ -779,6 +782,5 @@ void run_blocks(const PrimitiveSet& P, const Pseudonormals* signs, const GridSpe
     stats.active_voxels += active[t];
   }
 }
-
 
 }  // namespace isoforge::model_detail

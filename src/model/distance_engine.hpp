@@ -61,7 +61,8 @@ struct BlockOut {
 
 /// The primitives of `input` for a distance field, balls where `options.radius_array` names
 /// radii. \throw Error naming the problem (empty input, bad radius array or radius).
-[[nodiscard]] PrimitiveSet distance_primitives(const PolyData& input, const DistanceOptions& options);
+[[nodiscard]] PrimitiveSet distance_primitives(const PolyData& input,
+                                               const DistanceOptions& options);
 
 /// \throw Error unless the grid (dims, finite origin, positive finite spacing on every axis, at
 /// most 2^30 samples per axis) and max_distance (positive, finite) are usable.

@@ -23,7 +23,8 @@ struct Pseudonormals {
   [[nodiscard]] double sign(const PrimitiveSet& P, u32 id, const Vec3& x) const {
     const u32 t = id - P.triangle_begin();
     const auto& v = P.triangles()[t];
-    const TriangleClosest c = closest_on_triangle(x, P.vertices()[v[0]], P.vertices()[v[1]], P.vertices()[v[2]]);
+    const TriangleClosest c =
+        closest_on_triangle(x, P.vertices()[v[0]], P.vertices()[v[1]], P.vertices()[v[2]]);
     const Vec3* n = nullptr;
     switch (c.feature) {
       case TriangleFeature::Face:

@@ -24,9 +24,10 @@ DistanceGridResult distance_grid(const PolyData& input, const GridSpec& grid,
   check_common(grid, options);
   const double h = grid.spacing.x;
   if (grid.spacing.y != h || grid.spacing.z != h) {
-    throw Error(fmt::format("distance: OpenVDB voxels must be cubes (equal spacing on all axes), "
-                            "got {:g}, {:g}, {:g}",
-                            grid.spacing.x, grid.spacing.y, grid.spacing.z));
+    throw Error(
+        fmt::format("distance: OpenVDB voxels must be cubes (equal spacing on all axes), "
+                    "got {:g}, {:g}, {:g}",
+                    grid.spacing.x, grid.spacing.y, grid.spacing.z));
   }
   const openvdb::math::Transform::Ptr xform = vdb_transform(h, grid.origin, "distance");
   const PrimitiveSet P = distance_primitives(input, options);
@@ -34,9 +35,10 @@ DistanceGridResult distance_grid(const PolyData& input, const GridSpec& grid,
   if (options.signed_distance) {
     signs = std::make_unique<Pseudonormals>(build_pseudonormals(input, P, options.require_closed));
     if (options.max_distance < h) {
-      throw Error(fmt::format("distance: signed distance needs max_distance ({:g}) >= the voxel "
-                              "size ({:g}) so that the band separates inside from outside",
-                              options.max_distance, h));
+      throw Error(
+          fmt::format("distance: signed distance needs max_distance ({:g}) >= the voxel "
+                      "size ({:g}) so that the band separates inside from outside",
+                      options.max_distance, h));
     }
   }
   using Leaf = openvdb::FloatTree::LeafNodeType;

@@ -22,8 +22,8 @@ openvdb::FloatGrid::Ptr openvdb_mesh_to_volume(const PolyData& input, const Grid
     throw Error("mesh to volume: voxels must be cubes (equal positive spacing)");
   }
   if (!(half_width_voxels >= 1) || !std::isfinite(half_width_voxels)) {
-    throw Error(fmt::format("mesh to volume: half width must be >= 1 voxel, got {:g}",
-                            half_width_voxels));
+    throw Error(
+        fmt::format("mesh to volume: half width must be >= 1 voxel, got {:g}", half_width_voxels));
   }
   const auto tris = triangulate_faces(input);
   if (tris.empty()) throw Error("mesh to volume: the input has no triangles");

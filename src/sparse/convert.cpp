@@ -28,11 +28,11 @@ ImageData vdb_to_image(const openvdb::FloatGrid& grid, std::size_t max_voxels) {
     }
   }
   if (count > max_voxels) {
-    throw Error(fmt::format("{}: the active bounding box {} x {} x {} = {} voxels exceeds the limit "
-                            "of {}",
-                            what, dim[0], dim[1], dim[2],
-                            count == UINT64_MAX ? std::string("more than 2^64") : std::to_string(count),
-                            max_voxels));
+    throw Error(fmt::format(
+        "{}: the active bounding box {} x {} x {} = {} voxels exceeds the limit "
+        "of {}",
+        what, dim[0], dim[1], dim[2],
+        count == UINT64_MAX ? std::string("more than 2^64") : std::to_string(count), max_voxels));
   }
   ImageData img;
   img.dims = {dim[0], dim[1], dim[2]};
@@ -88,14 +88,16 @@ openvdb::FloatGrid::Ptr image_to_vdb(const ImageData& image, const ImageToVdbOpt
   const double s = sp.x;
   const double tol = 1e-9 * std::max({std::abs(sp.x), std::abs(sp.y), std::abs(sp.z)});
   if (!(s > 0) || std::abs(sp.y - s) > tol || std::abs(sp.z - s) > tol) {
-    throw Error(fmt::format("image_to_vdb: OpenVDB grids need equal positive spacing on all axes, "
-                            "got ({:g}, {:g}, {:g})",
-                            sp.x, sp.y, sp.z));
+    throw Error(
+        fmt::format("image_to_vdb: OpenVDB grids need equal positive spacing on all axes, "
+                    "got ({:g}, {:g}, {:g})",
+                    sp.x, sp.y, sp.z));
   }
   for (int d = 0; d < 3; ++d) {
     if (image.dims[d] > (Index{1} << 31) - 1) {
-      throw Error(fmt::format("image_to_vdb: dimension {} = {} exceeds OpenVDB's 32-bit index space",
-                              d, image.dims[d]));
+      throw Error(
+          fmt::format("image_to_vdb: dimension {} = {} exceeds OpenVDB's 32-bit index space", d,
+                      image.dims[d]));
     }
   }
   ensure_openvdb_initialized();

@@ -19,7 +19,7 @@ void ensure_openvdb_initialized() {
 }
 
 openvdb::math::Transform::Ptr vdb_transform(double voxel_size, const Vec3& origin,
-                                             std::string_view what) {
+                                            std::string_view what) {
   if (!(voxel_size > 0) || !std::isfinite(voxel_size)) {
     throw Error(fmt::format("{}: voxel size {:g} must be positive and finite", what, voxel_size));
   }
@@ -30,9 +30,10 @@ openvdb::math::Transform::Ptr vdb_transform(double voxel_size, const Vec3& origi
     xf->postTranslate(openvdb::Vec3d(origin.x, origin.y, origin.z));
     return xf;
   } catch (const openvdb::Exception& e) {
-    throw Error(fmt::format("{}: OpenVDB cannot use the voxel size {:g} ({}; its transforms need "
-                            "voxels of about 1e-5 or more): scale the input",
-                            what, voxel_size, e.what()));
+    throw Error(
+        fmt::format("{}: OpenVDB cannot use the voxel size {:g} ({}; its transforms need "
+                    "voxels of about 1e-5 or more): scale the input",
+                    what, voxel_size, e.what()));
   }
 }
 
@@ -55,10 +56,10 @@ UniformTransform uniform_transform(const openvdb::GridBase& grid, std::string_vi
     if (!std::isfinite(m(3, r))) uniform = false;
   }
   if (!uniform) {
-    throw Error(fmt::format("{}: transform is not a uniform scale + translation (index axes map "
-                            "to ({:g}, {:g}, {:g}), ({:g}, {:g}, {:g}), ({:g}, {:g}, {:g}))",
-                            what, m(0, 0), m(0, 1), m(0, 2), m(1, 0), m(1, 1), m(1, 2), m(2, 0),
-                            m(2, 1), m(2, 2)));
+    throw Error(fmt::format(
+        "{}: transform is not a uniform scale + translation (index axes map "
+        "to ({:g}, {:g}, {:g}), ({:g}, {:g}, {:g}), ({:g}, {:g}, {:g}))",
+        what, m(0, 0), m(0, 1), m(0, 2), m(1, 0), m(1, 1), m(1, 2), m(2, 0), m(2, 1), m(2, 2)));
   }
   return {{m(3, 0), m(3, 1), m(3, 2)}, s};
 }
@@ -66,9 +67,10 @@ UniformTransform uniform_transform(const openvdb::GridBase& grid, std::string_vi
 void check_same_transform(const openvdb::GridBase& a, const openvdb::GridBase& b,
                           std::string_view what) {
   if (a.transform() != b.transform()) {
-    throw Error(fmt::format("{}: the grids have different transforms (voxel size {:g} vs {:g}); "
-                            "sample both on the same grid",
-                            what, a.voxelSize()[0], b.voxelSize()[0]));
+    throw Error(
+        fmt::format("{}: the grids have different transforms (voxel size {:g} vs {:g}); "
+                    "sample both on the same grid",
+                    what, a.voxelSize()[0], b.voxelSize()[0]));
   }
 }
 

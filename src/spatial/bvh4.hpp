@@ -120,7 +120,8 @@ class Bvh4 {
   [[nodiscard]] bool any_within(const Vec3& blo, const Vec3& bhi, double r2) const {
     if (nodes_.empty()) return false;
     const double r = std::sqrt(r2) + tol_;
-    const v4f bl[3] = {splat(round_down(blo.x)), splat(round_down(blo.y)), splat(round_down(blo.z))};
+    const v4f bl[3] = {splat(round_down(blo.x)), splat(round_down(blo.y)),
+                       splat(round_down(blo.z))};
     const v4f bh[3] = {splat(round_up(bhi.x)), splat(round_up(bhi.y)), splat(round_up(bhi.z))};
     const v4f lim = splat(round_up(r * r * (1 + 1e-6)));
     const v4f zero = splat(0.0f);
@@ -176,7 +177,8 @@ class Bvh4 {
   /// Nearest item to p among those with squared distance below limit2 (lexicographic on
   /// (d2, id), d2 from `items.dist2`): best2/best_id hold a candidate on entry (or +inf/kNone),
   /// the result on exit; `evals` counts the exact distances computed.
-  void nearest(const Vec3& p, double limit2, double& best2, u32& best_id, std::size_t& evals) const {
+  void nearest(const Vec3& p, double limit2, double& best2, u32& best_id,
+               std::size_t& evals) const {
     if (nodes_.empty()) return;
     const v4f px = splat(static_cast<float>(p.x)), py = splat(static_cast<float>(p.y)),
               pz = splat(static_cast<float>(p.z));

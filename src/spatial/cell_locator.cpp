@@ -132,8 +132,7 @@ CellHit CellLocator::find_cell(const Vec3& p) const {
     if (type == CellType::Empty) return false;
     CellPosition pos = items.locate(id, p);
     const int dim = cell_dimension(type);
-    const bool hit = dim == 3 ? pos.inside
-                              : (dim == 0 || pos.inside) && pos.dist2 <= dtol2;
+    const bool hit = dim == 3 ? pos.inside : (dim == 0 || pos.inside) && pos.dist2 <= dtol2;
     if (hit) best = hit_of(static_cast<Index>(id), std::move(pos));
     return false;
   });

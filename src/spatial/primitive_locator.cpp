@@ -80,7 +80,9 @@ PrimitiveLocator::~PrimitiveLocator() = default;
 PrimitiveLocator::PrimitiveLocator(PrimitiveLocator&&) noexcept = default;
 PrimitiveLocator& PrimitiveLocator::operator=(PrimitiveLocator&&) noexcept = default;
 
-const PrimitiveSet& PrimitiveLocator::primitives() const { return impl_->items.set; }
+const PrimitiveSet& PrimitiveLocator::primitives() const {
+  return impl_->items.set;
+}
 
 void PrimitiveLocator::nearest(const Vec3& p, double limit2, ClosestPrimitive& best) const {
   impl_->tree.nearest(p, limit2, best.dist2, best.id, best.evaluations);

@@ -19,7 +19,8 @@ PrimitiveSet::PrimitiveSet(std::vector<Vec3> vertices, std::vector<Id> points,
       triangles_(std::move(triangles)) {
   if (vertices_.size() >= kNone) throw Error("primitives: more than 2^32 - 2 vertices");
   for (std::size_t i = 0; i < vertices_.size(); ++i) {
-    if (!is_finite(vertices_[i])) throw Error(fmt::format("primitives: vertex {} is not finite", i));
+    if (!is_finite(vertices_[i]))
+      throw Error(fmt::format("primitives: vertex {} is not finite", i));
   }
   const auto check = [&](Id v) {
     if (v >= vertices_.size()) {
@@ -28,8 +29,10 @@ PrimitiveSet::PrimitiveSet(std::vector<Vec3> vertices, std::vector<Id> points,
     }
   };
   for (Id v : points_) check(v);
-  for (const auto& s : segments_) for (Id v : s) check(v);
-  for (const auto& t : triangles_) for (Id v : t) check(v);
+  for (const auto& s : segments_)
+    for (Id v : s) check(v);
+  for (const auto& t : triangles_)
+    for (Id v : t) check(v);
   const std::size_t total = points_.size() + segments_.size() + triangles_.size();
   if (total >= kNone) throw Error("primitives: more than 2^32 - 2 primitives");
   segment_begin_ = static_cast<Id>(points_.size());
@@ -85,9 +88,12 @@ PrimitiveSet primitives_of(const PolyData& in, std::string_view what) {
     triangles.push_back({static_cast<Id>(t[0]), static_cast<Id>(t[1]), static_cast<Id>(t[2])});
   }
   const std::size_t total = points.size() + segments.size() + triangles.size();
-  if (total >= PrimitiveSet::kNone) throw Error(fmt::format("{}: more than 2^32 - 2 primitives", what));
-  if (total == 0) throw Error(fmt::format("{}: the input is empty (its cells have no primitives)", what));
-  return PrimitiveSet(std::move(vertices), std::move(points), std::move(segments), std::move(triangles));
+  if (total >= PrimitiveSet::kNone)
+    throw Error(fmt::format("{}: more than 2^32 - 2 primitives", what));
+  if (total == 0)
+    throw Error(fmt::format("{}: the input is empty (its cells have no primitives)", what));
+  return PrimitiveSet(std::move(vertices), std::move(points), std::move(segments),
+                      std::move(triangles));
 }
 
 }  // namespace isoforge

@@ -16,8 +16,8 @@ PolyData part(double base, bool extra) {
   pd.polys.add({0, 1, 2});
   pd.point_data.add(DataArray::from_vector<double>("p", 1, {base, base + 1, base + 2}),
                     AttributeRole::Scalars);
-  pd.cell_data.add(DataArray::from_vector<int>("c", 1, {int(10 * base), int(10 * base) + 1,
-                                                        int(10 * base) + 2}));
+  pd.cell_data.add(DataArray::from_vector<int>(
+      "c", 1, {int(10 * base), int(10 * base) + 1, int(10 * base) + 2}));
   if (extra) pd.point_data.add(DataArray::from_vector<float>("extra", 1, {1, 2, 3}));
   return pd;
 }

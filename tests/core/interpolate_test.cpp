@@ -13,7 +13,8 @@ namespace {
 struct Source {
   Attributes points, cells;
   Source() {
-    points.add(DataArray::from_vector<double>("s", 1, {0.0, 10.0, 20.0, 30.0}), AttributeRole::Scalars);
+    points.add(DataArray::from_vector<double>("s", 1, {0.0, 10.0, 20.0, 30.0}),
+               AttributeRole::Scalars);
     DataArray labels = DataArray::from_vector<std::int32_t>("label", 1, {0, 3, 7, -5});
     labels.set_lookup_table("colours");
     points.add(std::move(labels));

@@ -19,9 +19,12 @@ TEST(ParallelForRange, CoversEveryItemOnceWithAndWithoutProgress) {
         return true;
       };
     }
-    parallel_for_range(n, 100, [&](std::size_t b, std::size_t e) {
-      for (std::size_t i = b; i < e; ++i) hits[i].fetch_add(1);
-    }, progress, "test");
+    parallel_for_range(
+        n, 100,
+        [&](std::size_t b, std::size_t e) {
+          for (std::size_t i = b; i < e; ++i) hits[i].fetch_add(1);
+        },
+        progress, "test");
     for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(hits[i].load(), 1) << i;
     if (with_progress) {
       // One report per slice (up to 64), increasing, the last one 1.
@@ -37,8 +40,8 @@ TEST(ParallelForRange, CancelStopsBetweenSlices) {
   std::atomic<std::size_t> done{0};
   int calls = 0;
   const ProgressCallback stop = [&](double) { return ++calls < 3; };
-  EXPECT_THROW(parallel_for_range(1 << 20, 1, [&](std::size_t b, std::size_t e) { done += e - b; },
-                                  stop, "test"),
+  EXPECT_THROW(parallel_for_range(
+                   1 << 20, 1, [&](std::size_t b, std::size_t e) { done += e - b; }, stop, "test"),
                Cancelled);
   EXPECT_EQ(calls, 3);
   EXPECT_LT(done.load(), std::size_t{1} << 20);  // slices after the third never ran
@@ -46,11 +49,13 @@ TEST(ParallelForRange, CancelStopsBetweenSlices) {
 
 TEST(ParallelForRange, EmptyRangeReportsCompletion) {
   int calls = 0;
-  parallel_for_range(0, 1, [](std::size_t, std::size_t) { FAIL(); }, [&](double f) {
-    EXPECT_EQ(f, 1.0);
-    ++calls;
-    return true;
-  });
+  parallel_for_range(
+      0, 1, [](std::size_t, std::size_t) { FAIL(); },
+      [&](double f) {
+        EXPECT_EQ(f, 1.0);
+        ++calls;
+        return true;
+      });
   EXPECT_EQ(calls, 1);
 }
 

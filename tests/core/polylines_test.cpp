@@ -11,7 +11,8 @@ namespace {
 std::vector<std::vector<Index>> lines_of(const Polylines& p) {
   std::vector<std::vector<Index>> out;
   for (std::size_t l = 0; l + 1 < p.offsets.size(); ++l) {
-    out.emplace_back(p.connectivity.begin() + p.offsets[l], p.connectivity.begin() + p.offsets[l + 1]);
+    out.emplace_back(p.connectivity.begin() + p.offsets[l],
+                     p.connectivity.begin() + p.offsets[l + 1]);
   }
   return out;
 }

@@ -68,7 +68,6 @@ TEST(SparseConvert, PruningOnTheSphereReducesTheActiveCount) {
   }
 }
 
-
 TEST(SparseConvert, ConversionPreconditions) {
   ImageData img = test::sphere_distance_image();
   img.spacing = {0.2, 0.2, 0.3};
@@ -103,4 +102,3 @@ TEST(SparseConvert, ConversionPreconditions) {
   empty->setName("e");
   expect_error([&] { (void)vdb_to_image(*empty); }, "grid 'e': the grid has no active voxels");
 }
-

@@ -22,7 +22,8 @@ StructuredGrid bent_grid() {
     for (Index j = 0; j < 5; ++j)
       for (Index i = 0; i < 6; ++i) {
         const double r = 1 + 0.3 * static_cast<double>(i), a = 0.25 * static_cast<double>(j);
-        g.points.push_back({r * std::cos(a), r * std::sin(a), 0.4 * static_cast<double>(k) + 0.05 * j});
+        g.points.push_back(
+            {r * std::cos(a), r * std::sin(a), 0.4 * static_cast<double>(k) + 0.05 * j});
       }
   return g;
 }
@@ -32,9 +33,9 @@ StructuredGrid bent_grid() {
 // of the hexahedron's top face and one tetra beside it.
 UnstructuredGrid mixed_grid() {
   UnstructuredGrid u;
-  const Vec3 pts[] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1},
-                      {1, 1, 1}, {0, 1, 1}, {2, 0, 0}, {2, 1, 0}, {2, 0, 1}, {2, 1, 1},
-                      {0.5, 0.5, 1.6}, {2, 0, 2}};
+  const Vec3 pts[] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0},       {0, 1, 0}, {0, 0, 1},
+                      {1, 0, 1}, {1, 1, 1}, {0, 1, 1},       {2, 0, 0}, {2, 1, 0},
+                      {2, 0, 1}, {2, 1, 1}, {0.5, 0.5, 1.6}, {2, 0, 2}};
   for (const Vec3& p : pts) u.points.push_back(p);
   u.add_cell(CellType::Hexahedron, {0, 1, 2, 3, 4, 5, 6, 7});
   u.add_cell(CellType::Wedge, {1, 8, 9, 5, 10, 11});
@@ -139,10 +140,10 @@ TEST(CellLocator, SurfacesNeedTheDistanceTolerance) {
   CellLocatorOptions o;
   o.distance_tolerance = 1e-6;
   const CellLocator locator(pd, o);
-  EXPECT_EQ(locator.find_cell({0.7, 0.6, 0}).cell, 2);          // the second triangle
-  EXPECT_EQ(locator.find_cell({0.2, 0.1, 5e-7}).cell, 1);       // within the tolerance above it
-  EXPECT_FALSE(locator.find_cell({0.2, 0.1, 1e-3}).found());    // too far above the surface
-  EXPECT_EQ(locator.find_cell({0.5, 0.5, 0}).cell, 0);          // on the line: the smallest id
+  EXPECT_EQ(locator.find_cell({0.7, 0.6, 0}).cell, 2);        // the second triangle
+  EXPECT_EQ(locator.find_cell({0.2, 0.1, 5e-7}).cell, 1);     // within the tolerance above it
+  EXPECT_FALSE(locator.find_cell({0.2, 0.1, 1e-3}).found());  // too far above the surface
+  EXPECT_EQ(locator.find_cell({0.5, 0.5, 0}).cell, 0);        // on the line: the smallest id
   EXPECT_NEAR(locator.closest_point({0.2, 0.1, 2}).dist2, 4.0, 1e-12);
 }
 

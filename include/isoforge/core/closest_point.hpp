@@ -39,8 +39,9 @@ struct TriangleClosest {
 };
 
 /// Closest point of the segment [a, b] to `p`.
-[[nodiscard, gnu::always_inline]] inline SegmentClosest closest_on_segment(const Vec3& p, const Vec3& a,
-                                                                const Vec3& b) {
+[[nodiscard, gnu::always_inline]] inline SegmentClosest closest_on_segment(const Vec3& p,
+                                                                           const Vec3& a,
+                                                                           const Vec3& b) {
   const Vec3 e = b - a;
   const double len2 = dot(e, e);
   double t = 0;
@@ -57,7 +58,7 @@ struct TriangleClosest {
 
 /// Squared distance from `p` to the segment [a, b].
 [[nodiscard, gnu::always_inline]] inline double segment_distance2(const Vec3& p, const Vec3& a,
-                                                       const Vec3& b) {
+                                                                  const Vec3& b) {
   return closest_on_segment(p, a, b).dist2;
 }
 
@@ -68,8 +69,10 @@ struct TriangleClosest {
                                                         const Vec3& c);
 
 /// Closest point of the triangle (a, b, c) to `p` (Eberly's region classification).
-[[nodiscard, gnu::always_inline]] inline TriangleClosest closest_on_triangle(const Vec3& p, const Vec3& a,
-                                                                  const Vec3& b, const Vec3& c) {
+[[nodiscard, gnu::always_inline]] inline TriangleClosest closest_on_triangle(const Vec3& p,
+                                                                             const Vec3& a,
+                                                                             const Vec3& b,
+                                                                             const Vec3& c) {
   using F = TriangleFeature;
   const Vec3 e0 = b - a, e1 = c - a, d = a - p;
   const double a00 = dot(e0, e0), a01 = dot(e0, e1), a11 = dot(e1, e1);
@@ -165,8 +168,8 @@ struct TriangleClosest {
 }
 
 /// Squared distance from `p` to the triangle (a, b, c).
-[[nodiscard, gnu::always_inline]] inline double triangle_distance2(const Vec3& p, const Vec3& a, const Vec3& b,
-                                                        const Vec3& c) {
+[[nodiscard, gnu::always_inline]] inline double triangle_distance2(const Vec3& p, const Vec3& a,
+                                                                   const Vec3& b, const Vec3& c) {
   return closest_on_triangle(p, a, b, c).dist2;
 }
 

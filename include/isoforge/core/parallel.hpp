@@ -11,10 +11,11 @@
 namespace isoforge {
 
 /// Calls body(begin, end) on disjoint subranges covering [0, n), in parallel (TBB), of about
-/// `grain` items each (TBB's grain size: split while longer). With a `progress` callback the range is cut into up to 64
-/// consecutive slices run one after another, and the fraction done is reported after each (from
-/// the calling thread; `Cancelled`, naming `operation`, if the callback returns false). Bodies
-/// that write only their own items give the same result for any slicing and thread count.
+/// `grain` items each (TBB's grain size: split while longer). With a `progress` callback the range
+/// is cut into up to 64 consecutive slices run one after another, and the fraction done is reported
+/// after each (from the calling thread; `Cancelled`, naming `operation`, if the callback returns
+/// false). Bodies that write only their own items give the same result for any slicing and thread
+/// count.
 void parallel_for_range(std::size_t n, std::size_t grain,
                         const std::function<void(std::size_t, std::size_t)>& body,
                         const ProgressCallback& progress = {}, const char* operation = "");

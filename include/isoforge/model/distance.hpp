@@ -32,9 +32,9 @@ struct DistanceOptions {
   /// distance to a ball is |p − center| − radius (negative inside it). "" = plain points.
   std::string radius_array;
   DistanceStrategy strategy = DistanceStrategy::Auto;
-  std::string name = "Distance";  ///< dense: point array name; sparse: grid name
+  std::string name = "Distance";          ///< dense: point array name; sparse: grid name
   ScalarType type = ScalarType::Float32;  ///< dense values: Float32 or Float64
-  ProgressCallback progress;      ///< fraction of blocks done; false cancels
+  ProgressCallback progress;              ///< fraction of blocks done; false cancels
 };
 
 struct DistanceStats {

@@ -15,6 +15,6 @@ namespace isoforge {
 /// beyond the maximum distance are inactive. On the band, values equal `implicit_modeller`'s
 /// Float32 values bit for bit. \throw Error as `implicit_modeller`, or on unequal spacing.
 [[nodiscard]] DistanceGridResult implicit_modeller_vdb(const PolyData& input,
-                                                     const ImplicitModellerOptions& options = {});
+                                                       const ImplicitModellerOptions& options = {});
 
 }  // namespace isoforge

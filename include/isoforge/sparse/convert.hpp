@@ -22,9 +22,9 @@ namespace isoforge {
                                      std::size_t max_voxels = std::size_t{1} << 28);
 
 struct ImageToVdbOptions {
-  std::string array;          ///< point array to convert; "" = the active scalars
-  float background = 0.0f;    ///< the grid's background value (finite)
-  float tolerance = 0.0f;     ///< values within this of the background stay inactive (≥ 0)
+  std::string array;        ///< point array to convert; "" = the active scalars
+  float background = 0.0f;  ///< the grid's background value (finite)
+  float tolerance = 0.0f;   ///< values within this of the background stay inactive (≥ 0)
 };
 
 /// Converts a scalar point array of image data to a float grid; values within `tolerance` of

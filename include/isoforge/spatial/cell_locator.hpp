@@ -23,11 +23,11 @@ struct CellLocatorOptions {
 
 /// Where a point was found.
 struct CellHit {
-  Index cell = -1;         ///< the cell, or −1 when none
-  int sub_id = 0;          ///< sub-cell of a composite cell (polyline, strip, poly-vertex)
-  Vec3 pcoords{};          ///< parametric coordinates in the (sub-)cell
-  CellWeights weights;     ///< interpolation weights of the cell's points at `pcoords`
-  Vec3 closest_point{};    ///< the point of the cell closest to the query
+  Index cell = -1;       ///< the cell, or −1 when none
+  int sub_id = 0;        ///< sub-cell of a composite cell (polyline, strip, poly-vertex)
+  Vec3 pcoords{};        ///< parametric coordinates in the (sub-)cell
+  CellWeights weights;   ///< interpolation weights of the cell's points at `pcoords`
+  Vec3 closest_point{};  ///< the point of the cell closest to the query
   double dist2 = std::numeric_limits<double>::infinity();  ///< squared distance to it
   [[nodiscard]] bool found() const { return cell >= 0; }
 };

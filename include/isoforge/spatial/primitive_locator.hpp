@@ -17,8 +17,9 @@ namespace isoforge {
 /// The answer of a closest-primitive query.
 struct ClosestPrimitive {
   PrimitiveSet::Id id = PrimitiveSet::kNone;  ///< the nearest primitive, or kNone
-  double dist2 = std::numeric_limits<double>::infinity();  ///< its squared distance (radii not subtracted)
-  std::size_t evaluations = 0;  ///< exact distances computed to answer
+  double dist2 =
+      std::numeric_limits<double>::infinity();  ///< its squared distance (radii not subtracted)
+  std::size_t evaluations = 0;                  ///< exact distances computed to answer
 };
 
 /// A 4-wide bounding volume hierarchy over a `PrimitiveSet` (kept by reference: it must outlive
