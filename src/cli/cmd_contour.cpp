@@ -8,7 +8,7 @@
 #include "isoforge/contour/contour_sparse.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/vdb.hpp"
-#include "progress.hpp"
+#include "progress_bar.hpp"
 
 namespace isoforge::cli {
 

@@ -10,7 +10,7 @@
 #include "describe.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/vdb.hpp"
-#include "progress.hpp"
+#include "progress_bar.hpp"
 
 namespace isoforge::cli {
 

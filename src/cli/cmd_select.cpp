@@ -7,7 +7,7 @@
 #include "isoforge/implicit/parse.hpp"
 #include "isoforge/implicit/select.hpp"
 #include "isoforge/io/io.hpp"
-#include "progress.hpp"
+#include "progress_bar.hpp"
 
 namespace isoforge::cli {
 

@@ -1,0 +1,134 @@
+// isoforge offset: offset surfaces of points, lines and polygons (implicit modeling), or of a
+// distance field.
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "commands.hpp"
+#include "common.hpp"
+#include "isoforge/contour/connectivity.hpp"
+#include "isoforge/io/io.hpp"
+#include "isoforge/io/vdb.hpp"
+#include "isoforge/model/csg.hpp"
+#include "isoforge/model/distance.hpp"
+#include "isoforge/model/implicit_modeller.hpp"
+#include "progress_bar.hpp"
+
+namespace isoforge::cli {
+
+void add_offset_command(CLI::App& app, Context& ctx) {
+  struct Args {
+    std::string in, out, grid;
+    std::vector<double> distances, bounds;
+    std::vector<Index> dims{64};
+    double max_distance = 0, voxel_size = 0;
+    bool is_signed = false, no_cap = false;
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd =
+      app.add_subcommand("offset",
+                         "Offset surfaces at one or more distances from points, lines and polygons "
+                         "(implicit modeling), or of a distance field (.vti, .vdb)");
+  cmd->add_option("input", args->in,
+                  "Polygonal data, or a distance field: image data (.vti .vtk) or .vdb")
+      ->required();
+  cmd->add_option("-d,--distance", args->distances, "Offset distance (repeat for several)")
+      ->required();
+  cmd->add_option("--dims", args->dims, "Samples per axis: N or NX NY NZ (default 64)")
+      ->expected(1, 3);
+  cmd->add_option("-b,--bounds", args->bounds,
+                  "Sampled box (default: the input's bounds grown by 1.25 x the largest distance)")
+      ->expected(6);
+  cmd->add_option("-m,--max-distance", args->max_distance,
+                  "Band half width (default: the largest |distance| + 2 samples)");
+  cmd->add_flag("--signed", args->is_signed,
+                "Signed distance: negative distances offset inward "
+                "(closed triangle meshes)");
+  cmd->add_option("--voxel-size", args->voxel_size,
+                  "Compute sparsely in an OpenVDB narrow band of this voxel size (no volume)");
+  cmd->add_flag("--no-cap", args->no_cap, "Dense: do not cap the volume (surfaces may stay open)");
+  cmd->add_option("--grid", args->grid, "OpenVDB input: name of the float grid");
+  cmd->add_option("-o,--output", args->out, "Output surface: .vtp .vtk .ply .obj .off")->required();
+  cmd->footer(
+      "The point array IsovalueIndex tells which distance each point belongs to.\n"
+      "Examples:\n"
+      "  isoforge offset data/hello.vtk -d 0.25 --dims 110 40 20 --bounds -1 10 -1 3 -1 1 -o "
+      "hello.vtp\n"
+      "  isoforge offset data/bunny.ply -d 0.002 -d 0.004 -d 0.008 --dims 128 -o shells.vtp\n"
+      "  isoforge offset data/bunny.ply -d 0.001 --voxel-size 0.0002 -o fine.ply      (sparse)\n"
+      "  isoforge offset field.vdb -d 0 -o surface.vtp");
+  cmd->callback([args, &ctx] {
+    double dmax = 0;
+    for (double d : args->distances) {
+      if (!std::isfinite(d)) throw Error("--distance: not finite");
+      dmax = std::max(dmax, std::abs(d));
+    }
+    (void)format_from_path(args->out);
+    ProgressBar bar(!ctx.quiet && stderr_is_tty());
+    bar.stage("reading");
+    PolyData surface;
+    const auto t0 = std::chrono::steady_clock::now();
+    const FileFormat in_format = format_from_path(args->in);
+    if (in_format == FileFormat::Vdb) {
+      const auto grid = read_vdb_grid(args->in, args->grid);
+      bar.stage("contouring");
+      surface = offset_surfaces(*grid, args->distances);
+    } else {
+      Dataset ds = read(args->in);
+      if (auto* img = std::get_if<ImageData>(&ds)) {
+        bar.stage("contouring");
+        surface = offset_surfaces(*img, args->distances);
+      } else if (auto* pd = std::get_if<PolyData>(&ds)) {
+        const Dims dims = parse_dims(args->dims, "--dims");
+        const Bounds ib = pd->bounds();
+        if (ib.empty()) throw Error("offset: the input has no points");
+        if (!(dmax > 0) && args->max_distance == 0) {
+          throw Error("offset: give a non-zero distance or --max-distance");
+        }
+        const Bounds b =
+            args->bounds.empty() ? grown(ib, 1.25 * dmax) : parse_bounds(args->bounds, "--bounds");
+        DistanceOptions o;
+        o.signed_distance = args->is_signed;
+        bar.stage("distance");
+        o.progress = bar.callback();
+        if (args->voxel_size > 0) {
+          const GridSpec g = cubic_grid(b, args->voxel_size);
+          o.max_distance =
+              args->max_distance > 0 ? args->max_distance : dmax + 2 * args->voxel_size;
+          const auto grid = distance_grid(*pd, g, o);
+          bar.stage("contouring");
+          surface = offset_surfaces(*grid, args->distances);
+        } else {
+          for (int a = 0; a < 3; ++a) {
+            if (dims[a] < 2) throw Error("--dims: need at least 2 samples along every axis");
+          }
+          const GridSpec g = GridSpec::from_bounds(b, dims);
+          const double h = std::max({g.spacing.x, g.spacing.y, g.spacing.z});
+          o.max_distance = args->max_distance > 0 ? args->max_distance : dmax + 2 * h;
+          ImageData img = distance_image(*pd, g, o);
+          if (!args->no_cap) cap_boundary(img, o.max_distance);
+          bar.stage("contouring");
+          surface = offset_surfaces(img, args->distances);
+        }
+      } else {
+        throw Error("offset: " + args->in + " is " + std::string(dataset_type_name(ds)) +
+                    "; give polygonal data or a distance field (image data, .vdb)");
+      }
+    }
+    const double ms = elapsed_ms(t0);
+    bar.stage("connectivity");
+    const std::size_t components = connectivity(surface).components;
+    bar.stage("writing");
+    write(surface, args->out);
+    bar.finish();
+    if (!ctx.quiet) {
+      fmt::print(stderr, "wrote {}: {} points, {} triangles, {} connected surfaces, {:.0f} ms\n",
+                 args->out, surface.num_points(), surface.polys.size(), components, ms);
+    }
+  });
+}
+
+}  // namespace isoforge::cli

@@ -1,0 +1,40 @@
+#include "common.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "isoforge/core/error.hpp"
+
+namespace isoforge::cli {
+
+Bounds parse_bounds(const std::vector<double>& b, const char* option) {
+  if (b.size() != 6) throw Error(std::string(option) + ": needs 6 numbers: xmin xmax ymin ymax zmin zmax");
+  Bounds out;
+  out.min = {b[0], b[2], b[4]};
+  out.max = {b[1], b[3], b[5]};
+  for (int a = 0; a < 3; ++a) {
+    if (!(out.min[a] <= out.max[a]) || !std::isfinite(out.min[a]) || !std::isfinite(out.max[a])) {
+      throw Error(std::string(option) + ": min must not exceed max (axis " + std::to_string(a) + ")");
+    }
+  }
+  return out;
+}
+
+Dims parse_dims(const std::vector<Index>& d, const char* option) {
+  if (d.size() == 1) return {d[0], d[0], d[0]};
+  if (d.size() == 3) return {d[0], d[1], d[2]};
+  throw Error(std::string(option) + ": give one number (a cube) or three");
+}
+
+Bounds grown(const Bounds& b, double pad) {
+  Bounds r = b;
+  r.min = b.min - Vec3{pad, pad, pad};
+  r.max = b.max + Vec3{pad, pad, pad};
+  return r;
+}
+
+double elapsed_ms(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace isoforge::cli
