@@ -60,8 +60,8 @@ void add_attractor_command(CLI::App& app, Context& ctx) {
     t.start = {args->start[0], args->start[1], args->start[2]};
     t.dims = parse_dims(args->dims, "--dims");
     if (!args->bounds.empty()) t.bounds = parse_bounds(args->bounds, "--bounds");
-    const FileFormat format = format_from_path(args->out);
-    if (!args->volume.empty()) (void)format_from_path(args->volume);
+    const FileFormat format = format_of(args->out);
+    if (!args->volume.empty()) (void)format_of(args->volume);
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
     bar.stage("integrating");
     t.progress = bar.callback();

@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include "commands.hpp"
+#include "common.hpp"
 #include "isoforge/contour/connectivity.hpp"
 #include "isoforge/contour/contour.hpp"
 #include "isoforge/contour/contour_sparse.hpp"
@@ -51,25 +52,25 @@ void add_contour_command(CLI::App& app, Context& ctx) {
     if (!args->range.empty()) {
       const double first = args->range[0], last = args->range[1];
       const auto n = static_cast<long>(args->range[2]);
-      if (n < 1 || static_cast<double>(n) != args->range[2]) throw Error("--range: N must be a positive integer");
+      if (n < 1 || static_cast<double>(n) != args->range[2]) throw UsageError("--range: N must be a positive integer");
       for (long i = 0; i < n; ++i) {
         o.values.push_back(n == 1 ? first : first + (last - first) * static_cast<double>(i) / static_cast<double>(n - 1));
       }
     }
-    if (o.values.empty()) throw Error("contour: give at least one value (-v VALUE or --range FIRST LAST N)");
+    if (o.values.empty()) throw UsageError("give at least one value (-v VALUE or --range FIRST LAST N)");
     o.array = args->array;
     o.flip = args->flip;
     o.normals = args->normals == "gradient" ? ContourNormals::Gradient
                 : args->normals == "triangles" ? ContourNormals::Triangles : ContourNormals::None;
     const int selections = (args->largest ? 1 : 0) + (args->largest_n > 0 ? 1 : 0) + (args->closest.empty() ? 0 : 1);
-    if (selections > 1) throw Error("contour: --largest, --largest-n and --closest exclude each other");
-    (void)format_from_path(args->out);
+    if (selections > 1) throw UsageError("--largest, --largest-n and --closest exclude each other");
+    (void)format_of(args->out);
 
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
     bar.stage("reading");
     PolyData surface;
     ContourStats stats;
-    if (format_from_path(args->in) == FileFormat::Vdb) {
+    if (format_of(args->in) == FileFormat::Vdb) {
       const auto grid = read_vdb_grid(args->in, args->grid);
       bar.stage("contouring");
       o.progress = bar.callback();

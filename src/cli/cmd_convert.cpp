@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include "commands.hpp"
+#include "common.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/vtk_xml.hpp"
 #include "progress_bar.hpp"
@@ -52,7 +53,7 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     wo.vtk_legacy_version = args->legacy_version;
     wo.vdb_tolerance = args->vdb_tolerance;
     // Fail on an unknown output extension before doing any reading.
-    if (!args->vtk_xml) (void)format_from_path(args->out);
+    if (!args->vtk_xml) (void)format_of(args->out);
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
     bar.stage("reading");
     const Dataset ds = read(args->in, ro);

@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include "commands.hpp"
+#include "common.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/vdb.hpp"
 #include "isoforge/model/csg.hpp"
@@ -40,13 +41,13 @@ void add_csg_command(CLI::App& app, Context& ctx) {
       "  isoforge csg difference a.vti b.vti -o a_minus_b.vti");
   cmd->callback([args, &ctx] {
     const CsgOperation op = csg_operation_from_name(args->op);
-    const FileFormat out_format = format_from_path(args->out);
+    const FileFormat out_format = format_of(args->out);
     const bool out_field = out_format == FileFormat::Vdb || out_format == FileFormat::VtkImageData;
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
     bar.stage("reading");
-    const bool sparse_a = format_from_path(args->a) == FileFormat::Vdb;
-    const bool sparse_b = format_from_path(args->b) == FileFormat::Vdb;
-    if (sparse_a != sparse_b) throw Error("csg: A and B must both be .vdb or both be image data");
+    const bool sparse_a = format_of(args->a) == FileFormat::Vdb;
+    const bool sparse_b = format_of(args->b) == FileFormat::Vdb;
+    if (sparse_a != sparse_b) throw UsageError("A and B must both be .vdb or both be image data");
     PolyData surface;
     if (sparse_a) {
       auto a = read_vdb_grid(args->a);
@@ -58,7 +59,7 @@ void add_csg_command(CLI::App& app, Context& ctx) {
       bar.stage("csg");
       csg_in_place(*a, *b, op);
       if (out_field) {
-        if (out_format != FileFormat::Vdb) throw Error("csg: a sparse result is written as .vdb");
+        if (out_format != FileFormat::Vdb) throw UsageError(args->out + ": a sparse result is written as .vdb");
         bar.stage("writing");
         write_vdb(*a, args->out);
         bar.finish();
@@ -82,7 +83,7 @@ void add_csg_command(CLI::App& app, Context& ctx) {
       ImageData r = csg(a, b, op);
       if (out_field) {
         if (out_format != FileFormat::VtkImageData)
-          throw Error("csg: a dense result is written as .vti");
+          throw UsageError(args->out + ": a dense result is written as .vti");
         bar.stage("writing");
         write(r, args->out);
         bar.finish();

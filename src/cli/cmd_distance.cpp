@@ -60,10 +60,10 @@ GridSpec cubic_from_dims(const Bounds& b, const Dims& dims, double voxel_size) {
         axis = a;
       }
     }
-    if (dims[axis] < 2) throw Error("--dims: need at least 2 samples along every axis");
+    if (dims[axis] < 2) throw UsageError("--dims: need at least 2 samples along every axis");
     h = b.size()[axis] / static_cast<double>(dims[axis] - 1);
   }
-  if (!(h > 0)) throw Error("--voxel-size must be positive");
+  if (!(h > 0)) throw UsageError("--voxel-size must be positive");
   return cubic_grid(b, h);
 }
 
@@ -127,7 +127,7 @@ void add_distance_command(CLI::App& app, Context& ctx) {
     if (ib.empty()) throw Error("distance: the input has no points");
     DistanceOptions o;
     if (args->max_distance < 0 || std::isnan(args->max_distance)) {
-      throw Error("--max-distance: must be positive, got " + std::to_string(args->max_distance));
+      throw UsageError("--max-distance: must be positive, got " + std::to_string(args->max_distance));
     }
     o.max_distance = args->max_distance != 0 ? args->max_distance : 0.1 * largest_side(ib);
     if (!(o.max_distance > 0)) {
@@ -140,7 +140,7 @@ void add_distance_command(CLI::App& app, Context& ctx) {
     const Bounds b =
         args->bounds.empty() ? grown(ib, o.max_distance) : parse_bounds(args->bounds, "--bounds");
     const Dims dims = parse_dims(args->dims, "--dims");
-    const FileFormat format = format_from_path(args->out);
+    const FileFormat format = format_of(args->out);
     DistanceStats stats;
     const auto t0 = std::chrono::steady_clock::now();
     bar.stage("distance");
@@ -164,7 +164,7 @@ void add_distance_command(CLI::App& app, Context& ctx) {
       return;
     }
     for (int a = 0; a < 3; ++a) {
-      if (dims[a] < 2) throw Error("--dims: need at least 2 samples along every axis");
+      if (dims[a] < 2) throw UsageError("--dims: need at least 2 samples along every axis");
     }
     const GridSpec g = GridSpec::from_bounds(b, dims);
     ImageData img =

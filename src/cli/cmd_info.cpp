@@ -7,6 +7,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "common.hpp"
 #include "describe.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/vdb.hpp"
@@ -46,7 +47,7 @@ void add_info_command(CLI::App& app, Context& ctx) {
       "  isoforge info volume.vdb      (lists grids without densifying them)");
   cmd->callback([path, q, &ctx] {
     const std::filesystem::path p(*path);
-    const FileFormat format = format_from_path(p);
+    const FileFormat format = format_of(*path);
     if (format == FileFormat::Vdb) {
       print_vdb_info(p);
       return;

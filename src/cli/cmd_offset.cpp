@@ -63,15 +63,15 @@ void add_offset_command(CLI::App& app, Context& ctx) {
   cmd->callback([args, &ctx] {
     double dmax = 0;
     for (double d : args->distances) {
-      if (!std::isfinite(d)) throw Error("--distance: not finite");
+      if (!std::isfinite(d)) throw UsageError("--distance: not finite");
       dmax = std::max(dmax, std::abs(d));
     }
-    (void)format_from_path(args->out);
+    (void)format_of(args->out);
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
     bar.stage("reading");
     PolyData surface;
     const auto t0 = std::chrono::steady_clock::now();
-    const FileFormat in_format = format_from_path(args->in);
+    const FileFormat in_format = format_of(args->in);
     if (in_format == FileFormat::Vdb) {
       const auto grid = read_vdb_grid(args->in, args->grid);
       bar.stage("contouring");
@@ -86,7 +86,7 @@ void add_offset_command(CLI::App& app, Context& ctx) {
         const Bounds ib = pd->bounds();
         if (ib.empty()) throw Error("offset: the input has no points");
         if (!(dmax > 0) && args->max_distance == 0) {
-          throw Error("offset: give a non-zero distance or --max-distance");
+          throw UsageError("give a non-zero distance or --max-distance");
         }
         const Bounds b =
             args->bounds.empty() ? grown(ib, 1.25 * dmax) : parse_bounds(args->bounds, "--bounds");
@@ -103,7 +103,7 @@ void add_offset_command(CLI::App& app, Context& ctx) {
           surface = offset_surfaces(*grid, args->distances);
         } else {
           for (int a = 0; a < 3; ++a) {
-            if (dims[a] < 2) throw Error("--dims: need at least 2 samples along every axis");
+            if (dims[a] < 2) throw UsageError("--dims: need at least 2 samples along every axis");
           }
           const GridSpec g = GridSpec::from_bounds(b, dims);
           const double h = std::max({g.spacing.x, g.spacing.y, g.spacing.z});

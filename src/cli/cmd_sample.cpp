@@ -7,7 +7,6 @@
 
 #include "commands.hpp"
 #include "common.hpp"
-#include "isoforge/implicit/parse.hpp"
 #include "isoforge/implicit/sample.hpp"
 #include "isoforge/implicit/sample_sparse.hpp"
 #include "isoforge/io/io.hpp"
@@ -43,20 +42,20 @@ void add_sample_command(CLI::App& app, Context& ctx) {
       "  isoforge sample -f 'icecream()' -b -0.1 2 -0.7 0.7 -0.7 0.7 -d 4096 -o icecream.vdb\n"
       "  isoforge sample -f 'difference(box(), sphere(r=1.2))' -b -1 1 -1 1 -1 1 -o cut.vti");
   cmd->callback([args, &ctx] {
-    const ImplicitFunction f = parse_implicit(args->function);
+    const ImplicitFunction f = parse_function(args->function, "--function");
     const Bounds b = parse_bounds(args->bounds, "--bounds");
     const Dims dims = parse_dims(args->dims, "--dims");
-    const FileFormat format = format_from_path(args->out);
+    const FileFormat format = format_of(args->out);
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
     if (format == FileFormat::Vdb) {
       double h = args->voxel_size;
       if (h == 0) {
         int axis = 0;
         for (int a = 1; a < 3; ++a) if (dims[a] > dims[axis]) axis = a;
-        if (dims[axis] < 2) throw Error("--dims: need at least 2 samples along some axis");
+        if (dims[axis] < 2) throw UsageError("--dims: need at least 2 samples along some axis");
         h = (b.max[axis] - b.min[axis]) / static_cast<double>(dims[axis] - 1);
       }
-      if (!(h > 0)) throw Error("--voxel-size must be positive");
+      if (!(h > 0)) throw UsageError("--voxel-size must be positive");
       GridSpec g;
       g.origin = b.min;
       g.spacing = {h, h, h};

@@ -3,8 +3,8 @@
 #include <fmt/core.h>
 
 #include "commands.hpp"
+#include "common.hpp"
 #include "isoforge/filters/shrink.hpp"
-#include "isoforge/implicit/parse.hpp"
 #include "isoforge/implicit/select.hpp"
 #include "isoforge/io/io.hpp"
 #include "progress_bar.hpp"
@@ -36,8 +36,8 @@ void add_select_command(CLI::App& app, Context& ctx) {
       "  isoforge select vol.vti -f 'union(scale(sphere(),[1,.5,.5]), scale(sphere(),[.5,1,.5]))' \\\n"
       "      --shrink 0.5 -o fig_1_24b.vtu");
   cmd->callback([args, &ctx] {
-    const ImplicitFunction f = parse_implicit(args->function);
-    (void)format_from_path(args->out);
+    const ImplicitFunction f = parse_function(args->function, "--function");
+    (void)format_of(args->out);
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
     bar.stage("reading");
     ReadOptions ro;

@@ -4,17 +4,34 @@
 #include <string>
 
 #include "isoforge/core/error.hpp"
+#include "isoforge/implicit/parse.hpp"
 
 namespace isoforge::cli {
 
+FileFormat format_of(const std::string& path) {
+  try {
+    return format_from_path(path);
+  } catch (const Error& e) {
+    throw UsageError(e.what());
+  }
+}
+
+ImplicitFunction parse_function(const std::string& expression, const char* option) {
+  try {
+    return parse_implicit(expression);
+  } catch (const Error& e) {
+    throw UsageError(option, e.what());
+  }
+}
+
 Bounds parse_bounds(const std::vector<double>& b, const char* option) {
-  if (b.size() != 6) throw Error(std::string(option) + ": needs 6 numbers: xmin xmax ymin ymax zmin zmax");
+  if (b.size() != 6) throw UsageError(std::string(option) + ": needs 6 numbers: xmin xmax ymin ymax zmin zmax");
   Bounds out;
   out.min = {b[0], b[2], b[4]};
   out.max = {b[1], b[3], b[5]};
   for (int a = 0; a < 3; ++a) {
     if (!(out.min[a] <= out.max[a]) || !std::isfinite(out.min[a]) || !std::isfinite(out.max[a])) {
-      throw Error(std::string(option) + ": min must not exceed max (axis " + std::to_string(a) + ")");
+      throw UsageError(std::string(option) + ": min must not exceed max (axis " + std::to_string(a) + ")");
     }
   }
   return out;
@@ -23,7 +40,7 @@ Bounds parse_bounds(const std::vector<double>& b, const char* option) {
 Dims parse_dims(const std::vector<Index>& d, const char* option) {
   if (d.size() == 1) return {d[0], d[0], d[0]};
   if (d.size() == 3) return {d[0], d[1], d[2]};
-  throw Error(std::string(option) + ": give one number (a cube) or three");
+  throw UsageError(std::string(option) + ": give one number (a cube) or three");
 }
 
 Bounds grown(const Bounds& b, double pad) {

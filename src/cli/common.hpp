@@ -1,16 +1,40 @@
 #pragma once
-// Helpers shared by several subcommands: argument conversion and small geometry/timing helpers.
+// Helpers shared by several subcommands: exit codes, usage errors, warnings, argument
+// conversion and small geometry/timing helpers.
 
+#include <CLI/CLI.hpp>
 #include <chrono>
+#include <string>
 #include <vector>
 
 #include "isoforge/core/dataset.hpp"
+#include "isoforge/implicit/function.hpp"
+#include "isoforge/io/io.hpp"
 
 namespace isoforge::cli {
 
-/// "--bounds xmin xmax ymin ymax zmin zmax" → Bounds. \throw Error naming `option`.
+/// Exit codes of the isoforge command (documented in README.md and `isoforge --help`).
+inline constexpr int kExitOk = 0;        ///< success (also --help, --version)
+inline constexpr int kExitError = 1;     ///< the work failed: bad input file, cannot write, ...
+inline constexpr int kExitUsage = 2;     ///< the command line is wrong: unknown, missing,
+                                         ///< malformed, out-of-range or contradictory options
+inline constexpr int kExitInternal = 3;  ///< an internal error (a bug: please report it)
+
+/// A mistake on the command line found after parsing (a contradictory or meaningless option, a
+/// bad function expression): main reports it like CLI11's own errors, with kExitUsage.
+using UsageError = CLI::ValidationError;
+
+/// The format of a file named on the command line (by its extension). \throw UsageError naming
+/// the path when the extension is not known.
+[[nodiscard]] FileFormat format_of(const std::string& path);
+
+/// The function expression given to `option` (see docs/implicit.md). \throw UsageError naming
+/// the option, the column and the problem.
+[[nodiscard]] ImplicitFunction parse_function(const std::string& expression, const char* option);
+
+/// "--bounds xmin xmax ymin ymax zmin zmax" → Bounds. \throw UsageError naming `option`.
 Bounds parse_bounds(const std::vector<double>& values, const char* option);
-/// "--dims N" or "--dims NX NY NZ" → Dims. \throw Error naming `option`.
+/// "--dims N" or "--dims NX NY NZ" → Dims. \throw UsageError naming `option`.
 Dims parse_dims(const std::vector<Index>& values, const char* option);
 
 /// `b` grown by `pad` on every side.

@@ -16,15 +16,19 @@ expect_ok() {
   if ! grep -Eq -- "$regex" <<<"$out"; then fail "$name: output does not match /$regex/:"$'\n'"$out"; fi
 }
 
-# expect_error NAME REGEX CMD...: non-zero exit, a one-line "isoforge: error:" message matching REGEX.
-expect_error() {
-  local name=$1 regex=$2; shift 2
+# expect_fail CODE NAME REGEX CMD...: exit status CODE and one line "isoforge: error: ...REGEX".
+expect_fail() {
+  local code=$1 name=$2 regex=$3; shift 3
   local out rc
   out=$("$@" 2>&1); rc=$?
-  if [ $rc -eq 0 ]; then fail "$name: expected failure, got exit 0: $out"; return; fi
+  if [ $rc -ne "$code" ]; then fail "$name: expected exit $code, got $rc: $out"; return; fi
   if [ "$(wc -l <<<"$out")" -ne 1 ]; then fail "$name: error is not one line:"$'\n'"$out"; fi
   if ! grep -Eq -- "^isoforge: error: .*$regex" <<<"$out"; then fail "$name: message does not match /$regex/: $out"; fi
 }
+# expect_error NAME REGEX CMD...: the work failed (exit 1), one line naming the problem.
+expect_error() { expect_fail 1 "$@"; }
+# expect_usage NAME REGEX CMD...: the command line is wrong (exit 2), one line naming the problem.
+expect_usage() { expect_fail 2 "$@"; }
 
 # ---- info on every real file: type and counts ----
 expect_ok info_fran "points: 2205" "$bin" info "$data/fran_cut.vtk"
@@ -63,7 +67,7 @@ expect_ok quiet_is_silent "^$" "$bin" --quiet convert "$data/hello.vtk" "$tmp/he
 
 # ---- errors: one line, non-zero exit, names the file and the problem ----
 expect_error missing_file "nosuch.vtk" "$bin" info "$tmp/nosuch.vtk"
-expect_error unknown_ext "unknown file extension '.xyzw'" "$bin" info "$data/../README.md.xyzw"
+expect_usage unknown_ext "unknown file extension '.xyzw'" "$bin" info "$data/../README.md.xyzw"
 expect_error wrong_target "holds polygonal data only" "$bin" convert "$data/post.vtk" "$tmp/post.ply"
 expect_error unwritable "cannot create" "$bin" convert "$data/hello.vtk" "$tmp/no/such/dir/h.vtp"
 printf '# vtk DataFile Version 3.0\ntruncated\nASCII\nDATASET POLYDATA\nPOINTS 5 float\n0 0 0\n' > "$tmp/trunc.vtk"
@@ -89,9 +93,9 @@ expect_ok contour_largest "kept from 2 connected pieces" "$bin" contour "$tmp/tw
 expect_ok select_cells "wrote .*of 3375 cells" "$bin" select "$tmp/sphere.vti" -f 'sphere(r=0.5)' -o "$tmp/inside.vtu"
 expect_ok select_ids "'OriginalCellIds'" "$bin" info "$tmp/inside.vtu"
 expect_ok select_shrink "wrote" "$bin" select "$tmp/sphere.vti" -f 'sphere(r=0.5)' --shrink 0.5 -o "$tmp/shrunk.vtu"
-expect_error bad_function "column 11: expected '\)'" "$bin" sample -f 'sphere(r=1' -b 0 1 0 1 0 1 -o "$tmp/x.vti"
-expect_error bad_parameter "'r' \(radius\) is negative" "$bin" sample -f 'sphere(r=-1)' -b 0 1 0 1 0 1 -o "$tmp/x.vti"
-expect_error no_values "at least one value" "$bin" contour "$tmp/sphere.vti" -o "$tmp/x.vtp"
+expect_usage bad_function "column 11: expected '\)'" "$bin" sample -f 'sphere(r=1' -b 0 1 0 1 0 1 -o "$tmp/x.vti"
+expect_usage bad_parameter "'r' \(radius\) is negative" "$bin" sample -f 'sphere(r=-1)' -b 0 1 0 1 0 1 -o "$tmp/x.vti"
+expect_usage no_values "at least one value" "$bin" contour "$tmp/sphere.vti" -o "$tmp/x.vtp"
 expect_error missing_array "no point array named 'nope'" "$bin" contour "$tmp/sphere.vti" -v 0 -a nope -o "$tmp/x.vtp"
 expect_error contour_to_vti "holds|not" "$bin" contour "$tmp/sphere.vti" -v 0 -o "$tmp/x.vti"
 
@@ -105,7 +109,16 @@ expect_ok attractor "discarded" "$bin" attractor --steps 100000 --dims 50 -o "$t
 for sub in info convert sample select contour distance offset csg attractor; do
   expect_ok "help_$sub" "Examples:" "$bin" "$sub" --help
 done
-out=$("$bin" 2>&1); [ $? -ne 0 ] || fail "no subcommand should be an error"
+
+# ---- one form for every error, one exit code per kind (README "Exit status") ----
+expect_usage no_subcommand "subcommand is required.*isoforge --help" "$bin"
+expect_usage unknown_option "info: .*not expected: --bogus.*isoforge info --help" "$bin" info --bogus "$data/hello.vtk"
+expect_usage missing_positional "contour: .*input is required" "$bin" contour -v 0 -o "$tmp/x.vtp"
+expect_usage missing_option "sample: .*--output is required" "$bin" sample -f 'sphere()' -b 0 1 0 1 0 1
+expect_usage bad_choice "--normals" "$bin" contour "$tmp/sphere.vti" -v 0 --normals bogus -o "$tmp/x.vtp"
+expect_usage wrong_arity "--bounds" "$bin" sample -f 'sphere()' -b 0 1 0 1 -o "$tmp/x.vti"
+expect_ok help_exit_0 "Exit status: 0 success" "$bin" --help
+expect_ok version_exit_0 "^[0-9]+\.[0-9]+\.[0-9]+" "$bin" --version
 
 if [ $failures -ne 0 ]; then echo "$failures CLI test(s) failed"; exit 1; fi
 echo "all CLI tests passed"
