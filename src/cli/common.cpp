@@ -1,5 +1,8 @@
 #include "common.hpp"
 
+#include <fmt/core.h>
+
+#include <charconv>
 #include <cmath>
 #include <string>
 
@@ -7,6 +10,28 @@
 #include "isoforge/implicit/parse.hpp"
 
 namespace isoforge::cli {
+
+CLI::Validator integer_in(std::int64_t min, std::int64_t max) {
+  const std::string range = max == INT64_MAX ? fmt::format(">= {}", min)
+                                             : fmt::format("in [{}, {}]", min, max);
+  return CLI::Validator(
+      [min, max, range](std::string& s) -> std::string {
+        const char* b = s.data();
+        const char* e = b + s.size();
+        if (b != e && *b == '+') ++b;
+        std::int64_t v = 0;
+        const auto [p, ec] = std::from_chars(b, e, v);
+        if (b == e || p != e || ec == std::errc::invalid_argument) {
+          return fmt::format("must be an integer {}, got '{}'", range, s);
+        }
+        if (ec == std::errc::result_out_of_range || v < min || v > max) {
+          return fmt::format("must be an integer {}, got {}", range, s);
+        }
+        s = std::to_string(v);  // what CLI11 converts: no sign, no leading zeros
+        return {};
+      },
+      max == INT64_MAX ? fmt::format(">={}", min) : fmt::format("{}..{}", min, max));
+}
 
 FileFormat format_of(const std::string& path) {
   try {

@@ -1,9 +1,10 @@
 #pragma once
-// Helpers shared by several subcommands: exit codes, usage errors, warnings, argument
+// Helpers shared by several subcommands: exit codes, usage errors, argument checks and
 // conversion and small geometry/timing helpers.
 
 #include <CLI/CLI.hpp>
 #include <chrono>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,11 @@ inline constexpr int kExitInternal = 3;  ///< an internal error (a bug: please r
 /// A mistake on the command line found after parsing (a contradictory or meaningless option, a
 /// bad function expression): main reports it like CLI11's own errors, with kExitUsage.
 using UsageError = CLI::ValidationError;
+
+/// CLI11 check: a decimal integer in [min, max], e.g. "--steps: must be an integer >= 1, got
+/// '-5'". Leading zeros and '+' are dropped before CLI11 converts the value (which would read
+/// "010" as octal and wrap "-5" into a huge unsigned number).
+[[nodiscard]] CLI::Validator integer_in(std::int64_t min, std::int64_t max = INT64_MAX);
 
 /// The format of a file named on the command line (by its extension). \throw UsageError naming
 /// the path when the extension is not known.

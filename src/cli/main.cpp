@@ -2,10 +2,13 @@
 
 #include <fmt/core.h>
 
+#include <tbb/global_control.h>
+
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
 #include <new>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -15,6 +18,8 @@
 #include "isoforge/version.hpp"
 
 namespace {
+
+constexpr std::int64_t kMaxThreads = 4096;  // far above any machine's cores; a typo guard
 
 // The deepest subcommand named on the command line ("" if none), for the usage hint.
 std::string parsed_subcommand(const CLI::App& app) {
@@ -68,7 +73,22 @@ int main(int argc, char** argv) {
       "(an unknown, missing, malformed, out-of-range or contradictory option); 3 internal error\n"
       "(a bug). Every error is one line on stderr: 'isoforge: error: MESSAGE'.");
   Context ctx;
+  app.fallthrough();  // global options may also follow the subcommand
   app.add_flag("-q,--quiet", ctx.quiet, "No progress bar or informational messages on stderr");
+  std::int64_t threads = 0;
+  app.add_option("--threads", threads,
+                 "Worker threads for every subcommand (default: all cores); results do not "
+                 "depend on it")
+      ->check(integer_in(1, kMaxThreads));
+  // Set once the whole command line is parsed and before the subcommand runs; TBB (and OpenVDB,
+  // which uses TBB) then never runs more than `threads` workers.
+  std::optional<tbb::global_control> thread_limit;
+  app.parse_complete_callback([&] {
+    if (threads > 0) {
+      thread_limit.emplace(tbb::global_control::max_allowed_parallelism,
+                           static_cast<std::size_t>(threads));
+    }
+  });
   add_info_command(app, ctx);
   add_convert_command(app, ctx);
   add_sample_command(app, ctx);

@@ -105,6 +105,18 @@ expect_ok offset_hello_info "cells: [0-9]+ \\([0-9]+ triangle\\)" "$bin" info "$
 expect_error distance_open "open" "$bin" distance "$data/bunny.ply" --signed -m 0.01 -d 16 -o "$tmp/b.vti"
 expect_ok attractor "discarded" "$bin" attractor --steps 100000 --dims 50 -o "$tmp/l.vtp"
 
+# ---- --threads N: every subcommand honours it, results do not depend on it ----
+expect_ok threads_1 "wrote" "$bin" --threads 1 sample -f 'icecream()' -b -0.1 2 -0.7 0.7 -0.7 0.7 -d 40 -o "$tmp/t1.vti"
+expect_ok threads_2 "wrote" "$bin" sample -f 'icecream()' -b -0.1 2 -0.7 0.7 -0.7 0.7 -d 40 -o "$tmp/t2.vti" --threads 2
+cmp -s "$tmp/t1.vti" "$tmp/t2.vti" || fail "threads: sample with --threads 1 and 2 differ"
+# (dense: a .vdb file holds a random UUID, so two runs never give the same bytes)
+expect_ok threads_d1 "wrote" "$bin" --threads 1 distance "$data/bunny.ply" -m 0.01 -d 40 -o "$tmp/t1d.vti"
+expect_ok threads_d2 "wrote" "$bin" --threads 2 distance "$data/bunny.ply" -m 0.01 -d 40 -o "$tmp/t2d.vti"
+cmp -s "$tmp/t1d.vti" "$tmp/t2d.vti" || fail "threads: distance with --threads 1 and 2 differ"
+expect_usage threads_0 "--threads: must be an integer in \[1, 4096\], got 0" "$bin" --threads 0 info "$data/hello.vtk"
+expect_usage threads_negative "--threads: must be an integer" "$bin" --threads -2 info "$data/hello.vtk"
+expect_usage threads_fraction "--threads: must be an integer" "$bin" --threads 1.5 info "$data/hello.vtk"
+
 # ---- help: every subcommand has examples ----
 for sub in info convert sample select contour distance offset csg attractor; do
   expect_ok "help_$sub" "Examples:" "$bin" "$sub" --help
