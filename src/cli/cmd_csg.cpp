@@ -27,8 +27,10 @@ void add_csg_command(CLI::App& app, Context& ctx) {
   cmd->add_option("a", args->a, "Field A (.vdb level set or image data)")->required();
   cmd->add_option("b", args->b, "Field B (same kind and grid as A)")->required();
   cmd->add_option("--offset-a", args->offset_a,
-                  "Offset A first by this distance (makes an unsigned distance field a solid)");
-  cmd->add_option("--offset-b", args->offset_b, "Offset B first by this distance");
+                  "Offset A first by this distance (makes an unsigned distance field a solid)")
+      ->check(finite_number());
+  cmd->add_option("--offset-b", args->offset_b, "Offset B first by this distance")
+      ->check(finite_number());
   cmd->add_option("-o,--output", args->out,
                   "Output: a field of A's kind (.vdb, .vti), or its zero surface (.vtp .ply ...)")
       ->required();
@@ -41,13 +43,18 @@ void add_csg_command(CLI::App& app, Context& ctx) {
       "  isoforge csg difference a.vti b.vti -o a_minus_b.vti");
   cmd->callback([args, &ctx] {
     const CsgOperation op = csg_operation_from_name(args->op);
-    const FileFormat out_format = format_of(args->out);
-    const bool out_field = out_format == FileFormat::Vdb || out_format == FileFormat::VtkImageData;
-    ProgressBar bar(!ctx.quiet && stderr_is_tty());
-    bar.stage("reading");
     const bool sparse_a = format_of(args->a) == FileFormat::Vdb;
     const bool sparse_b = format_of(args->b) == FileFormat::Vdb;
     if (sparse_a != sparse_b) throw UsageError("A and B must both be .vdb or both be image data");
+    std::vector<FileFormat> outputs = kSurfaceFormats;
+    outputs.push_back(sparse_a ? FileFormat::Vdb : FileFormat::VtkImageData);
+    const FileFormat out_format =
+        output_format(args->out, outputs,
+                      std::string(sparse_a ? ".vdb" : ".vti") + " (the field) or " +
+                          std::string(kSurfaceExtensions) + " (its zero surface)");
+    const bool out_field = out_format == FileFormat::Vdb || out_format == FileFormat::VtkImageData;
+    ProgressBar bar(!ctx.quiet && stderr_is_tty());
+    bar.stage("reading");
     PolyData surface;
     if (sparse_a) {
       auto a = read_vdb_grid(args->a);
@@ -59,7 +66,6 @@ void add_csg_command(CLI::App& app, Context& ctx) {
       bar.stage("csg");
       csg_in_place(*a, *b, op);
       if (out_field) {
-        if (out_format != FileFormat::Vdb) throw UsageError(args->out + ": a sparse result is written as .vdb");
         bar.stage("writing");
         write_vdb(*a, args->out);
         bar.finish();
@@ -82,8 +88,6 @@ void add_csg_command(CLI::App& app, Context& ctx) {
       bar.stage("csg");
       ImageData r = csg(a, b, op);
       if (out_field) {
-        if (out_format != FileFormat::VtkImageData)
-          throw UsageError(args->out + ": a dense result is written as .vti");
         bar.stage("writing");
         write(r, args->out);
         bar.finish();

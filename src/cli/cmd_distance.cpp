@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "commands.hpp"
 #include "common.hpp"
@@ -49,22 +50,25 @@ double largest_side(const Bounds& b) {
 }
 
 // The cubic grid covering `b` whose largest axis has dims[axis] samples (as `isoforge sample`),
-// or of the given voxel size.
+// or of the given voxel size (> 0).
 GridSpec cubic_from_dims(const Bounds& b, const Dims& dims, double voxel_size) {
   double h = voxel_size;
   if (h == 0) {
     int axis = 0;
     for (int a = 1; a < 3; ++a) {
-      if (b.size()[a] / static_cast<double>(std::max<Index>(1, dims[a] - 1)) >
-          b.size()[axis] / static_cast<double>(std::max<Index>(1, dims[axis] - 1))) {
+      if (b.size()[a] / static_cast<double>(dims[a] - 1) >
+          b.size()[axis] / static_cast<double>(dims[axis] - 1)) {
         axis = a;
       }
     }
-    if (dims[axis] < 2) throw UsageError("--dims: need at least 2 samples along every axis");
     h = b.size()[axis] / static_cast<double>(dims[axis] - 1);
+    if (!(h > 0)) throw UsageError("--bounds: the box has zero extent");
   }
-  if (!(h > 0)) throw UsageError("--voxel-size must be positive");
-  return cubic_grid(b, h);
+  try {
+    return cubic_grid(b, h);
+  } catch (const Error& e) {
+    throw UsageError(voxel_size > 0 ? "--voxel-size" : "--dims", e.what());
+  }
 }
 
 }  // namespace
@@ -74,7 +78,7 @@ void add_distance_command(CLI::App& app, Context& ctx) {
     std::string in, out, strategy = "auto", radius;
     std::vector<double> bounds;
     std::vector<Index> dims{50};
-    double max_distance = 0, voxel_size = 0, cap_value = NAN;
+    double max_distance = 0, voxel_size = 0, cap_value = 0;
     bool is_signed = false, cap = false, float64 = false, open_ok = false;
   };
   auto args = std::make_shared<Args>();
@@ -84,27 +88,33 @@ void add_distance_command(CLI::App& app, Context& ctx) {
       "a dense volume (.vti, .vtk) or an OpenVDB narrow band (.vdb)");
   cmd->add_option("input", args->in, "Polygonal data (.vtk .vtp .ply .obj .off)")->required();
   cmd->add_option("-m,--max-distance", args->max_distance,
-                  "Band half width in world units (default: 0.1 x the largest side, as VTK)");
-  cmd->add_option("-d,--dims", args->dims, "Samples per axis: N or NX NY NZ (default 50)")
-      ->expected(1, 3);
-  cmd->add_option("-b,--bounds", args->bounds,
-                  "Sampled box: xmin xmax ymin ymax zmin zmax (default: the input's bounds grown "
-                  "by the maximum distance)")
-      ->expected(6);
+                  "Band half width in world units, > 0 (default: 0.1 x the largest side, as VTK)")
+      ->check(positive_number());
+  auto* dims_opt = add_dims_option(*cmd, "-d,--dims", args->dims, 2,
+                                   "Samples per axis: N or NX NY NZ (default 50)");
+  add_bounds_option(*cmd, args->bounds,
+                    "Sampled box: xmin xmax ymin ymax zmin zmax (default: the input's bounds grown "
+                    "by the maximum distance)");
   cmd->add_flag("--signed", args->is_signed,
                 "Signed distance, negative inside (closed triangle meshes)");
-  cmd->add_flag("--allow-open", args->open_ok,
-                "With --signed: accept open/non-manifold meshes (pseudonormal sign, no check)");
-  cmd->add_flag("--cap", args->cap,
-                "Dense: set the boundary samples to the cap value, so that "
-                "offset surfaces close at the volume boundary");
-  cmd->add_option("--cap-value", args->cap_value,
-                  "Value of capped samples (default: the maximum distance)");
+  auto* open_opt =
+      cmd->add_flag("--allow-open", args->open_ok,
+                    "With --signed: accept open/non-manifold meshes (pseudonormal sign, no check)");
+  auto* cap_opt = cmd->add_flag("--cap", args->cap,
+                                "Dense: set the boundary samples to the cap value, so that "
+                                "offset surfaces close at the volume boundary");
+  auto* cap_value_opt =
+      cmd->add_option("--cap-value", args->cap_value,
+                      "With --cap: value of capped samples (default: the maximum distance)")
+          ->check(finite_number());
   cmd->add_option("--radius", args->radius,
                   "Point-data array of vertex radii (vertices become balls)");
-  cmd->add_flag("--float64", args->float64, "Dense: store Float64 values (default Float32)");
-  cmd->add_option("--voxel-size", args->voxel_size,
-                  "Sparse: voxel size (default: the largest extent / (its dims - 1))");
+  auto* float64_opt =
+      cmd->add_flag("--float64", args->float64, "Dense: store Float64 values (default Float32)");
+  auto* voxel_size_opt =
+      cmd->add_option("--voxel-size", args->voxel_size,
+                      "Sparse: voxel size (default: the largest extent / (its dims - 1))")
+          ->check(positive_number());
   cmd->add_option("--strategy", args->strategy,
                   "auto, scatter (per primitive) or gather (per sample)")
       ->check(CLI::IsMember({"auto", "scatter", "gather"}));
@@ -119,34 +129,45 @@ void add_distance_command(CLI::App& app, Context& ctx) {
       "  isoforge distance data/bunny.ply -m 0.003 --voxel-size 0.0005 -o bunny.vdb   (narrow "
       "band)\n"
       "  isoforge distance sphere.ply --signed -m 0.1 -d 64 -o sphere_sdf.vti");
-  cmd->callback([args, &ctx] {
+  cmd->callback([args, &ctx, dims_opt, open_opt, cap_opt, cap_value_opt, float64_opt,
+                 voxel_size_opt] {
+    const FileFormat format =
+        output_format(args->out, {FileFormat::VtkImageData, FileFormat::VtkLegacy, FileFormat::Vdb},
+                      ".vti .vtk (dense) or .vdb (sparse)");
+    const bool sparse = format == FileFormat::Vdb;
+    require_meaningful(open_opt, args->is_signed, "applies with --signed only");
+    require_meaningful(cap_opt, !sparse, "applies to dense output (.vti .vtk) only");
+    require_meaningful(cap_value_opt, args->cap, "applies with --cap only");
+    require_meaningful(float64_opt, !sparse, "applies to dense output (.vti .vtk) only");
+    require_meaningful(voxel_size_opt, sparse, "applies to sparse output (.vdb) only");
+    exclude_each_other({dims_opt, voxel_size_opt});
+    const Dims dims = parse_dims(args->dims, "--dims");
+    const std::optional<Bounds> given_bounds =
+        args->bounds.empty() ? std::nullopt
+                             : std::optional<Bounds>(parse_bounds(args->bounds, "--bounds"));
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
     bar.stage("reading");
     const PolyData in = read_polydata(args->in, "distance");
     const Bounds ib = in.bounds();
-    if (ib.empty()) throw Error("distance: the input has no points");
+    if (ib.empty()) throw Error("distance: " + args->in + " has no points");
     DistanceOptions o;
-    if (args->max_distance < 0 || std::isnan(args->max_distance)) {
-      throw UsageError("--max-distance: must be positive, got " + std::to_string(args->max_distance));
-    }
     o.max_distance = args->max_distance != 0 ? args->max_distance : 0.1 * largest_side(ib);
     if (!(o.max_distance > 0)) {
-      throw Error("--max-distance: the input has zero extent, give the maximum distance");
+      throw UsageError("--max-distance: " + args->in +
+                       " has zero extent, so give the maximum distance");
     }
     o.signed_distance = args->is_signed;
     o.require_closed = !args->open_ok;
     o.radius_array = args->radius;
     o.strategy = parse_strategy(args->strategy);
-    const Bounds b =
-        args->bounds.empty() ? grown(ib, o.max_distance) : parse_bounds(args->bounds, "--bounds");
-    const Dims dims = parse_dims(args->dims, "--dims");
-    const FileFormat format = format_of(args->out);
+    const Bounds b = given_bounds ? *given_bounds : grown(ib, o.max_distance);
     DistanceStats stats;
     const auto t0 = std::chrono::steady_clock::now();
     bar.stage("distance");
     o.progress = bar.callback();
-    if (format == FileFormat::Vdb) {
-      const GridSpec g = cubic_from_dims(b, dims, args->voxel_size);
+    if (sparse) {
+      const GridSpec g =
+          cubic_from_dims(b, dims, voxel_size_opt->count() > 0 ? args->voxel_size : 0.0);
       o.name = "distance";
       auto grid = distance_grid(in, g, o, &stats);
       const double ms = elapsed_ms(t0);
@@ -163,14 +184,10 @@ void add_distance_command(CLI::App& app, Context& ctx) {
       }
       return;
     }
-    for (int a = 0; a < 3; ++a) {
-      if (dims[a] < 2) throw UsageError("--dims: need at least 2 samples along every axis");
-    }
-    const GridSpec g = GridSpec::from_bounds(b, dims);
+    const GridSpec g = grid_from_bounds(b, dims);
     ImageData img =
         distance_image(in, g, o, args->float64 ? ScalarType::Float64 : ScalarType::Float32, &stats);
-    if (args->cap)
-      cap_boundary(img, std::isnan(args->cap_value) ? o.max_distance : args->cap_value);
+    if (args->cap) cap_boundary(img, cap_value_opt->count() > 0 ? args->cap_value : o.max_distance);
     const double ms = elapsed_ms(t0);
     bar.stage("writing");
     write(img, args->out);

@@ -5,11 +5,14 @@
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdint>
+#include <initializer_list>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "isoforge/core/dataset.hpp"
 #include "isoforge/implicit/function.hpp"
+#include "isoforge/implicit/sample.hpp"
 #include "isoforge/io/io.hpp"
 
 namespace isoforge::cli {
@@ -25,14 +28,58 @@ inline constexpr int kExitInternal = 3;  ///< an internal error (a bug: please r
 /// bad function expression): main reports it like CLI11's own errors, with kExitUsage.
 using UsageError = CLI::ValidationError;
 
-/// CLI11 check: a decimal integer in [min, max], e.g. "--steps: must be an integer >= 1, got
-/// '-5'". Leading zeros and '+' are dropped before CLI11 converts the value (which would read
-/// "010" as octal and wrap "-5" into a huge unsigned number).
+/// CLI11 validator for `->transform()` (it rewrites the value): a decimal integer in [min, max],
+/// e.g. "--steps: must be an integer >= 1, got '-5'". The value is rewritten without sign and
+/// leading zeros, because CLI11 itself would read "010" as octal and wrap "-5" into a huge
+/// unsigned number.
 [[nodiscard]] CLI::Validator integer_in(std::int64_t min, std::int64_t max = INT64_MAX);
+
+/// CLI11 check: a finite number (no NaN, no infinity) in [lo, hi] (`open_lo`: lo excluded), e.g.
+/// "--shrink: must be a finite number in [0, 1], got 'nan'".
+[[nodiscard]] CLI::Validator number_in(double lo, double hi, bool open_lo = false);
+/// CLI11 check: any finite number.
+[[nodiscard]] CLI::Validator finite_number();
+/// CLI11 check: a finite number > 0.
+[[nodiscard]] CLI::Validator positive_number();
+/// CLI11 check: a finite number >= 0.
+[[nodiscard]] CLI::Validator non_negative_number();
+
+/// \throw UsageError "OPTION: WHY" when `option` was given on the command line although it does
+/// nothing here (`meaningful` false), e.g. "--normals: applies to dense output only, not .vdb".
+void require_meaningful(const CLI::Option* option, bool meaningful, std::string_view why);
+/// \throw UsageError when two or more of `options` were given ("--a and --b exclude each other").
+void exclude_each_other(std::initializer_list<const CLI::Option*> options);
 
 /// The format of a file named on the command line (by its extension). \throw UsageError naming
 /// the path when the extension is not known.
 [[nodiscard]] FileFormat format_of(const std::string& path);
+
+/// The format of an output file, which must be one of `allowed`. \throw UsageError naming the
+/// path and the `extensions` this subcommand writes (e.g. ".vtp .vtk .ply .obj .off").
+[[nodiscard]] FileFormat output_format(const std::string& path,
+                                       const std::vector<FileFormat>& allowed,
+                                       std::string_view extensions);
+/// The polygonal-data formats (.vtp .vtk .ply .obj .off) and their extensions, for surfaces.
+inline const std::vector<FileFormat> kSurfaceFormats = {
+    FileFormat::VtkPolyData, FileFormat::VtkLegacy, FileFormat::Ply, FileFormat::Obj,
+    FileFormat::Off};
+inline constexpr std::string_view kSurfaceExtensions = ".vtp .vtk .ply .obj .off";
+
+/// Adds "-d,--dims"-style option: N (a cube) or NX NY NZ samples, each an integer >= `min`.
+CLI::Option* add_dims_option(CLI::App& cmd, const std::string& name, std::vector<Index>& dims,
+                             Index min, const std::string& description);
+/// Adds a "-b,--bounds" option: six finite numbers xmin xmax ymin ymax zmin zmax.
+CLI::Option* add_bounds_option(CLI::App& cmd, std::vector<double>& bounds,
+                               const std::string& description);
+
+/// Adds "--q FILE": the PLOT3D solution read with a PLOT3D grid input.
+CLI::Option* add_q_option(CLI::App& cmd, std::string& q);
+/// \throw UsageError if --q was given but `input` is not a PLOT3D grid file.
+void require_plot3d_input(const CLI::Option* q_option, const std::string& input);
+/// Adds "--grid NAME": the float grid to read from an OpenVDB input.
+CLI::Option* add_grid_option(CLI::App& cmd, std::string& grid);
+/// \throw UsageError if --grid was given but `input` is not a .vdb file.
+void require_vdb_input(const CLI::Option* grid_option, const std::string& input);
 
 /// The function expression given to `option` (see docs/implicit.md). \throw UsageError naming
 /// the option, the column and the problem.
@@ -42,6 +89,10 @@ using UsageError = CLI::ValidationError;
 Bounds parse_bounds(const std::vector<double>& values, const char* option);
 /// "--dims N" or "--dims NX NY NZ" → Dims. \throw UsageError naming `option`.
 Dims parse_dims(const std::vector<Index>& values, const char* option);
+
+/// `GridSpec::from_bounds(bounds, dims)`. \throw UsageError naming --bounds/--dims when they do
+/// not make a grid (e.g. 64 samples along an axis of zero extent).
+[[nodiscard]] GridSpec grid_from_bounds(const Bounds& bounds, const Dims& dims);
 
 /// `b` grown by `pad` on every side.
 Bounds grown(const Bounds& b, double pad);

@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads,
                  "Worker threads for every subcommand (default: all cores); results do not "
                  "depend on it")
-      ->check(integer_in(1, kMaxThreads));
+      ->transform(integer_in(1, kMaxThreads));
   // Set once the whole command line is parsed and before the subcommand runs; TBB (and OpenVDB,
   // which uses TBB) then never runs more than `threads` workers.
   std::optional<tbb::global_control> thread_limit;

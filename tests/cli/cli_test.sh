@@ -97,7 +97,71 @@ expect_usage bad_function "column 11: expected '\)'" "$bin" sample -f 'sphere(r=
 expect_usage bad_parameter "'r' \(radius\) is negative" "$bin" sample -f 'sphere(r=-1)' -b 0 1 0 1 0 1 -o "$tmp/x.vti"
 expect_usage no_values "at least one value" "$bin" contour "$tmp/sphere.vti" -o "$tmp/x.vtp"
 expect_error missing_array "no point array named 'nope'" "$bin" contour "$tmp/sphere.vti" -v 0 -a nope -o "$tmp/x.vtp"
-expect_error contour_to_vti "holds|not" "$bin" contour "$tmp/sphere.vti" -v 0 -o "$tmp/x.vti"
+expect_usage contour_to_vti "holds|not" "$bin" contour "$tmp/sphere.vti" -v 0 -o "$tmp/x.vti"
+
+# ---- every option value checked: counts (never wrapped), numbers, meaning, contradictions ----
+v=(-f 'sphere()' -b -1 1 -1 1 -1 1)  # a valid sample
+# counts: negative, zero where meaningless, non-integer (CLI11 would wrap -5 into 2^64-5)
+expect_usage steps_negative "--steps: must be an integer >= 1, got -5" "$bin" attractor --steps -5 -o "$tmp/x.vtp"
+expect_usage steps_zero "--steps: must be an integer >= 1, got 0" "$bin" attractor --steps 0 -o "$tmp/x.vtp"
+expect_usage steps_fraction "--steps: must be an integer >= 1, got '1.5'" "$bin" attractor --steps 1.5 -o "$tmp/x.vtp"
+expect_usage transient_negative "--transient: must be an integer >= 0" "$bin" attractor --transient -1 -o "$tmp/x.vtp"
+expect_usage attractor_dims_1 "--dims: must be an integer >= 2, got 1" "$bin" attractor --dims 1 -o "$tmp/x.vtp"
+expect_usage largest_n_negative "--largest-n: must be an integer >= 1, got -1" "$bin" contour "$tmp/sphere.vti" -v 0 --largest-n -1 -o "$tmp/x.vtp"
+expect_usage largest_n_zero "--largest-n: must be an integer >= 1, got 0" "$bin" contour "$tmp/sphere.vti" -v 0 --largest-n 0 -o "$tmp/x.vtp"
+expect_usage range_n_negative "--range: must be an integer in \[1, 1000000\], got -3" "$bin" contour "$tmp/sphere.vti" --range 0 1 -3 -o "$tmp/x.vtp"
+expect_usage range_n_fraction "--range: must be an integer .*got '2.5'" "$bin" contour "$tmp/sphere.vti" --range 0 1 2.5 -o "$tmp/x.vtp"
+expect_usage range_n_huge "--range: must be an integer in \[1, 1000000\], got 1000000000" "$bin" contour "$tmp/sphere.vti" --range 0 1 1000000000 -o "$tmp/x.vtp"
+expect_usage range_repeated "--range: FIRST equals LAST, so N must be 1" "$bin" contour "$tmp/sphere.vti" --range 0 0 5 -o "$tmp/x.vtp"
+expect_usage sample_dims_negative "--dims: must be an integer >= 1, got -5" "$bin" sample "${v[@]}" -d -5 -o "$tmp/x.vti"
+expect_usage sample_dims_zero "--dims: must be an integer >= 1, got 0" "$bin" sample "${v[@]}" -d 4 0 4 -o "$tmp/x.vti"
+expect_usage distance_dims_1 "--dims: must be an integer >= 2" "$bin" distance "$data/hello.vtk" -d 1 -o "$tmp/x.vti"
+expect_usage offset_dims_negative "--dims: must be an integer >= 2" "$bin" offset "$data/hello.vtk" -d 0.2 --dims -64 -o "$tmp/x.vtp"
+expect_ok dims_decimal "10 x 10 x 10 samples" "$bin" sample "${v[@]}" -d 010 -o "$tmp/x.vti"  # not octal 8
+# numbers: non-finite, zero or negative where a positive value is needed, out of range
+expect_usage shrink_nan "--shrink: must be a finite number in \[0, 1\], got 'nan'" "$bin" select "$tmp/sphere.vti" -f 'sphere()' --shrink nan -o "$tmp/x.vtu"
+expect_usage shrink_range "--shrink: must be a finite number in \[0, 1\], got '1.5'" "$bin" select "$tmp/sphere.vti" -f 'sphere()' --shrink 1.5 -o "$tmp/x.vtu"
+expect_usage bounds_nan "--bounds: must be a finite number, got 'nan'" "$bin" sample -f 'sphere()' -b 0 nan 0 1 0 1 -o "$tmp/x.vti"
+expect_usage bounds_inf "--bounds: must be a finite number, got 'inf'" "$bin" sample -f 'sphere()' -b 0 inf 0 1 0 1 -o "$tmp/x.vti"
+expect_usage bounds_order "--bounds: y 1 .. 0: min must not exceed max" "$bin" sample -f 'sphere()' -b 0 1 1 0 0 1 -o "$tmp/x.vti"
+expect_usage bounds_flat "--bounds/--dims: .*zero extent" "$bin" sample -f 'sphere()' -b 0 1 0 0 0 1 -o "$tmp/x.vti"
+expect_usage value_nan "--value: must be a finite number, got 'nan'" "$bin" contour "$tmp/sphere.vti" -v nan -o "$tmp/x.vtp"
+expect_usage voxel_size_zero "--voxel-size: must be a finite number > 0, got '0'" "$bin" sample "${v[@]}" --voxel-size 0 -o "$tmp/x.vdb"
+expect_usage max_distance_zero "--max-distance: must be a finite number > 0, got '0'" "$bin" distance "$data/hello.vtk" -m 0 -o "$tmp/x.vti"
+expect_usage max_distance_inf "--max-distance: must be a finite number > 0, got 'inf'" "$bin" distance "$data/hello.vtk" -m inf -o "$tmp/x.vti"
+expect_usage half_width_negative "--half-width: must be a finite number > 0" "$bin" sample "${v[@]}" --half-width -3 -o "$tmp/x.vdb"
+expect_usage step_zero "--step: must be a finite number > 0" "$bin" attractor --step 0 -o "$tmp/x.vtp"
+expect_usage visits_negative "--value: must be a finite number > 0" "$bin" attractor --value -5 -o "$tmp/x.vtp"
+expect_usage tolerance_negative "--vdb-tolerance: must be a finite number >= 0" "$bin" convert "$tmp/sphere.vti" "$tmp/x.vdb" --vdb-tolerance -1
+expect_usage offset_a_nan "--offset-a: must be a finite number" "$bin" csg union "$tmp/sphere.vti" "$tmp/sphere.vti" --offset-a nan -o "$tmp/x.vti"
+# options that do nothing for these inputs/outputs
+expect_usage normals_sparse "--normals: applies to dense output" "$bin" sample "${v[@]}" --normals -o "$tmp/x.vdb"
+expect_usage half_width_dense "--half-width: applies to sparse output" "$bin" sample "${v[@]}" --half-width 2 -o "$tmp/x.vti"
+expect_usage ascii_vdb "--ascii: applies to VTK and PLY output" "$bin" convert "$tmp/sphere.vti" "$tmp/x.vdb" --ascii
+expect_usage legacy_xml "--legacy-version: applies to VTK legacy output" "$bin" convert "$data/hello.vtk" "$tmp/x.vtp" --legacy-version 5.1
+expect_usage no_compress_legacy "--no-compress: applies to VTK XML output only" "$bin" convert "$data/hello.vtk" "$tmp/x.vtk" --no-compress
+expect_usage tolerance_vti "--vdb-tolerance: applies to OpenVDB output only" "$bin" convert "$tmp/sphere.vti" "$tmp/x.vti" --vdb-tolerance 0.1
+expect_usage q_not_plot3d "--q: a PLOT3D solution goes with a PLOT3D grid input" "$bin" info "$data/hello.vtk" --q "$data/combq.bin"
+expect_usage grid_not_vdb "--grid: names a grid of an OpenVDB input" "$bin" contour "$tmp/sphere.vti" -v 0 --grid F -o "$tmp/x.vtp"
+expect_usage cap_sparse "--cap: applies to dense output" "$bin" distance "$data/hello.vtk" --cap -o "$tmp/x.vdb"
+expect_usage float64_sparse "--float64: applies to dense output" "$bin" distance "$data/hello.vtk" --float64 -o "$tmp/x.vdb"
+expect_usage voxel_size_dense "--voxel-size: applies to sparse output" "$bin" distance "$data/hello.vtk" --voxel-size 0.1 -o "$tmp/x.vti"
+expect_usage allow_open_unsigned "--allow-open: applies with --signed only" "$bin" distance "$data/hello.vtk" --allow-open -o "$tmp/x.vti"
+expect_usage cap_value_no_cap "--cap-value: applies with --cap only" "$bin" distance "$data/hello.vtk" --cap-value 1 -o "$tmp/x.vti"
+expect_usage offset_field_dims "--dims: applies when the input is polygonal data" "$bin" offset "$tmp/sphere.vti" -d 0 --dims 32 -o "$tmp/x.vtp"
+expect_usage offset_unsigned_negative "--distance: -0.1: an unsigned distance field" "$bin" offset "$data/hello.vtk" -d -0.1 -o "$tmp/x.vtp"
+expect_usage offset_band_short "--max-distance: 0.1 must exceed the largest \|distance\| 0.2" "$bin" offset "$data/hello.vtk" -d 0.2 -m 0.1 -o "$tmp/x.vtp"
+expect_usage attractor_volume_twice "--volume: the counts are the output already" "$bin" attractor --volume "$tmp/v.vti" -o "$tmp/x.vti"
+expect_usage attractor_value_counts "--value: applies to a surface output" "$bin" attractor -v 20 -o "$tmp/x.vti"
+# contradictions and outputs that cannot hold the result
+expect_usage largest_closest "--largest and --closest exclude each other" "$bin" contour "$tmp/sphere.vti" -v 0 --largest --closest 0 0 0 -o "$tmp/x.vtp"
+expect_usage dims_voxel_size "--dims and --voxel-size exclude each other" "$bin" sample "${v[@]}" -d 32 --voxel-size 0.1 -o "$tmp/x.vdb"
+expect_usage no_cap_sparse "--no-cap and --voxel-size exclude each other" "$bin" offset "$data/hello.vtk" -d 0.2 --no-cap --voxel-size 0.05 -o "$tmp/x.vtp"
+expect_usage ascii_no_compress "--ascii and --no-compress exclude each other" "$bin" convert "$data/hello.vtk" "$tmp/x.vtp" --ascii --no-compress
+expect_usage sample_to_vtp "x.vtp: this subcommand writes .vti .vtk" "$bin" sample "${v[@]}" -o "$tmp/x.vtp"
+expect_usage select_to_vtp "x.vtp: this subcommand writes .vtu .vtk" "$bin" select "$tmp/sphere.vti" -f 'sphere()' -o "$tmp/x.vtp"
+expect_usage convert_to_nrrd "writing NRRD is not supported" "$bin" convert "$tmp/sphere.vti" "$tmp/x.nrrd"
+expect_usage csg_sparse_to_vti "this subcommand writes .vdb \(the field\)" "$bin" csg union "$tmp/ice.vdb" "$tmp/ice.vdb" -o "$tmp/x.vti"
 
 # ---- implicit modeling ----
 expect_ok offset_hello "5 connected surfaces" "$bin" offset "$data/hello.vtk" -d 0.25 --dims 110 40 20 --bounds -1 10 -1 3 -1 1 -o "$tmp/hello.vtp"
