@@ -46,6 +46,16 @@ expect_ok info_headmr "dimensions: 48 x 62 x 42" "$bin" info "$data/HeadMRVolume
 expect_ok info_comb "dimensions: 57 x 33 x 25" "$bin" info "$data/combxyz.bin" --q "$data/combq.bin"
 expect_ok info_comb_density "'Density'.*\[0\.19" "$bin" info "$data/combxyz.bin" --q "$data/combq.bin"
 
+# info costs O(header) on structured data: a header claiming 10^15 points without data is
+# described at once (the cell histogram visited every cell: it never returned), and a header
+# whose data the file cannot hold is rejected as the reader rejects it. (timeout: a hang guard.)
+printf '# vtk DataFile Version 3.0\nhuge\nASCII\nDATASET STRUCTURED_POINTS\nDIMENSIONS 100000 100000 100000\n' > "$tmp/huge.vtk"
+expect_ok info_huge_header "cells: 999970000299999 \(999970000299999 voxel\)" timeout 120 "$bin" info "$tmp/huge.vtk"
+printf '<VTKFile type="ImageData" version="1.0"><ImageData WholeExtent="0 99999 0 99999 0 99999" Origin="0 0 0" Spacing="1 1 1"><Piece Extent="0 99999 0 99999 0 99999"></Piece></ImageData></VTKFile>\n' > "$tmp/huge.vti"
+expect_ok info_huge_vti "points: 1000000000000000" timeout 120 "$bin" info "$tmp/huge.vti"
+printf '# vtk DataFile Version 3.0\nhuge\nASCII\nDATASET STRUCTURED_POINTS\nDIMENSIONS 100000 100000 100000\nPOINT_DATA 1000000000000000\nSCALARS s float\nLOOKUP_TABLE default\n1 2 3\n' > "$tmp/huge_data.vtk"
+expect_error info_huge_data "huge_data.vtk:8: .*exceeds what the remaining 7 bytes of the file can hold" timeout 120 "$bin" info "$tmp/huge_data.vtk"
+
 # ---- convert: every target format, then read back with info ----
 expect_ok conv_vtp "wrote .*fran.vtp" "$bin" convert "$data/fran_cut.vtk" "$tmp/fran.vtp"
 expect_ok conv_vtp_back "points: 2205" "$bin" info "$tmp/fran.vtp"
