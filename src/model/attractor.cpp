@@ -10,6 +10,8 @@
 #include <cmath>
 #include <string>
 
+#include "isoforge/core/memory.hpp"
+
 namespace isoforge {
 
 namespace {
@@ -40,6 +42,7 @@ TrajectoryBinner::TrajectoryBinner(const TrajectoryOptions& o) {
     }
   }
   const std::size_t n = checked_point_count(o.dims, "trajectory density");
+  require_volume_memory("trajectory density", o.dims, "UInt32", 4);
   const GridSpec g = GridSpec::from_bounds(o.bounds, o.dims);
   for (int a = 0; a < 3; ++a) {
     o_[a] = g.origin[a];

@@ -49,6 +49,7 @@
 
 #include "core/simd_clones.hpp"
 #include "distance_internal.hpp"
+#include "isoforge/core/memory.hpp"
 #include "isoforge/core/mesh_topology.hpp"
 #include "isoforge/io/vdb.hpp"
 #include "isoforge/model/closest_point.hpp"
@@ -1539,6 +1540,9 @@ ImageData distance_image(const PolyData& input, const GridSpec& grid,
                          const DistanceOptions& options, ScalarType type, double far_value,
                          DistanceStats* stats) {
   check_common(grid, options);
+  // The values, and with signs a band flag and the flood fill's queue (up to 9 bytes a sample).
+  require_volume_memory("distance", grid.dims, scalar_type_name(type),
+                        static_cast<double>(scalar_size(type)) + (options.signed_distance ? 9 : 0));
   if (std::isnan(far_value)) throw Error("distance: the far value is NaN");
   DistanceStats local;
   ImageData img;

@@ -173,6 +173,17 @@ expect_usage select_to_vtp "x.vtp: this subcommand writes .vtu .vtk" "$bin" sele
 expect_usage convert_to_nrrd "writing NRRD is not supported" "$bin" convert "$tmp/sphere.vti" "$tmp/x.nrrd"
 expect_usage csg_sparse_to_vti "this subcommand writes .vdb \(the field\)" "$bin" csg union "$tmp/ice.vdb" "$tmp/ice.vdb" -o "$tmp/x.vti"
 
+# ---- huge requests: refused at once with the size they need (they ended in std::bad_alloc after
+# growing to gigabytes); no machine has the petabytes these need, so nothing is allocated ----
+expect_error huge_sample "sample: a 100000³ Float32 volume needs 4 PB; this machine has" "$bin" sample "${v[@]}" -d 100000 -o "$tmp/refused.vti"
+expect_error huge_sample_normals "sample: a 100000³ Float32 volume needs 16 PB" "$bin" sample "${v[@]}" -d 100000 --normals -o "$tmp/refused.vti"
+expect_error huge_distance "distance: a 100000³ Float32 volume needs 4 PB" "$bin" distance "$data/hello.vtk" -d 100000 -o "$tmp/refused.vti"
+expect_error huge_offset "distance: a 100000³ Float32 volume needs 4 PB" "$bin" offset "$data/hello.vtk" -d 0.2 --dims 100000 -o "$tmp/refused.vtp"
+expect_error huge_attractor "trajectory density: a 100000³ UInt32 volume needs 4 PB" "$bin" attractor --dims 100000 -o "$tmp/refused.vtp"
+expect_error huge_band "sparse sample: a narrow band \(half width 3\) of about .* leaves \(8³ voxels\) in a 100000³ grid needs .* TB; this machine has" "$bin" sample -f 'sphere(r=0.8)' -b -1 1 -1 1 -1 1 -d 100000 -o "$tmp/refused.vdb"
+expect_ok tiny_band_in_huge_grid "active" "$bin" sample -f 'sphere(r=0.0002)' -b -1 1 -1 1 -1 1 -d 100000 -o "$tmp/tiny.vdb"
+ls "$tmp"/refused.* >/dev/null 2>&1 && fail "a refused request left an output"
+
 # ---- implicit modeling ----
 expect_ok offset_hello "5 connected surfaces" "$bin" offset "$data/hello.vtk" -d 0.25 --dims 110 40 20 --bounds -1 10 -1 3 -1 1 -o "$tmp/hello.vtp"
 expect_ok offset_hello_info "cells: [0-9]+ \\([0-9]+ triangle\\)" "$bin" info "$tmp/hello.vtp"
