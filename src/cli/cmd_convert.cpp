@@ -4,6 +4,7 @@
 
 #include "commands.hpp"
 #include "common.hpp"
+#include "isoforge/io/atomic_file.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/vtk_xml.hpp"
 #include "progress_bar.hpp"
@@ -71,6 +72,7 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     require_meaningful(legacy_opt, !args->vtk_xml && format == FileFormat::VtkLegacy,
                        "applies to VTK legacy output (.vtk) only");
     require_meaningful(tolerance_opt, format == FileFormat::Vdb, "applies to OpenVDB output only");
+    check_writable(args->out);
     ReadOptions ro;
     ro.plot3d_q = args->q;
     ro.vdb_grid = args->grid;

@@ -10,6 +10,7 @@
 
 #include "isoforge/core/error.hpp"
 #include "isoforge/implicit/parse.hpp"
+#include "isoforge/io/atomic_file.hpp"
 
 namespace isoforge::cli {
 
@@ -97,6 +98,7 @@ FileFormat output_format(const std::string& path, const std::vector<FileFormat>&
     throw UsageError(path + ": this subcommand writes " + std::string(extensions) + ", not " +
                      std::string(format_name(f)));
   }
+  check_writable(path);  // a bad output directory fails now, not after the work
   return f;
 }
 

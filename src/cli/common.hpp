@@ -55,7 +55,8 @@ void exclude_each_other(std::initializer_list<const CLI::Option*> options);
 [[nodiscard]] FileFormat format_of(const std::string& path);
 
 /// The format of an output file, which must be one of `allowed`. \throw UsageError naming the
-/// path and the `extensions` this subcommand writes (e.g. ".vtp .vtk .ply .obj .off").
+/// path and the `extensions` this subcommand writes (e.g. ".vtp .vtk .ply .obj .off"); Error if
+/// its directory does not exist or is not writable (checked before any work).
 [[nodiscard]] FileFormat output_format(const std::string& path,
                                        const std::vector<FileFormat>& allowed,
                                        std::string_view extensions);

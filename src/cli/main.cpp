@@ -5,6 +5,7 @@
 #include <tbb/global_control.h>
 
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <new>
@@ -15,6 +16,7 @@
 #include "commands.hpp"
 #include "common.hpp"
 #include "isoforge/core/error.hpp"
+#include "isoforge/io/atomic_file.hpp"
 #include "isoforge/version.hpp"
 
 namespace {
@@ -49,6 +51,27 @@ std::string one_line(std::string_view message) {
   return out;
 }
 
+// SIGINT, SIGTERM, SIGHUP: remove the temporary file being written (an output is renamed into
+// place only when complete, so there is no partial output to remove), then die of the signal
+// with its default action, so that the exit status says which one.
+void on_fatal_signal(int sig) {
+  isoforge::remove_temporary_files();
+  ::signal(sig, SIG_DFL);
+  ::raise(sig);  // delivered when the handler returns (the signal is blocked until then)
+}
+
+void install_signal_handlers() {
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+    struct sigaction old {};
+    // Inherited as ignored (nohup, a background job of a script): keep ignoring it.
+    if (::sigaction(sig, nullptr, &old) == 0 && old.sa_handler == SIG_IGN) continue;
+    struct sigaction sa {};
+    sa.sa_handler = on_fatal_signal;
+    ::sigemptyset(&sa.sa_mask);
+    ::sigaction(sig, &sa, nullptr);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -60,6 +83,7 @@ int main(int argc, char** argv) {
     return kExitError;
   }
 #endif
+  install_signal_handlers();
   CLI::App app{
       "isoforge: scientific visualization algorithms (contouring, implicit modeling, cutting,\n"
       "probing, decimation) on VTK, PLY, PLOT3D, NRRD and OpenVDB data.\n"

@@ -79,7 +79,7 @@ expect_ok quiet_is_silent "^$" "$bin" --quiet convert "$data/hello.vtk" "$tmp/he
 expect_error missing_file "nosuch.vtk" "$bin" info "$tmp/nosuch.vtk"
 expect_usage unknown_ext "unknown file extension '.xyzw'" "$bin" info "$data/../README.md.xyzw"
 expect_error wrong_target "holds polygonal data only" "$bin" convert "$data/post.vtk" "$tmp/post.ply"
-expect_error unwritable "cannot create" "$bin" convert "$data/hello.vtk" "$tmp/no/such/dir/h.vtp"
+expect_error unwritable "cannot create a file in" "$bin" convert "$data/hello.vtk" "$tmp/no/such/dir/h.vtp"
 printf '# vtk DataFile Version 3.0\ntruncated\nASCII\nDATASET POLYDATA\nPOINTS 5 float\n0 0 0\n' > "$tmp/trunc.vtk"
 expect_error truncated "trunc.vtk" "$bin" info "$tmp/trunc.vtk"
 
@@ -88,6 +88,42 @@ cp "$tmp/fran.vtp" "$tmp/keep.vtp"
 "$bin" convert "$tmp/trunc.vtk" "$tmp/keep.vtp" >/dev/null 2>&1 && fail "convert of a truncated file succeeded"
 cmp -s "$tmp/fran.vtp" "$tmp/keep.vtp" || fail "a failed convert changed the existing output file"
 ls -A "$tmp" | grep -q '\.tmp\.' && fail "temporary files left behind: $(ls -A "$tmp")"
+
+# ---- killed while writing: SIGINT/SIGTERM leave neither a temporary file nor an output, and the
+# exit status is the signal's (the temporary .NAME.tmp.* stayed behind) ----
+# interrupted SIGNAL NUMBER: a big dense sample is signalled once its output is being written.
+interrupted() {
+  local sig=$1 num=$2 dir="$tmp/killed_$1"
+  mkdir -p "$dir"
+  set -m  # job control: the background job is not made to ignore SIGINT
+  "$bin" --quiet sample -f 'icecream()' -b -0.1 2 -0.7 0.7 -0.7 0.7 -d 400 -o "$dir/out.vti" &
+  local pid=$!
+  set +m
+  local writing=0
+  for _ in $(seq 12000); do  # wait (up to 2 min) until the temporary file exists
+    if ls -A "$dir" | grep -q '\.tmp\.'; then writing=1; break; fi
+    kill -0 "$pid" 2>/dev/null || break
+    sleep 0.01
+  done
+  if [ $writing -eq 0 ]; then fail "killed_$sig: the temporary file never appeared"; wait "$pid"; return; fi
+  kill "-$sig" "$pid"
+  wait "$pid"
+  local rc=$?
+  [ $rc -eq $((128 + num)) ] || fail "killed_$sig: exit status $rc, expected $((128 + num))"
+  [ -z "$(ls -A "$dir")" ] || fail "killed_$sig: left behind: $(ls -A "$dir")"
+}
+interrupted INT 2
+interrupted TERM 15
+
+# ---- outputs: replacing keeps the file's mode; a symbolic link is written through ----
+"$bin" -q convert "$data/hello.vtk" "$tmp/private.vtp" && chmod 600 "$tmp/private.vtp"
+"$bin" -q convert "$data/hello.vtk" "$tmp/private.vtp"
+[ "$(stat -c %a "$tmp/private.vtp")" = 600 ] || fail "replacing a 0600 file changed its mode to $(stat -c %a "$tmp/private.vtp")"
+mkdir -p "$tmp/real" && ln -sf real/linked.vtp "$tmp/link.vtp"
+expect_ok write_through_link "wrote" "$bin" convert "$data/hello.vtk" "$tmp/link.vtp"
+[ -L "$tmp/link.vtp" ] || fail "writing to a symbolic link replaced the link by a file"
+expect_ok write_through_link_info "cells: 15" "$bin" info "$tmp/real/linked.vtp"
+expect_error unwritable_before_work "cannot create a file in" "$bin" sample -f 'sphere()' -b 0 1 0 1 0 1 -d 100000 -o "$tmp/no/such/dir/x.vti"
 
 # ---- sample, select, contour ----
 expect_ok sample_vti "wrote .*16 x 16 x 16 samples" "$bin" sample -f 'sphere(r=0.8)' -b -1 1 -1 1 -1 1 -d 16 -o "$tmp/sphere.vti"
