@@ -83,6 +83,13 @@ expect_error unwritable "cannot create a file in" "$bin" convert "$data/hello.vt
 printf '# vtk DataFile Version 3.0\ntruncated\nASCII\nDATASET POLYDATA\nPOINTS 5 float\n0 0 0\n' > "$tmp/trunc.vtk"
 expect_error truncated "trunc.vtk" "$bin" info "$tmp/trunc.vtk"
 
+# Messages say what is wrong: file content is quoted whole with unprintable bytes escaped (a NUL
+# cut the message short), a PLY without x says so (not "face 0 has 0 vertices").
+printf 'NRRD0004\ntype: fl\0oat\ndimension: 1\nsizes: 1\nencoding: raw\n\nx' > "$tmp/nul.nrrd"
+expect_error nul_in_header "nul.nrrd:2: unknown type 'fl\\\\x00oat'" "$bin" info "$tmp/nul.nrrd"
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' > "$tmp/nox.ply"
+expect_error ply_without_x "nox.ply:3: the vertex element lacks the 'x' property \\(it has y, z\\)" "$bin" info "$tmp/nox.ply"
+
 # A failed conversion must not clobber an existing good output file.
 cp "$tmp/fran.vtp" "$tmp/keep.vtp"
 "$bin" convert "$tmp/trunc.vtk" "$tmp/keep.vtp" >/dev/null 2>&1 && fail "convert of a truncated file succeeded"
