@@ -86,6 +86,11 @@ void add_attractor_command(CLI::App& app, Context& ctx) {
     const auto t0 = std::chrono::steady_clock::now();
     if (counts_only) {
       const TrajectoryDensity d = lorenz_density(o.lorenz, t);
+      if (d.counted == 0) {
+        bar.finish();
+        warn(fmt::format("attractor: every one of the {} states fell outside the box: the counts "
+                         "are all 0", d.discarded));
+      }
       bar.stage("writing");
       write(d.volume, args->out);
       bar.finish();
@@ -97,6 +102,12 @@ void add_attractor_command(CLI::App& app, Context& ctx) {
       return;
     }
     const AttractorResult r = lorenz_attractor(o);
+    if (r.surface.num_points() == 0) {
+      bar.finish();
+      warn(fmt::format("attractor: no surface at {:g} visits: the counts range 0 .. {} ({} states "
+                       "counted, {} outside the box)",
+                       o.value, r.density.max_visits, r.density.counted, r.density.discarded));
+    }
     const double ms = elapsed_ms(t0);
     bar.stage("writing");
     if (!args->volume.empty()) write(r.density.volume, args->volume);

@@ -4,6 +4,7 @@
 
 #include "commands.hpp"
 #include "common.hpp"
+#include "common_vdb.hpp"
 #include "isoforge/contour/connectivity.hpp"
 #include "isoforge/contour/contour.hpp"
 #include "isoforge/contour/contour_sparse.hpp"
@@ -95,6 +96,11 @@ void add_contour_command(CLI::App& app, Context& ctx) {
       VdbContourStats vs;
       surface = contour_vdb(*grid, o, &vs);
       stats = vs;
+      if (surface.num_points() == 0) {
+        bar.finish();
+        warn(fmt::format("contour: no surface at {}: {}", values_text(o.values, "value"),
+                         range_text(*grid)));
+      }
     } else {
       ReadOptions ro;
       ro.plot3d_q = args->q;
@@ -102,6 +108,12 @@ void add_contour_command(CLI::App& app, Context& ctx) {
       bar.stage("contouring");
       o.progress = bar.callback();
       surface = contour(ds, o, &stats);
+      if (surface.num_points() == 0) {
+        const DataArray* a = o.array.empty() ? point_data(ds).scalars() : point_data(ds).find(o.array);
+        bar.finish();
+        warn(fmt::format("contour: no surface at {}: {}", values_text(o.values, "value"),
+                         a ? range_text(*a) : std::string("no point scalars")));
+      }
     }
     std::size_t components = 0;
     if (selections == 1) {

@@ -1,9 +1,11 @@
 // isoforge csg: booleans of two distance fields / level sets (OpenVDB or images).
 
 #include <fmt/core.h>
+#include <openvdb/tools/Count.h>
 
 #include "commands.hpp"
 #include "common.hpp"
+#include "common_vdb.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/vdb.hpp"
 #include "isoforge/model/csg.hpp"
@@ -54,6 +56,11 @@ void add_csg_command(CLI::App& app, Context& ctx) {
                           std::string(kSurfaceExtensions) + " (its zero surface)");
     const bool out_field = out_format == FileFormat::Vdb || out_format == FileFormat::VtkImageData;
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
+    // An empty result is written (it is the answer), with a warning naming the field's range.
+    const auto warn_empty = [&](const std::string& range) {
+      bar.finish();
+      warn(fmt::format("csg: the {} is empty (no value <= 0): {}", args->op, range));
+    };
     bar.stage("reading");
     PolyData surface;
     if (sparse_a) {
@@ -65,7 +72,11 @@ void add_csg_command(CLI::App& app, Context& ctx) {
         offset_in_place(*b, args->offset_b);
       bar.stage("csg");
       csg_in_place(*a, *b, op);
+      const std::string range = range_text(*a);
       if (out_field) {
+        if (a->activeVoxelCount() == 0 || openvdb::tools::minMax(a->tree()).min() > 0) {
+          warn_empty(range);
+        }
         bar.stage("writing");
         write_vdb(*a, args->out);
         bar.finish();
@@ -75,6 +86,7 @@ void add_csg_command(CLI::App& app, Context& ctx) {
       }
       bar.stage("contouring");
       surface = offset_surfaces(*a, {0.0});
+      if (surface.num_points() == 0) warn_empty(range);
     } else {
       const auto image_of = [](const std::string& path) {
         Dataset ds = read(path);
@@ -87,7 +99,9 @@ void add_csg_command(CLI::App& app, Context& ctx) {
       if (args->offset_b != 0) b = offset(b, args->offset_b);
       bar.stage("csg");
       ImageData r = csg(a, b, op);
+      const std::string range = range_text(*r.point_data.scalars());
       if (out_field) {
+        if (!(r.point_data.scalars()->range().first <= 0)) warn_empty(range);
         bar.stage("writing");
         write(r, args->out);
         bar.finish();
@@ -96,6 +110,7 @@ void add_csg_command(CLI::App& app, Context& ctx) {
       }
       bar.stage("contouring");
       surface = offset_surfaces(r, {0.0});
+      if (surface.num_points() == 0) warn_empty(range);
     }
     bar.stage("writing");
     write(surface, args->out);

@@ -163,6 +163,15 @@ void add_distance_command(CLI::App& app, Context& ctx) {
     const Bounds b = given_bounds ? *given_bounds : grown(ib, o.max_distance);
     DistanceStats stats;
     const auto t0 = std::chrono::steady_clock::now();
+    // An empty band is written (it is the answer), with a warning.
+    const auto warn_empty_band = [&] {
+      bar.finish();
+      warn(fmt::format("distance: no sample lies within {:g} of {}: every value is the maximum "
+                       "distance (the box is x {:g} .. {:g}, y {:g} .. {:g}, z {:g} .. {:g}; the "
+                       "input x {:g} .. {:g}, y {:g} .. {:g}, z {:g} .. {:g})",
+                       o.max_distance, args->in, b.min.x, b.max.x, b.min.y, b.max.y, b.min.z,
+                       b.max.z, ib.min.x, ib.max.x, ib.min.y, ib.max.y, ib.min.z, ib.max.z));
+    };
     bar.stage("distance");
     o.progress = bar.callback();
     if (sparse) {
@@ -170,6 +179,7 @@ void add_distance_command(CLI::App& app, Context& ctx) {
           cubic_from_dims(b, dims, voxel_size_opt->count() > 0 ? args->voxel_size : 0.0);
       o.name = "distance";
       auto grid = distance_grid(in, g, o, &stats);
+      if (stats.active_voxels == 0) warn_empty_band();
       const double ms = elapsed_ms(t0);
       bar.stage("writing");
       write_vdb(*grid, args->out);
@@ -187,6 +197,7 @@ void add_distance_command(CLI::App& app, Context& ctx) {
     const GridSpec g = grid_from_bounds(b, dims);
     ImageData img =
         distance_image(in, g, o, args->float64 ? ScalarType::Float64 : ScalarType::Float32, &stats);
+    if (stats.active_voxels == 0) warn_empty_band();
     if (args->cap) cap_boundary(img, cap_value_opt->count() > 0 ? args->cap_value : o.max_distance);
     const double ms = elapsed_ms(t0);
     bar.stage("writing");

@@ -9,6 +9,7 @@
 
 #include "commands.hpp"
 #include "common.hpp"
+#include "common_vdb.hpp"
 #include "isoforge/contour/connectivity.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/vdb.hpp"
@@ -89,17 +90,30 @@ void add_offset_command(CLI::App& app, Context& ctx) {
                            "computed), not to a distance field read from " + args->in);
       }
     };
+    // An empty result is written (it is the answer), with a warning naming the field's range.
+    const auto warn_if_empty = [&](const std::string& field_range) {
+      if (surface.num_points() != 0) return;
+      bar.finish();
+      warn(fmt::format("offset: no surface at {}: {}", values_text(args->distances, "distance"),
+                       field_range));
+    };
+    const auto image_range = [](const ImageData& img) {
+      const DataArray* s = img.point_data.scalars();
+      return s ? range_text(*s) : std::string("no point scalars");
+    };
     if (format_of(args->in) == FileFormat::Vdb) {
       require_polygonal_input(false);
       const auto grid = read_vdb_grid(args->in, args->grid);
       bar.stage("contouring");
       surface = offset_surfaces(*grid, args->distances);
+      warn_if_empty(range_text(*grid));
     } else {
       Dataset ds = read(args->in);
       if (auto* img = std::get_if<ImageData>(&ds)) {
         require_polygonal_input(false);
         bar.stage("contouring");
         surface = offset_surfaces(*img, args->distances);
+        warn_if_empty(image_range(*img));
       } else if (auto* pd = std::get_if<PolyData>(&ds)) {
         require_polygonal_input(true);
         for (double d : args->distances) {
@@ -135,6 +149,7 @@ void add_offset_command(CLI::App& app, Context& ctx) {
           const auto grid = distance_grid(*pd, g, o);
           bar.stage("contouring");
           surface = offset_surfaces(*grid, args->distances);
+          warn_if_empty(range_text(*grid));
         } else {
           const GridSpec g = grid_from_bounds(b, dims);
           const double h = std::max({g.spacing.x, g.spacing.y, g.spacing.z});
@@ -143,6 +158,7 @@ void add_offset_command(CLI::App& app, Context& ctx) {
           if (!args->no_cap) cap_boundary(img, o.max_distance);
           bar.stage("contouring");
           surface = offset_surfaces(img, args->distances);
+          warn_if_empty(image_range(img));
         }
       } else {
         throw Error("offset: " + args->in + " is " + std::string(dataset_type_name(ds)) +

@@ -96,6 +96,13 @@ void add_sample_command(CLI::App& app, Context& ctx) {
       SparseSampleStats stats;
       auto grid = sample_level_set(f, g, o, &stats);
       grid->setName("F");
+      if (stats.active_voxels == 0) {
+        const Interval iv = f.bound(b);
+        bar.finish();
+        warn(fmt::format("sample: the band is empty: F = 0 does not come within {:g} voxels of "
+                         "the box (F is bounded by {:g} .. {:g} over it)",
+                         o.half_width, iv.lo, iv.hi));
+      }
       bar.stage("writing");
       write_vdb(*grid, args->out);
       bar.finish();

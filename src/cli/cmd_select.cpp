@@ -5,6 +5,7 @@
 #include "commands.hpp"
 #include "common.hpp"
 #include "isoforge/filters/shrink.hpp"
+#include "isoforge/implicit/sample.hpp"
 #include "isoforge/implicit/select.hpp"
 #include "isoforge/io/io.hpp"
 #include "progress_bar.hpp"
@@ -53,6 +54,15 @@ void add_select_command(CLI::App& app, Context& ctx) {
     o.any_point = args->boundary;
     o.original_ids = !args->no_ids;
     UnstructuredGrid out = extract_cells(ds, f, o);
+    if (out.num_cells() == 0) {
+      bar.finish();
+      const DataArray values = sample_points(f, ds);  // where F lies, to say why
+      warn(fmt::format("select: no cell lies {} '{}' ({} at {} its points): {} over the points "
+                       "of {}",
+                       o.inside ? "inside" : "outside", args->function,
+                       o.inside ? "F <= 0" : "F > 0", o.any_point ? "one of" : "all",
+                       range_text(values), args->in));
+    }
     if (args->shrink != 1.0) out = shrink(out, args->shrink);
     bar.stage("writing");
     write(out, args->out);

@@ -83,6 +83,27 @@ void exclude_each_other(std::initializer_list<const CLI::Option*> options) {
   if (n > 1) throw UsageError(given + " exclude each other");
 }
 
+void warn(std::string_view message) {
+  fmt::print(stderr, "isoforge: warning: {}\n", message);
+}
+
+std::string values_text(const std::vector<double>& values, std::string_view word) {
+  constexpr std::size_t kShown = 5;
+  std::string s = fmt::format("{}{}", word, values.size() == 1 ? "" : "s");
+  for (std::size_t i = 0; i < values.size() && i < kShown; ++i) {
+    s += fmt::format("{}{:g}", i == 0 ? " " : ", ", values[i]);
+  }
+  if (values.size() > kShown) s += fmt::format(", ... ({} {}s)", values.size(), word);
+  return s;
+}
+
+std::string range_text(const DataArray& array) {
+  if (array.tuples() == 0) return fmt::format("'{}' is empty", array.name());
+  const auto [lo, hi] = array.range(0);
+  if (!(lo <= hi)) return fmt::format("'{}' is all NaN", array.name());
+  return fmt::format("'{}' ranges {:g} .. {:g}", array.name(), lo, hi);
+}
+
 FileFormat format_of(const std::string& path) {
   try {
     return format_from_path(path);

@@ -50,6 +50,14 @@ void require_meaningful(const CLI::Option* option, bool meaningful, std::string_
 /// \throw UsageError when two or more of `options` were given ("--a and --b exclude each other").
 void exclude_each_other(std::initializer_list<const CLI::Option*> options);
 
+/// Prints "isoforge: warning: MESSAGE" on stderr (also with --quiet: a warning is not chatter).
+void warn(std::string_view message);
+/// "value 5", "values 1, 2, 3" or "values 1, 2, 3, ... (100 values)", with `word` for "value".
+[[nodiscard]] std::string values_text(const std::vector<double>& values, std::string_view word);
+/// What an array holds, for a warning: "'Scalars' ranges 0 .. 1200" (component 0), "'F' is all
+/// NaN", "'F' is empty".
+[[nodiscard]] std::string range_text(const DataArray& array);
+
 /// The format of a file named on the command line (by its extension). \throw UsageError naming
 /// the path when the extension is not known.
 [[nodiscard]] FileFormat format_of(const std::string& path);

@@ -245,6 +245,20 @@ expect_usage threads_0 "--threads: must be an integer in \[1, 4096\], got 0" "$b
 expect_usage threads_negative "--threads: must be an integer" "$bin" --threads -2 info "$data/hello.vtk"
 expect_usage threads_fraction "--threads: must be an integer" "$bin" --threads 1.5 info "$data/hello.vtk"
 
+# ---- an empty result is written (exit 0) with a warning naming the value and the data's range ----
+expect_ok empty_contour "^isoforge: warning: contour: no surface at value 5000: 'Scalars' ranges 0 \.\. 3926$" "$bin" contour "$data/headsq/quarter.nhdr" -v 5000 -o "$tmp/empty.vtp"
+expect_ok empty_contour_info "points: 0" "$bin" info "$tmp/empty.vtp"
+expect_ok empty_contour_values "no surface at values 5, 6: 'F' ranges -0\.[0-9]+ \.\. 0\.[0-9]+" "$bin" contour "$tmp/sphere.vti" -v 5 -v 6 -o "$tmp/empty.vtp"
+expect_ok empty_contour_vdb "no surface at value 5: 'F' ranges .* over [0-9]+ active voxels \(background" "$bin" contour "$tmp/ice.vdb" -v 5 -o "$tmp/empty.vtp"
+expect_ok empty_offset "warning: offset: no surface at distance 7: 'F' ranges" "$bin" offset "$tmp/sphere.vti" -d 7 -o "$tmp/empty.vtp"
+expect_ok empty_select "warning: select: no cell lies inside 'sphere\(center=\[5,5,5\], r=0.1\)' .*: 'F' ranges [0-9.]+ \.\. [0-9.]+ over the points of" "$bin" select "$tmp/sphere.vti" -f 'sphere(center=[5,5,5], r=0.1)' -o "$tmp/empty.vtu"
+expect_ok empty_csg "warning: csg: the intersection is empty \(no value <= 0\): 'F' ranges" "$bin" csg intersection "$tmp/sphere.vti" "$tmp/sphere.vti" --offset-a -5 -o "$tmp/empty.vtp"
+expect_ok empty_attractor "warning: attractor: no surface at 1000 visits: the counts range 0 \.\. [0-9]+" "$bin" attractor --steps 1000 --dims 20 -v 1000 -o "$tmp/empty.vtp"
+expect_ok empty_distance "warning: distance: no sample lies within 0.9 of .*hello.vtk" "$bin" distance "$data/hello.vtk" -b 20 21 20 21 20 21 -d 8 -o "$tmp/empty.vti"
+expect_ok empty_band "warning: sample: the band is empty" "$bin" sample -f 'sphere(r=0.5)' -b 2 3 2 3 2 3 -d 32 -o "$tmp/empty.vdb"
+out=$("$bin" contour "$tmp/sphere.vti" -v 0 -o "$tmp/full.vtp" 2>&1)
+grep -q warning <<<"$out" && fail "a non-empty contour warned: $out"
+
 # ---- help: every subcommand has examples ----
 for sub in info convert sample select contour distance offset csg attractor; do
   expect_ok "help_$sub" "Examples:" "$bin" "$sub" --help
