@@ -61,9 +61,11 @@ void add_contour_command(CLI::App& app, Context& ctx) {
       "Examples:\n"
       "  isoforge contour data/ironProt.vtk -v 128 --flip -o iron.vtp\n"
       "  isoforge contour data/headsq/quarter.nhdr -v 1150 --largest --flip --normals gradient -o skin.vtp\n"
+      "  isoforge sample -f 'sphere(r=1)' -b -1.5 1.5 -1.5 1.5 -1.5 1.5 -d 64 -o sphere.vti\n"
       "  isoforge contour sphere.vti -v -0.25 -v 0 -v 0.25 -o shells.vtp\n"
-      "  isoforge contour skin.vtp -a z --range 1.5 136.5 46 -o lines.vtp     (isolines on a surface)\n"
-      "  isoforge contour icecream.vdb -v 0 -o icecream.ply                (sparse, no densifying)");
+      "  isoforge contour data/bunny.ply -a intensity --range 0.05 0.45 9 -o lines.vtp   (isolines on a surface)\n"
+      "  isoforge sample -f 'icecream()' -b -0.1 2 -0.7 0.7 -0.7 0.7 -d 1024 -o icecream.vdb\n"
+      "  isoforge contour icecream.vdb -v 0 -o icecream.ply                  (sparse, no densifying)");
   cmd->callback([args, &ctx, largest_opt, largest_n_opt, closest_opt, q_opt, grid_opt] {
     (void)output_format(args->out, kSurfaceFormats, kSurfaceExtensions);
     require_plot3d_input(q_opt, args->in);

@@ -45,11 +45,11 @@ void add_convert_command(CLI::App& app, Context& ctx) {
       "The output is written atomically: a failed run leaves no partial file and keeps an\n"
       "existing file unchanged. A format that cannot hold the dataset is an error.\n"
       "Examples:\n"
-      "  isoforge convert data/fran_cut.vtk out/fran.vtp\n"
-      "  isoforge convert data/post.vtk out/post --vtk-xml      (writes out/post.vtu)\n"
-      "  isoforge convert data/combxyz.bin --q data/combq.bin out/combustor.vts\n"
-      "  isoforge convert data/bunny.ply out/bunny.vtk --ascii --legacy-version 5.1\n"
-      "  isoforge convert data/headsq/quarter.nhdr out/head.vdb");
+      "  isoforge convert data/fran_cut.vtk fran.vtp\n"
+      "  isoforge convert data/post.vtk post --vtk-xml      (writes post.vtu)\n"
+      "  isoforge convert data/combxyz.bin --q data/combq.bin combustor.vts\n"
+      "  isoforge convert data/bunny.ply bunny.vtk --ascii --legacy-version 5.1\n"
+      "  isoforge convert data/HeadMRVolume.mhd head.vdb    (OpenVDB needs equal spacing on all axes)");
   cmd->callback([args, &ctx, q_opt, grid_opt, ascii_opt, vtk_xml_opt, no_compress_opt, legacy_opt,
                  tolerance_opt] {
     require_plot3d_input(q_opt, args->in);

@@ -39,9 +39,12 @@ void add_csg_command(CLI::App& app, Context& ctx) {
   cmd->footer(
       "Fields are negative inside. Unsigned distance fields become solids with --offset-a/-b.\n"
       "Examples:\n"
-      "  isoforge distance point.vtp -m 0.8 --voxel-size 0.02 -b -1.5 1.5 -1 1 -1 1 -o p.vdb\n"
-      "  isoforge distance line.vtp  -m 0.8 --voxel-size 0.02 -b -1.5 1.5 -1 1 -1 1 -o l.vdb\n"
-      "  isoforge csg union p.vdb l.vdb --offset-a 0.5 --offset-b 0.25 -o union.vtp\n"
+      "  isoforge distance data/hello.vtk -m 0.8 --voxel-size 0.05 -b -1 10 -1 3 -1 1 -o hello.vdb\n"
+      "  isoforge sample -f 'sphere(center=[4.5,1,0], r=1.2)' -b -1 10 -1 3 -1 1 --voxel-size 0.05 \\\n"
+      "      -o ball.vdb\n"
+      "  isoforge csg difference hello.vdb ball.vdb --offset-a 0.25 -o carved.vtp\n"
+      "  isoforge sample -f 'box()' -b -1 1 -1 1 -1 1 -d 64 -o a.vti\n"
+      "  isoforge sample -f 'sphere(r=1.2)' -b -1 1 -1 1 -1 1 -d 64 -o b.vti\n"
       "  isoforge csg difference a.vti b.vti -o a_minus_b.vti");
   cmd->callback([args, &ctx] {
     const CsgOperation op = csg_operation_from_name(args->op);

@@ -126,8 +126,9 @@ void add_distance_command(CLI::App& app, Context& ctx) {
       "Examples:\n"
       "  isoforge distance data/hello.vtk -m 0.25 -d 110 40 20 --cap -o hello.vti\n"
       "  isoforge distance data/bunny.ply -m 0.02 -d 128 -o bunny.vti\n"
-      "  isoforge distance data/bunny.ply -m 0.003 --voxel-size 0.0005 -o bunny.vdb   (narrow "
-      "band)\n"
+      "  isoforge distance data/bunny.ply -m 0.003 --voxel-size 0.0005 -o bunny.vdb   (narrow band)\n"
+      "  isoforge sample -f 'sphere(r=1)' -b -1.5 1.5 -1.5 1.5 -1.5 1.5 -d 64 -o sphere.vti\n"
+      "  isoforge contour sphere.vti -v 0 -o sphere.ply\n"
       "  isoforge distance sphere.ply --signed -m 0.1 -d 64 -o sphere_sdf.vti");
   cmd->callback([args, &ctx, dims_opt, open_opt, cap_opt, cap_value_opt, float64_opt,
                  voxel_size_opt] {

@@ -44,7 +44,8 @@ void add_info_command(CLI::App& app, Context& ctx) {
       "Examples:\n"
       "  isoforge info data/fran_cut.vtk\n"
       "  isoforge info data/combxyz.bin --q data/combq.bin\n"
-      "  isoforge info volume.vdb      (lists grids without densifying them)");
+      "  isoforge convert data/HeadMRVolume.mhd head.vdb\n"
+      "  isoforge info head.vdb          (lists its grids without densifying them)");
   cmd->callback([path, q, &ctx, q_opt] {
     const std::filesystem::path p(*path);
     const FileFormat format = format_of(*path);

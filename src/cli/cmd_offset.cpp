@@ -64,11 +64,11 @@ void add_offset_command(CLI::App& app, Context& ctx) {
   cmd->footer(
       "The point array IsovalueIndex tells which distance each point belongs to.\n"
       "Examples:\n"
-      "  isoforge offset data/hello.vtk -d 0.25 --dims 110 40 20 --bounds -1 10 -1 3 -1 1 -o "
-      "hello.vtp\n"
+      "  isoforge offset data/hello.vtk -d 0.25 --dims 110 40 20 --bounds -1 10 -1 3 -1 1 -o hello.vtp\n"
       "  isoforge offset data/bunny.ply -d 0.002 -d 0.004 -d 0.008 --dims 128 -o shells.vtp\n"
-      "  isoforge offset data/bunny.ply -d 0.001 --voxel-size 0.0002 -o fine.ply      (sparse)\n"
-      "  isoforge offset field.vdb -d 0 -o surface.vtp");
+      "  isoforge offset data/bunny.ply -d 0.001 --voxel-size 0.0005 -o fine.ply      (sparse)\n"
+      "  isoforge distance data/bunny.ply -m 0.01 --voxel-size 0.001 -o field.vdb\n"
+      "  isoforge offset field.vdb -d 0.005 -o surface.vtp                      (of a distance field)");
   cmd->callback([args, &ctx, dims_opt, bounds_opt, max_distance_opt, signed_opt, voxel_size_opt,
                  no_cap_opt, grid_opt] {
     (void)output_format(args->out, kSurfaceFormats, kSurfaceExtensions);

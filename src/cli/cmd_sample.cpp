@@ -50,7 +50,7 @@ void add_sample_command(CLI::App& app, Context& ctx) {
       "Examples:\n"
       "  isoforge sample -f 'sphere(r=1)' -b -1.5 1.5 -1.5 1.5 -1.5 1.5 -d 64 -o sphere.vti\n"
       "  isoforge sample -f 'icecream()' -b -0.1 2 -0.7 0.7 -0.7 0.7 -d 256 -o icecream.vti\n"
-      "  isoforge sample -f 'icecream()' -b -0.1 2 -0.7 0.7 -0.7 0.7 -d 4096 -o icecream.vdb\n"
+      "  isoforge sample -f 'icecream()' -b -0.1 2 -0.7 0.7 -0.7 0.7 -d 1024 -o icecream.vdb\n"
       "  isoforge sample -f 'difference(box(), sphere(r=1.2))' -b -1 1 -1 1 -1 1 -o cut.vti");
   cmd->callback([args, &ctx, dims_opt, normals_opt, half_width_opt, voxel_size_opt] {
     const FileFormat format =

@@ -36,6 +36,7 @@ void add_select_command(CLI::App& app, Context& ctx) {
       "Examples:\n"
       "  isoforge select data/ironProt.vtk -f 'sphere(center=[34,34,34], r=20)' -o ball.vtu\n"
       "  isoforge select data/post.vtk -f 'plane(origin=[0,0,0], normal=[0,0,1])' --outside -o top.vtu\n"
+      "  isoforge sample -f 'sphere()' -b -1 1 -1 1 -1 1 -d 16 -o vol.vti\n"
       "  isoforge select vol.vti -f 'union(scale(sphere(),[1,.5,.5]), scale(sphere(),[.5,1,.5]))' \\\n"
       "      --shrink 0.5 -o fig_1_24b.vtu");
   cmd->callback([args, &ctx, q_opt] {
