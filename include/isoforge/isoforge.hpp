@@ -17,6 +17,7 @@
 #include "isoforge/core/error.hpp"
 #include "isoforge/core/grid_spec.hpp"
 #include "isoforge/core/interpolate.hpp"
+#include "isoforge/core/memory.hpp"
 #include "isoforge/core/mesh_topology.hpp"
 #include "isoforge/core/normals.hpp"
 #include "isoforge/core/ode.hpp"

@@ -3,9 +3,11 @@
 #include <fmt/core.h>
 
 #include "commands.hpp"
+#include "common.hpp"
+#include "isoforge/io/atomic_file.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/vtk_xml.hpp"
-#include "progress.hpp"
+#include "progress_bar.hpp"
 
 namespace isoforge::cli {
 
@@ -21,28 +23,56 @@ void add_convert_command(CLI::App& app, Context& ctx) {
   cmd->add_option("input", args->in, "Input file")->required();
   cmd->add_option("output", args->out,
                   "Output file: .vtk .vti .vts .vtp .vtu .ply .obj .off .vdb")->required();
-  cmd->add_option("--q", args->q, "PLOT3D solution (Q) file to read with a grid file");
-  cmd->add_option("--grid", args->grid, "OpenVDB input: name of the float grid to read");
-  cmd->add_flag("--ascii", args->ascii, "Write text instead of binary (VTK legacy/XML, PLY)");
-  cmd->add_flag("--vtk-xml", args->vtk_xml,
-                "Write VTK XML with the extension that fits the dataset (.vti .vts .vtp .vtu), "
-                "replacing any extension OUTPUT has");
-  cmd->add_flag("--no-compress", args->no_compress, "VTK XML: do not zlib-compress binary data");
-  cmd->add_option("--legacy-version", args->legacy_version,
-                  "VTK legacy output: header version 4.2 (classic) or 5.1 (offsets/connectivity)")
-      ->check(CLI::IsMember({"4.2", "5.1"}));
-  cmd->add_option("--vdb-tolerance", args->vdb_tolerance,
-                  "OpenVDB output: values within this of the background stay inactive");
+  auto* q_opt = add_q_option(*cmd, args->q);
+  auto* grid_opt = add_grid_option(*cmd, args->grid);
+  auto* ascii_opt = cmd->add_flag("--ascii", args->ascii,
+                                  "Write text instead of binary (VTK legacy/XML, PLY)");
+  auto* vtk_xml_opt =
+      cmd->add_flag("--vtk-xml", args->vtk_xml,
+                    "Write VTK XML with the extension that fits the dataset (.vti .vts .vtp .vtu), "
+                    "replacing any extension OUTPUT has");
+  auto* no_compress_opt =
+      cmd->add_flag("--no-compress", args->no_compress, "VTK XML: do not zlib-compress binary data");
+  auto* legacy_opt =
+      cmd->add_option("--legacy-version", args->legacy_version,
+                      "VTK legacy output: header version 4.2 (classic) or 5.1 (offsets/connectivity)")
+          ->check(CLI::IsMember({"4.2", "5.1"}));
+  auto* tolerance_opt =
+      cmd->add_option("--vdb-tolerance", args->vdb_tolerance,
+                      "OpenVDB output: values within this of the background stay inactive (>= 0)")
+          ->check(non_negative_number());
   cmd->footer(
       "The output is written atomically: a failed run leaves no partial file and keeps an\n"
       "existing file unchanged. A format that cannot hold the dataset is an error.\n"
       "Examples:\n"
-      "  isoforge convert data/fran_cut.vtk out/fran.vtp\n"
-      "  isoforge convert data/post.vtk out/post --vtk-xml      (writes out/post.vtu)\n"
-      "  isoforge convert data/combxyz.bin --q data/combq.bin out/combustor.vts\n"
-      "  isoforge convert data/bunny.ply out/bunny.vtk --ascii --legacy-version 5.1\n"
-      "  isoforge convert data/headsq/quarter.nhdr out/head.vdb");
-  cmd->callback([args, &ctx] {
+      "  isoforge convert data/fran_cut.vtk fran.vtp\n"
+      "  isoforge convert data/post.vtk post --vtk-xml      (writes post.vtu)\n"
+      "  isoforge convert data/combxyz.bin --q data/combq.bin combustor.vts\n"
+      "  isoforge convert data/bunny.ply bunny.vtk --ascii --legacy-version 5.1\n"
+      "  isoforge convert data/HeadMRVolume.mhd head.vdb    (OpenVDB needs equal spacing on all axes)");
+  cmd->callback([args, &ctx, q_opt, grid_opt, ascii_opt, vtk_xml_opt, no_compress_opt, legacy_opt,
+                 tolerance_opt] {
+    require_plot3d_input(q_opt, args->in);
+    require_vdb_input(grid_opt, args->in);
+    // The output format: VTK XML of some kind with --vtk-xml, else by the extension. Fail on an
+    // unknown or unwritable one, or an option it ignores, before doing any reading.
+    const FileFormat format = args->vtk_xml ? FileFormat::VtkPolyData : format_of(args->out);
+    const bool xml = args->vtk_xml || format == FileFormat::VtkImageData ||
+                     format == FileFormat::VtkStructuredGrid || format == FileFormat::VtkPolyData ||
+                     format == FileFormat::VtkUnstructuredGrid;
+    if (format == FileFormat::Plot3d || format == FileFormat::Nrrd ||
+        format == FileFormat::MetaImage) {
+      throw UsageError(args->out + ": writing " + std::string(format_name(format)) +
+                       " is not supported (write .vts, .vti or .vtk instead)");
+    }
+    require_meaningful(ascii_opt, xml || format == FileFormat::VtkLegacy || format == FileFormat::Ply,
+                       "applies to VTK and PLY output (OBJ and OFF are always text, OpenVDB binary)");
+    require_meaningful(no_compress_opt, xml, "applies to VTK XML output only");
+    exclude_each_other({ascii_opt, no_compress_opt});
+    require_meaningful(legacy_opt, !args->vtk_xml && format == FileFormat::VtkLegacy,
+                       "applies to VTK legacy output (.vtk) only");
+    require_meaningful(tolerance_opt, format == FileFormat::Vdb, "applies to OpenVDB output only");
+    check_writable(args->out);
     ReadOptions ro;
     ro.plot3d_q = args->q;
     ro.vdb_grid = args->grid;
@@ -51,8 +81,6 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     wo.compress = !args->no_compress;
     wo.vtk_legacy_version = args->legacy_version;
     wo.vdb_tolerance = args->vdb_tolerance;
-    // Fail on an unknown output extension before doing any reading.
-    if (!args->vtk_xml) (void)format_from_path(args->out);
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
     bar.stage("reading");
     const Dataset ds = read(args->in, ro);

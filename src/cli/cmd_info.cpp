@@ -7,10 +7,11 @@
 #include <string>
 
 #include "commands.hpp"
+#include "common.hpp"
 #include "describe.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/vdb.hpp"
-#include "progress.hpp"
+#include "progress_bar.hpp"
 
 namespace isoforge::cli {
 
@@ -38,15 +39,17 @@ void add_info_command(CLI::App& app, Context& ctx) {
   cmd->add_option("file", *path, "Input file (.vtk .vti .vts .vtp .vtu .ply .off .nhdr .nrrd .mhd "
                                  ".mha .vdb, PLOT3D .bin/.xyz)")
       ->required();
-  cmd->add_option("--q", *q, "PLOT3D solution (Q) file to read with a grid file");
+  auto* q_opt = add_q_option(*cmd, *q);
   cmd->footer(
       "Examples:\n"
       "  isoforge info data/fran_cut.vtk\n"
       "  isoforge info data/combxyz.bin --q data/combq.bin\n"
-      "  isoforge info volume.vdb      (lists grids without densifying them)");
-  cmd->callback([path, q, &ctx] {
+      "  isoforge convert data/HeadMRVolume.mhd head.vdb\n"
+      "  isoforge info head.vdb          (lists its grids without densifying them)");
+  cmd->callback([path, q, &ctx, q_opt] {
     const std::filesystem::path p(*path);
-    const FileFormat format = format_from_path(p);
+    const FileFormat format = format_of(*path);
+    require_plot3d_input(q_opt, *path);
     if (format == FileFormat::Vdb) {
       print_vdb_info(p);
       return;

@@ -6,33 +6,19 @@
 #include <cmath>
 
 #include "commands.hpp"
-#include "isoforge/implicit/parse.hpp"
+#include "common.hpp"
 #include "isoforge/implicit/sample.hpp"
 #include "isoforge/implicit/sample_sparse.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/vdb.hpp"
-#include "progress.hpp"
+#include "progress_bar.hpp"
 
 namespace isoforge::cli {
 
-Bounds parse_bounds(const std::vector<double>& b, const char* option) {
-  if (b.size() != 6) throw Error(std::string(option) + ": needs 6 numbers: xmin xmax ymin ymax zmin zmax");
-  Bounds out;
-  out.min = {b[0], b[2], b[4]};
-  out.max = {b[1], b[3], b[5]};
-  for (int a = 0; a < 3; ++a) {
-    if (!(out.min[a] <= out.max[a]) || !std::isfinite(out.min[a]) || !std::isfinite(out.max[a])) {
-      throw Error(std::string(option) + ": min must not exceed max (axis " + std::to_string(a) + ")");
-    }
-  }
-  return out;
-}
-
-Dims parse_dims(const std::vector<Index>& d, const char* option) {
-  if (d.size() == 1) return {d[0], d[0], d[0]};
-  if (d.size() == 3) return {d[0], d[1], d[2]};
-  throw Error(std::string(option) + ": give one number (a cube) or three");
-}
+namespace {
+// OpenVDB's index coordinates are 32-bit signed integers.
+constexpr double kMaxVdbSamples = 2147483647.0;
+}  // namespace
 
 void add_sample_command(CLI::App& app, Context& ctx) {
   struct Args {
@@ -46,40 +32,62 @@ void add_sample_command(CLI::App& app, Context& ctx) {
   auto* cmd = app.add_subcommand("sample", "Sample an implicit function onto a volume (.vti, .vtk) "
                                            "or into an OpenVDB narrow-band level set (.vdb)");
   cmd->add_option("-f,--function", args->function, "Function expression (see docs/implicit.md)")->required();
-  cmd->add_option("-b,--bounds", args->bounds, "Sampled box: xmin xmax ymin ymax zmin zmax")
-      ->expected(6)->required();
-  cmd->add_option("-d,--dims", args->dims, "Samples per axis: N or NX NY NZ (default 64)")->expected(1, 3);
-  cmd->add_flag("--normals", args->normals, "Dense: also store unit gradients as point normals");
-  cmd->add_option("--half-width", args->half_width, "Sparse: narrow band half width in voxels (default 3)");
-  cmd->add_option("--voxel-size", args->voxel_size,
-                  "Sparse: voxel size (default: the largest extent / (largest dims - 1))");
+  add_bounds_option(*cmd, args->bounds, "Sampled box: xmin xmax ymin ymax zmin zmax")->required();
+  auto* dims_opt = add_dims_option(*cmd, "-d,--dims", args->dims, 1,
+                                   "Samples per axis: N or NX NY NZ (default 64)");
+  auto* normals_opt =
+      cmd->add_flag("--normals", args->normals, "Dense: also store unit gradients as point normals");
+  auto* half_width_opt =
+      cmd->add_option("--half-width", args->half_width,
+                      "Sparse: narrow band half width in voxels (default 3)")
+          ->check(positive_number());
+  auto* voxel_size_opt =
+      cmd->add_option("--voxel-size", args->voxel_size,
+                      "Sparse: voxel size (default: the largest extent / (largest dims - 1))")
+          ->check(positive_number());
   cmd->add_option("-o,--output", args->out, "Output: .vti or .vtk (dense), .vdb (sparse)")->required();
   cmd->footer(
       "Examples:\n"
       "  isoforge sample -f 'sphere(r=1)' -b -1.5 1.5 -1.5 1.5 -1.5 1.5 -d 64 -o sphere.vti\n"
       "  isoforge sample -f 'icecream()' -b -0.1 2 -0.7 0.7 -0.7 0.7 -d 256 -o icecream.vti\n"
-      "  isoforge sample -f 'icecream()' -b -0.1 2 -0.7 0.7 -0.7 0.7 -d 4096 -o icecream.vdb\n"
+      "  isoforge sample -f 'icecream()' -b -0.1 2 -0.7 0.7 -0.7 0.7 -d 1024 -o icecream.vdb\n"
       "  isoforge sample -f 'difference(box(), sphere(r=1.2))' -b -1 1 -1 1 -1 1 -o cut.vti");
-  cmd->callback([args, &ctx] {
-    const ImplicitFunction f = parse_implicit(args->function);
+  cmd->callback([args, &ctx, dims_opt, normals_opt, half_width_opt, voxel_size_opt] {
+    const FileFormat format =
+        output_format(args->out, {FileFormat::VtkImageData, FileFormat::VtkLegacy, FileFormat::Vdb},
+                      ".vti .vtk (dense) or .vdb (sparse)");
+    const bool sparse = format == FileFormat::Vdb;
+    require_meaningful(normals_opt, !sparse, "applies to dense output (.vti .vtk), not to .vdb");
+    require_meaningful(half_width_opt, sparse, "applies to sparse output (.vdb) only");
+    require_meaningful(voxel_size_opt, sparse, "applies to sparse output (.vdb) only");
+    exclude_each_other({dims_opt, voxel_size_opt});
+    const ImplicitFunction f = parse_function(args->function, "--function");
     const Bounds b = parse_bounds(args->bounds, "--bounds");
     const Dims dims = parse_dims(args->dims, "--dims");
-    const FileFormat format = format_from_path(args->out);
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
-    if (format == FileFormat::Vdb) {
+    if (sparse) {
       double h = args->voxel_size;
-      if (h == 0) {
+      if (voxel_size_opt->count() == 0) {
         int axis = 0;
         for (int a = 1; a < 3; ++a) if (dims[a] > dims[axis]) axis = a;
-        if (dims[axis] < 2) throw Error("--dims: need at least 2 samples along some axis");
+        if (dims[axis] < 2) throw UsageError("--dims: need at least 2 samples along some axis");
         h = (b.max[axis] - b.min[axis]) / static_cast<double>(dims[axis] - 1);
+        if (!(h > 0)) {
+          throw UsageError("--bounds: the box has zero extent along axis " + std::to_string(axis) +
+                           ", the axis with the most samples");
+        }
       }
-      if (!(h > 0)) throw Error("--voxel-size must be positive");
       GridSpec g;
       g.origin = b.min;
       g.spacing = {h, h, h};
       for (int a = 0; a < 3; ++a) {
-        g.dims[a] = static_cast<Index>(std::ceil((b.max[a] - b.min[a]) / h - 1e-9)) + 1;
+        const double n = std::ceil((b.max[a] - b.min[a]) / h - 1e-9) + 1;
+        if (!(n < kMaxVdbSamples)) {
+          throw UsageError(fmt::format(
+              "--voxel-size: the box spans {:.3g} voxels along axis {}; OpenVDB indices stop at "
+              "{}", n, a, kMaxVdbSamples));
+        }
+        g.dims[a] = static_cast<Index>(n);
       }
       SparseSampleOptions o;
       o.half_width = args->half_width;
@@ -87,6 +95,13 @@ void add_sample_command(CLI::App& app, Context& ctx) {
       o.progress = bar.callback();
       auto [grid, stats] = sample_level_set(f, g, o);
       grid->setName("F");
+      if (stats.active_voxels == 0) {
+        const Interval iv = f.bound(b);
+        bar.finish();
+        warn(fmt::format("sample: the band is empty: F = 0 does not come within {:g} voxels of "
+                         "the box (F is bounded by {:g} .. {:g} over it)",
+                         o.half_width, iv.lo, iv.hi));
+      }
       bar.stage("writing");
       write_vdb(*grid, args->out);
       bar.finish();
@@ -101,7 +116,7 @@ void add_sample_command(CLI::App& app, Context& ctx) {
     o.normals = args->normals;
     bar.stage("sampling");
     o.progress = bar.callback();
-    const ImageData img = sample_image(f, GridSpec::from_bounds(b, dims), o);
+    const ImageData img = sample_image(f, grid_from_bounds(b, dims), o);
     bar.stage("writing");
     write(img, args->out);
     bar.finish();

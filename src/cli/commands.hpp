@@ -4,9 +4,6 @@
 // and exits non-zero).
 
 #include <CLI/CLI.hpp>
-#include <vector>
-
-#include "isoforge/core/dataset.hpp"
 
 namespace isoforge::cli {
 
@@ -14,11 +11,6 @@ namespace isoforge::cli {
 struct Context {
   bool quiet = false;  ///< --quiet: no progress bar, no informational output on stderr
 };
-
-/// "--bounds xmin xmax ymin ymax zmin zmax" → Bounds. \throw Error naming `option`.
-Bounds parse_bounds(const std::vector<double>& values, const char* option);
-/// "--dims N" or "--dims NX NY NZ" → Dims. \throw Error naming `option`.
-Dims parse_dims(const std::vector<Index>& values, const char* option);
 
 void add_info_command(CLI::App& app, Context& ctx);
 void add_convert_command(CLI::App& app, Context& ctx);

@@ -69,8 +69,15 @@ std::string describe(DatasetRef ds) {
   }
   out += fmt::format("points: {}\n", num_points(ds));
   const std::size_t nc = num_cells(ds);
+  // Cell-type histogram: structured datasets have one cell type, so they cost O(1) whatever the
+  // dimensions claim (a 100000^3 image header must not mean 10^15 visits); the others hold their
+  // cells in memory and are counted one by one.
   std::map<int, std::size_t> histogram;
-  for (std::size_t c = 0; c < nc; ++c) ++histogram[static_cast<int>(cell_type(ds, static_cast<Index>(c)))];
+  if (ds.get_if<ImageData>() || ds.get_if<StructuredGrid>()) {
+    if (nc > 0) histogram[static_cast<int>(cell_type(ds, 0))] = nc;
+  } else {
+    for (std::size_t c = 0; c < nc; ++c) ++histogram[static_cast<int>(cell_type(ds, static_cast<Index>(c)))];
+  }
   std::string hist;
   for (auto [t, n] : histogram) {
     if (!hist.empty()) hist += ", ";

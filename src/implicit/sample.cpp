@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "function_node.hpp"
+#include "isoforge/core/memory.hpp"
 
 namespace isoforge {
 
@@ -136,6 +137,9 @@ ImageData sample_image(const ImplicitFunction& f, const GridSpec& grid, const Sa
     throw Error("sample: value type must be Float32 or Float64");
   }
   if (options.name.empty()) throw Error("sample: the array name is empty");
+  require_volume_memory("sample", grid.dims, scalar_type_name(options.type),
+                        static_cast<double>(scalar_size(options.type)) + (options.normals ? 12 : 0) +
+                            (options.gradients ? 12 : 0));
   ImageData img;
   img.dims = grid.dims;
   img.origin = grid.origin;

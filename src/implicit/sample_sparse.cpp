@@ -12,10 +12,14 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <fmt/core.h>
+
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "function_node.hpp"
+#include "isoforge/core/memory.hpp"
 #include "isoforge/core/parallel.hpp"
 #include "isoforge/sparse/grid.hpp"
 
@@ -33,10 +37,43 @@ struct Tile {
   int level;  // 1: 8³ leaf-sized tile in an internal node, 2: 128³, 3: 4096³
 };
 
+// Bytes one leaf of the band costs while it is built: the node, its 8³ values, and its entries in
+// the descent's list and the evaluated-leaf list.
+constexpr double kLeafBytes =
+    sizeof(Leaf) + Leaf::SIZE * sizeof(float) + sizeof(Coord) + sizeof(Leaf*);
+
+// The leaves of the band, estimated before any is built: the cells of a coarse grid (at most
+// kCoarse per axis, each at least a leaf wide) where F's interval bound meets the band are counted.
+// A surface meeting n cells of side c voxels has an area of about n c² / 1.5 voxels² (a randomly
+// oriented plane meets 1.5 unit cubes per unit area), and a band of half width w voxels around
+// it lies in about 1.5 (area / 8²) (1 + 2w / 8) leaves. Bounds are conservative, so the count
+// does not miss surfaces; detail finer than a cell is not seen (the descent's budget catches it).
+double estimate_band_leaves(const ImplicitFunction& f, const GridSpec& g, double band,
+                            double half_width) {
+  constexpr Index kCoarse = 64;
+  Index c = 8;  // cell side in voxels
+  for (int a = 0; a < 3; ++a) c = std::max(c, (g.dims[a] + kCoarse - 1) / kCoarse);
+  double crossed = 0;
+  for (Index i = 0; i < g.dims[0]; i += c)
+    for (Index j = 0; j < g.dims[1]; j += c)
+      for (Index k = 0; k < g.dims[2]; k += c) {
+        Bounds box;
+        box.min = {g.coordinate(0, i), g.coordinate(1, j), g.coordinate(2, k)};
+        box.max = {g.coordinate(0, std::min(i + c, g.dims[0] - 1)),
+                   g.coordinate(1, std::min(j + c, g.dims[1] - 1)),
+                   g.coordinate(2, std::min(k + c, g.dims[2] - 1))};
+        const Interval iv = f.bound(box);
+        if (iv.lo < band && iv.hi > -band) ++crossed;
+      }
+  const double cell = static_cast<double>(c) / 8;  // cell side in leaves
+  return crossed * cell * cell * (1 + 2 * half_width / 8);
+}
+
 struct Descent {
   const ImplicitFunction& f;
   const GridSpec& g;
   double band;
+  std::size_t max_leaves;  // the leaves that fit in memory
   std::vector<Coord> leaves;
   std::vector<Tile> tiles;
 
@@ -68,6 +105,11 @@ struct Descent {
       return;
     }
     if (level == 1) {
+      if (leaves.size() == max_leaves) {
+        require_memory(static_cast<double>(max_leaves + 1) * kLeafBytes,
+                       fmt::format("sparse sample: a narrow band of more than {} leaves (8³ voxels)",
+                                   max_leaves));
+      }
       leaves.push_back(o);
       return;
     }
@@ -77,6 +119,9 @@ struct Descent {
         for (int z = 0; z < size; z += child) visit(o.offsetBy(x, y, z), level - 1);
   }
 };
+
+// Top-level (4096³) blocks the descent visits one by one: 2^24 of them is a 1.1M³-voxel box.
+constexpr double kMaxTopBlocks = 1 << 24;
 
 bool all_equal(const Leaf& leaf) {
   const float first = leaf.getFirstValue();
@@ -108,8 +153,24 @@ SparseSampleResult sample_level_set(const ImplicitFunction& f, const GridSpec& g
   }
   const double band = options.half_width * h;
   const float background = static_cast<float>(band);
+  // Memory scales with the band, i.e. with the surface's area: refuse at once what cannot fit.
+  const double voxels = static_cast<double>(grid.dims[0]) * static_cast<double>(grid.dims[1]) *
+                        static_cast<double>(grid.dims[2]);
+  const double memory = static_cast<double>(physical_memory());
+  if (memory > 0 && voxels / 512 * kLeafBytes > memory) {  // could the band exceed memory?
+    const double leaves = estimate_band_leaves(f, grid, band, options.half_width);
+    require_memory(leaves * kLeafBytes,
+                   fmt::format("sparse sample: a narrow band (half width {:g}) of about {:.2g} "
+                               "leaves (8³ voxels) in a {} grid",
+                               options.half_width, leaves, format_dims(grid.dims)));
+  }
+  if (voxels / (4096.0 * 4096.0 * 4096.0) > kMaxTopBlocks) {
+    throw Error(fmt::format("sparse sample: a {} grid spans more than {:g} blocks of 4096³ voxels, "
+                            "each visited: choose a larger voxel size or a smaller box",
+                            format_dims(grid.dims), kMaxTopBlocks));
+  }
 
-  Descent d{f, grid, band, {}, {}};
+  Descent d{f, grid, band, static_cast<std::size_t>(memory > 0 ? memory / kLeafBytes : 1e18), {}, {}};
   // Top-level blocks covering the domain (4096³ each, aligned like the VDB root's children).
   std::vector<Coord> tops;
   for (Index x = 0; x < grid.dims[0]; x += 4096)

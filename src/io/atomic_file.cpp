@@ -4,48 +4,153 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <array>
+#include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <random>
 #include <system_error>
 
 #include "isoforge/core/error.hpp"
 
 namespace isoforge {
 
-AtomicFile::AtomicFile(std::filesystem::path target) : target_(std::move(target)) {
-  std::filesystem::path dir = target_.parent_path();
-  if (dir.empty()) dir = ".";
-  std::string pattern = (dir / ("." + target_.filename().string() + ".tmp.XXXXXX")).string();
-  int fd = ::mkstemp(pattern.data());
-  if (fd < 0) {
-    throw Error(target_.string() + ": cannot create a temporary file in '" + dir.string() +
+namespace fs = std::filesystem;
+
+namespace {
+
+// ---- the registry of temporary files being written, for remove_temporary_files() ----
+// Fixed slots with their own path buffers, so a signal handler reads them without locks or
+// allocation: a slot is claimed (0 -> 1), filled, published (2), and freed (0) by its owner.
+constexpr int kSlots = 64;              // files written at once; more are written unregistered
+constexpr std::size_t kPathMax = 4096;  // PATH_MAX on Linux
+
+struct Slot {
+  std::atomic<int> state{0};  // 0 free, 1 being filled, 2 live
+  char path[kPathMax];
+};
+static_assert(std::atomic<int>::is_always_lock_free, "the signal handler reads the slots");
+
+std::array<Slot, kSlots> g_slots;
+
+int register_temp(const std::string& path) {
+  if (path.size() >= kPathMax) return -1;
+  for (int i = 0; i < kSlots; ++i) {
+    int expected = 0;
+    if (g_slots[i].state.compare_exchange_strong(expected, 1, std::memory_order_acquire)) {
+      std::memcpy(g_slots[i].path, path.c_str(), path.size() + 1);
+      g_slots[i].state.store(2, std::memory_order_release);
+      return i;
+    }
+  }
+  return -1;
+}
+
+void unregister_temp(int& slot) {
+  if (slot >= 0) g_slots[static_cast<std::size_t>(slot)].state.store(0, std::memory_order_release);
+  slot = -1;
+}
+
+// `p` with symbolic links followed (the file a link chain points to, which need not exist).
+fs::path resolve_links(const fs::path& p) {
+  fs::path r = p;
+  for (int depth = 0; depth < 40; ++depth) {  // Linux's own limit (ELOOP)
+    std::error_code ec;
+    if (!fs::is_symlink(r, ec)) return r;
+    const fs::path to = fs::read_symlink(r, ec);
+    if (ec) return r;
+    r = to.is_absolute() ? to : r.parent_path() / to;
+  }
+  throw Error(p.string() + ": too many levels of symbolic links");
+}
+
+fs::path directory_of(const fs::path& p) {
+  return p.parent_path().empty() ? fs::path(".") : p.parent_path();
+}
+
+void remove_file(const fs::path& p) {
+  std::error_code ec;
+  fs::remove(p, ec);
+}
+
+}  // namespace
+
+void check_writable(const fs::path& path) {
+  const fs::path resolved = resolve_links(path);
+  const fs::path dir = directory_of(resolved);
+  if (::access(dir.c_str(), W_OK | X_OK) != 0) {
+    throw Error(path.string() + ": cannot create a file in '" + dir.string() +
                 "': " + std::strerror(errno));
   }
-  ::close(fd);
-  temp_ = pattern;
-  stream_.open(temp_, std::ios::binary | std::ios::trunc);
-  if (!stream_) {
-    std::error_code ec;
-    std::filesystem::remove(temp_, ec);
-    throw Error(target_.string() + ": cannot open temporary file for writing");
+  std::error_code ec;
+  if (fs::is_directory(resolved, ec)) throw Error(path.string() + ": is a directory");
+}
+
+void remove_temporary_files() noexcept {
+  for (Slot& s : g_slots) {
+    if (s.state.load(std::memory_order_acquire) == 2) ::unlink(s.path);
   }
+}
+
+AtomicFile::AtomicFile(fs::path target) : target_(std::move(target)) {
+  check_writable(target_);
+  resolved_ = resolve_links(target_);
 }
 
 AtomicFile::~AtomicFile() {
-  if (!committed_) {
+  if (!committed_ && !temp_.empty()) {
     if (stream_.is_open()) stream_.close();
-    std::error_code ec;
-    std::filesystem::remove(temp_, ec);
+    remove_file(temp_);
   }
+  unregister_temp(slot_);
 }
 
-const std::filesystem::path& AtomicFile::temp_path() {
+void AtomicFile::create_temp() {
+  const fs::path dir = directory_of(resolved_);
+  const std::string base = (dir / ("." + resolved_.filename().string() + ".tmp.")).string();
+  // A new name with O_EXCL as mkstemp does, but created with mode 0666 so that the umask
+  // gives a new file its usual mode (mkstemp's 0600 would stick).
+  static constexpr char kChars[] = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789";
+  thread_local std::mt19937_64 random{std::random_device{}()};
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    std::string name = base;
+    for (int i = 0; i < 6; ++i) name += kChars[random() % (sizeof kChars - 1)];
+    const int fd = ::open(name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0) {
+      if (errno == EEXIST) continue;
+      throw Error(target_.string() + ": cannot create a temporary file in '" + dir.string() +
+                  "': " + std::strerror(errno));
+    }
+    ::close(fd);
+    temp_ = name;
+    slot_ = register_temp(name);
+    stream_.open(temp_, std::ios::binary | std::ios::trunc);
+    if (!stream_) {
+      remove_file(temp_);
+      unregister_temp(slot_);
+      temp_.clear();
+      throw Error(target_.string() + ": cannot open temporary file for writing");
+    }
+    return;
+  }
+  throw Error(target_.string() + ": cannot find a free temporary file name in '" + dir.string() +
+              "'");
+}
+
+std::ofstream& AtomicFile::stream() {
+  if (temp_.empty()) create_temp();
+  return stream_;
+}
+
+const fs::path& AtomicFile::temp_path() {
+  if (temp_.empty()) create_temp();
   if (stream_.is_open()) stream_.close();
   return temp_;
 }
 
 void AtomicFile::commit() {
   if (committed_) return;
+  if (temp_.empty()) create_temp();  // nothing was written: an empty file
   bool ok = true;
   if (stream_.is_open()) {
     stream_.flush();
@@ -53,28 +158,27 @@ void AtomicFile::commit() {
     stream_.close();
     ok = ok && !stream_.fail();
   }
-  if (!ok) {
-    std::error_code ec;
-    std::filesystem::remove(temp_, ec);
+  const auto fail = [&](const std::string& what) {
+    remove_file(temp_);
+    unregister_temp(slot_);
     committed_ = true;  // nothing left to clean up
-    throw Error(target_.string() + ": write failed (disk full or I/O error); the target was not changed");
+    throw Error(target_.string() + ": " + what);
+  };
+  if (!ok) fail("write failed (disk full or I/O error); the target was not changed");
+  // Replacing a file keeps its permissions (a new one has the umask's, from the open above).
+  struct stat st {};
+  if (::stat(resolved_.c_str(), &st) == 0 && S_ISREG(st.st_mode) &&
+      ::chmod(temp_.c_str(), st.st_mode & 07777) != 0) {
+    fail(std::string("cannot give the new file the mode of the old one: ") + std::strerror(errno));
   }
-  // Give the file the permissions a plain open() would (mkstemp uses 0600).
-  const mode_t mask = ::umask(0);
-  ::umask(mask);
-  ::chmod(temp_.c_str(), 0666 & ~mask);
   std::error_code ec;
-  std::filesystem::rename(temp_, target_, ec);
-  if (ec) {
-    std::error_code ec2;
-    std::filesystem::remove(temp_, ec2);
-    committed_ = true;
-    throw Error(target_.string() + ": cannot move the written file into place: " + ec.message());
-  }
+  fs::rename(temp_, resolved_, ec);
+  if (ec) fail("cannot move the written file into place: " + ec.message());
+  unregister_temp(slot_);
   committed_ = true;
 }
 
-void write_file_atomic(const std::filesystem::path& path, std::string_view contents) {
+void write_file_atomic(const fs::path& path, std::string_view contents) {
   AtomicFile f(path);
   f.stream().write(contents.data(), static_cast<std::streamsize>(contents.size()));
   f.commit();

@@ -88,13 +88,13 @@ class OffReader {
       m.remove_prefix(1);
     }
     if (texture_ && color_)
-      sc_.fail_line("'" + std::string(magic) + "' (texture and colour) is not supported");
+      sc_.fail_line(io_detail::quoted(magic) + " (texture and colour) is not supported");
     if (m == "4OFF" || m == "nOFF") {
-      sc_.fail_line("'" + std::string(magic) + "' (4D or n-dimensional OFF) is not supported");
+      sc_.fail_line(io_detail::quoted(magic) + " (4D or n-dimensional OFF) is not supported");
     }
     if (m != "OFF") {
-      sc_.fail_line("bad magic: expected 'OFF' (or COFF/NOFF/STOFF), found '" +
-                    std::string(magic.substr(0, 40)) + "'");
+      sc_.fail_line("bad magic: expected 'OFF' (or COFF/NOFF/STOFF), found " +
+                    io_detail::quoted(magic));
     }
     // ---- counts ----
     std::string_view t = next();
@@ -171,8 +171,7 @@ class OffReader {
     }
     // Anything but comments and whitespace after the faces is an error.
     if (const auto extra = next(); !extra.empty()) {
-      sc_.fail_line("unexpected data after the last face: '" + std::string(extra.substr(0, 40)) +
-                    "'");
+      sc_.fail_line("unexpected data after the last face: " + io_detail::quoted(extra));
     }
 
     mesh.points = Points(nv, wide ? ScalarType::Float64 : ScalarType::Float32);

@@ -94,6 +94,9 @@ class PlyReader {
 
   PolyData read() {
     parse_header();
+    for (const PlyElement& e : elements_) {
+      if (e.name == "vertex") check_coordinates(e);
+    }
     check_body_size();
     for (const PlyElement& e : elements_) {
       if (e.name == "vertex") {
@@ -120,7 +123,7 @@ class PlyReader {
     std::string_view line;
     if (!sc_.read_line(line)) sc_.fail_line("empty file, expected the PLY magic 'ply'");
     if (line != "ply") {
-      fail_header(1, "bad magic: expected 'ply', found '" + std::string(line.substr(0, 40)) + "'");
+      fail_header(1, "bad magic: expected 'ply', found " + io_detail::quoted(line));
     }
     bool have_format = false;
     bool ended = false;
@@ -145,11 +148,11 @@ class PlyReader {
         } else if (w[1] == "binary_big_endian") {
           format_ = PlyFormat::Big;
         } else {
-          fail_header(line_no, "unknown format '" + std::string(w[1].substr(0, 40)) +
-                                   "' (expected ascii, binary_little_endian or binary_big_endian)");
+          fail_header(line_no, "unknown format " + io_detail::quoted(w[1]) +
+                                   " (expected ascii, binary_little_endian or binary_big_endian)");
         }
         if (w[2] != "1.0" && w[2] != "1") {
-          fail_header(line_no, "unsupported PLY version '" + std::string(w[2].substr(0, 40)) + "'");
+          fail_header(line_no, "unsupported PLY version " + io_detail::quoted(w[2]));
         }
         have_format = true;
       } else if (key == "element") {
@@ -160,8 +163,8 @@ class PlyReader {
         std::int64_t count = 0;
         const auto [ptr, ec] = std::from_chars(w[2].data(), w[2].data() + w[2].size(), count);
         if (ec != std::errc() || ptr != w[2].data() + w[2].size()) {
-          fail_header(line_no, "element '" + e.name + "' count '" +
-                                   std::string(w[2].substr(0, 40)) + "' is not an integer");
+          fail_header(line_no, "element " + io_detail::quoted(e.name) + " count " +
+                                   io_detail::quoted(w[2]) + " is not an integer");
         }
         if (count < 0) {
           fail_header(line_no,
@@ -183,12 +186,12 @@ class PlyReader {
           auto ct = ply_scalar_type(w[2]);
           auto it = ply_scalar_type(w[3]);
           if (!ct)
-            fail_header(line_no, "unknown property type '" + std::string(w[2].substr(0, 40)) + "'");
+            fail_header(line_no, "unknown property type " + io_detail::quoted(w[2]));
           if (!it)
-            fail_header(line_no, "unknown property type '" + std::string(w[3].substr(0, 40)) + "'");
+            fail_header(line_no, "unknown property type " + io_detail::quoted(w[3]));
           if (is_floating(*ct)) {
             fail_header(line_no,
-                        "list count type '" + std::string(w[2]) + "' is not an integer type");
+                        "list count type " + io_detail::quoted(w[2]) + " is not an integer type");
           }
           p.is_list = true;
           p.count_type = *ct;
@@ -198,7 +201,7 @@ class PlyReader {
           if (w.size() != 3) fail_header(line_no, "property line needs a type and a name");
           auto t = ply_scalar_type(w[1]);
           if (!t)
-            fail_header(line_no, "unknown property type '" + std::string(w[1].substr(0, 40)) + "'");
+            fail_header(line_no, "unknown property type " + io_detail::quoted(w[1]));
           p.type = *t;
           p.name = std::string(w[2]);
         }
@@ -210,7 +213,7 @@ class PlyReader {
         }
         elements_.back().props.push_back(std::move(p));
       } else {
-        fail_header(line_no, "unknown header keyword '" + std::string(key.substr(0, 40)) + "'");
+        fail_header(line_no, "unknown header keyword " + io_detail::quoted(key));
       }
     }
     if (!have_format) fail_header(sc_.line(), "header has no format line");
@@ -232,6 +235,21 @@ class PlyReader {
 
   // Rejects headers whose element counts cannot fit in the bytes that follow, before anything
   // is allocated.
+  // x, y and z are required of the vertex element. Checked in the header: a body read with one
+  // of them missing would be read with the wrong layout and fail later with a misleading message
+  // ("face 0 has 0 vertices").
+  void check_coordinates(const PlyElement& e) const {
+    std::string have;
+    for (const PlyProperty& p : e.props) have += (have.empty() ? "" : ", ") + p.name;
+    for (const char* c : {"x", "y", "z"}) {
+      if (e.find(c, false) < 0) {
+        fail_header(e.line, std::string("the vertex element lacks the '") + c + "' property (it has " +
+                                (have.empty() ? std::string("none") : have) +
+                                "); x, y and z are required");
+      }
+    }
+  }
+
   void check_body_size() const {
     std::uint64_t total = 0;
     const std::uint64_t remaining = sc_.remaining() + (format_ == PlyFormat::Ascii ? 1 : 0);
@@ -413,10 +431,7 @@ class PlyReader {
     for (std::size_t k = 0; k < vertex_props_.size(); ++k) used[k] = vertex_props_[k].is_list;
 
     const int ix = vertex_prop("x"), iy = vertex_prop("y"), iz = vertex_prop("z");
-    if (ix < 0 || iy < 0 || iz < 0) {
-      const char* missing = ix < 0 ? "x" : (iy < 0 ? "y" : "z");
-      throw Error(sc_.name() + ": vertex element has no '" + missing + "' property");
-    }
+    check_invariant(ix >= 0 && iy >= 0 && iz >= 0, "x, y, z checked by check_coordinates");
     const int xyz[3] = {ix, iy, iz};
     bool dbl = false;
     for (int a : xyz) {

@@ -61,9 +61,7 @@ std::string lower(std::string_view s) {
   return out;
 }
 
-std::string clip(std::string_view s) {
-  return std::string(s.substr(0, 60));
-}
+std::string clip(std::string_view s) { return io_detail::printable(s, 60); }
 
 /// Error at a header line.
 [[noreturn]] void fail_at(const std::string& file, std::int64_t line, const std::string& what) {
@@ -156,7 +154,7 @@ fs::path resolve(const DataSpec& spec, const std::string& file) {
 }
 
 std::string data_label(const DataSpec& spec, const std::string& file) {
-  return spec.header + ": data file '" + file + "'";
+  return spec.header + ": data file '" + clip(file) + "'";
 }
 
 /// Size of a regular data file, or an Error naming header and data file.
@@ -637,7 +635,7 @@ ImageData read_nrrd_impl(std::span<const std::byte> data, const std::string& nam
       if (k == key ||
           ((k == "data file" || k == "datafile") && (key == "data file" || key == "datafile"))) {
         fail_at(name, ln,
-                "duplicate field '" + key + "' (first on line " + std::to_string(f.line) + ")");
+                "duplicate field '" + clip(key) + "' (first on line " + std::to_string(f.line) + ")");
       }
     }
     static const char* const known[] = {
@@ -923,7 +921,7 @@ ImageData read_metaimage_impl(std::span<const std::byte> data, const std::string
     for (const auto& [k, f] : fields) {
       if (k == key)
         fail_at(name, ln,
-                "duplicate key '" + key + "' (first on line " + std::to_string(f.line) + ")");
+                "duplicate key '" + clip(key) + "' (first on line " + std::to_string(f.line) + ")");
     }
     fields.emplace_back(key, Field{value, ln});
     if (key == "elementdatafile") {

@@ -77,16 +77,8 @@ std::string str(std::uint64_t v) { return std::to_string(v); }
 std::string str(std::int64_t v) { return std::to_string(v); }
 std::string str(int v) { return std::to_string(v); }
 
-/// A token or line for an error message: quoted, at most 40 bytes, unprintable bytes as '?'.
-std::string quote_token(std::string_view t) {
-  std::string s = "'";
-  for (char c : t.substr(0, 40)) {
-    const auto u = static_cast<unsigned char>(c);
-    s += (u >= 0x20 && u < 0x7F) ? c : '?';
-  }
-  if (t.size() > 40) s += "...";
-  return s + "'";
-}
+/// A token or line for an error message: quoted, at most 40 bytes, unprintable bytes as \xNN.
+std::string quote_token(std::string_view t) { return io_detail::quoted(t); }
 
 std::string format_double(double v) {
   char buf[64];

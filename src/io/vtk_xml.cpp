@@ -46,6 +46,7 @@ namespace {
 
 using io_detail::Endian;
 using io_detail::kHostEndian;
+using io_detail::printable;
 
 template <class... Ts>
 struct Overloaded : Ts... {
@@ -87,23 +88,6 @@ struct Where {
     return w;
   }
 };
-
-std::string printable(std::string_view s, std::size_t max = 40) {
-  std::string out;
-  for (char c : s.substr(0, max)) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u < 0x20 || u >= 0x7f) {
-      static constexpr char kHex[] = "0123456789abcdef";
-      out += "\\x";
-      out += kHex[u >> 4];
-      out += kHex[u & 15];
-    } else {
-      out += c;
-    }
-  }
-  if (s.size() > max) out += "...";
-  return out;
-}
 
 // ================================================================================================
 // Numbers

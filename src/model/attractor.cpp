@@ -13,6 +13,7 @@
 #include <cmath>
 #include <string>
 
+#include "isoforge/core/memory.hpp"
 #include "isoforge/core/ode.hpp"
 
 namespace isoforge {
@@ -37,6 +38,7 @@ class TrajectoryBinner {
       }
     }
     const std::size_t n = checked_point_count(o.dims, "trajectory density");
+    require_volume_memory("trajectory density", o.dims, "UInt32", 4);
     const GridSpec g = GridSpec::from_bounds(o.bounds, o.dims);
     for (int a = 0; a < 3; ++a) {
       o_[a] = g.origin[a];

@@ -16,6 +16,7 @@
 
 #include "distance_engine.hpp"
 #include "distance_internal.hpp"
+#include "isoforge/core/memory.hpp"
 
 namespace isoforge {
 
@@ -131,6 +132,10 @@ ImageData distance_image_far(const PolyData& input, const GridSpec& grid,
                              const DistanceOptions& options, double far_value,
                              DistanceStats& stats) {
   check_common(grid, options);
+  // The values, and with signs a band flag and the flood fill's queue (up to 9 bytes a sample).
+  require_volume_memory("distance", grid.dims, scalar_type_name(options.type),
+                        static_cast<double>(scalar_size(options.type)) +
+                            (options.signed_distance ? 9 : 0));
   if (std::isnan(far_value)) throw Error("distance: the far value is NaN");
   if (options.type == ScalarType::Float32)
     return dense_field<float>(input, grid, options, far_value, stats);

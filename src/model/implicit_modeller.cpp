@@ -21,6 +21,7 @@
 #include <utility>
 
 #include "distance_internal.hpp"
+#include "isoforge/core/memory.hpp"
 #include "modeller_internal.hpp"
 
 namespace isoforge {
@@ -207,6 +208,10 @@ ImplicitModellerResult implicit_modeller(const PolyData& input, const ImplicitMo
                 std::string(scalar_type_name(type)));
   }
   const ModellerGrid mg = implicit_modeller_grid(input.bounds(), o);
+  // Clamped or integer output holds a Float64 field and its conversion at once.
+  require_volume_memory("implicit modeller", mg.grid.dims, scalar_type_name(type),
+                        static_cast<double>(scalar_size(type)) +
+                            (is_floating(type) && !o.clamp ? 0 : 8) + (o.signed_distance ? 9 : 0));
   DistanceOptions d = modeller_distance_options(o, mg.max_distance);
   ImplicitModellerResult r;
   ImageData& img = r.output;

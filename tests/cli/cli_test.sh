@@ -16,15 +16,19 @@ expect_ok() {
   if ! grep -Eq -- "$regex" <<<"$out"; then fail "$name: output does not match /$regex/:"$'\n'"$out"; fi
 }
 
-# expect_error NAME REGEX CMD...: non-zero exit, a one-line "isoforge: error:" message matching REGEX.
-expect_error() {
-  local name=$1 regex=$2; shift 2
+# expect_fail CODE NAME REGEX CMD...: exit status CODE and one line "isoforge: error: ...REGEX".
+expect_fail() {
+  local code=$1 name=$2 regex=$3; shift 3
   local out rc
   out=$("$@" 2>&1); rc=$?
-  if [ $rc -eq 0 ]; then fail "$name: expected failure, got exit 0: $out"; return; fi
+  if [ $rc -ne "$code" ]; then fail "$name: expected exit $code, got $rc: $out"; return; fi
   if [ "$(wc -l <<<"$out")" -ne 1 ]; then fail "$name: error is not one line:"$'\n'"$out"; fi
   if ! grep -Eq -- "^isoforge: error: .*$regex" <<<"$out"; then fail "$name: message does not match /$regex/: $out"; fi
 }
+# expect_error NAME REGEX CMD...: the work failed (exit 1), one line naming the problem.
+expect_error() { expect_fail 1 "$@"; }
+# expect_usage NAME REGEX CMD...: the command line is wrong (exit 2), one line naming the problem.
+expect_usage() { expect_fail 2 "$@"; }
 
 # ---- info on every real file: type and counts ----
 expect_ok info_fran "points: 2205" "$bin" info "$data/fran_cut.vtk"
@@ -41,6 +45,16 @@ expect_ok info_headsq "dimensions: 64 x 64 x 93" "$bin" info "$data/headsq/quart
 expect_ok info_headmr "dimensions: 48 x 62 x 42" "$bin" info "$data/HeadMRVolume.mhd"
 expect_ok info_comb "dimensions: 57 x 33 x 25" "$bin" info "$data/combxyz.bin" --q "$data/combq.bin"
 expect_ok info_comb_density "'Density'.*\[0\.19" "$bin" info "$data/combxyz.bin" --q "$data/combq.bin"
+
+# info costs O(header) on structured data: a header claiming 10^15 points without data is
+# described at once (the cell histogram visited every cell: it never returned), and a header
+# whose data the file cannot hold is rejected as the reader rejects it. (timeout: a hang guard.)
+printf '# vtk DataFile Version 3.0\nhuge\nASCII\nDATASET STRUCTURED_POINTS\nDIMENSIONS 100000 100000 100000\n' > "$tmp/huge.vtk"
+expect_ok info_huge_header "cells: 999970000299999 \(999970000299999 voxel\)" timeout 120 "$bin" info "$tmp/huge.vtk"
+printf '<VTKFile type="ImageData" version="1.0"><ImageData WholeExtent="0 99999 0 99999 0 99999" Origin="0 0 0" Spacing="1 1 1"><Piece Extent="0 99999 0 99999 0 99999"></Piece></ImageData></VTKFile>\n' > "$tmp/huge.vti"
+expect_ok info_huge_vti "points: 1000000000000000" timeout 120 "$bin" info "$tmp/huge.vti"
+printf '# vtk DataFile Version 3.0\nhuge\nASCII\nDATASET STRUCTURED_POINTS\nDIMENSIONS 100000 100000 100000\nPOINT_DATA 1000000000000000\nSCALARS s float\nLOOKUP_TABLE default\n1 2 3\n' > "$tmp/huge_data.vtk"
+expect_error info_huge_data "huge_data.vtk:8: .*exceeds what the remaining 7 bytes of the file can hold" timeout 120 "$bin" info "$tmp/huge_data.vtk"
 
 # ---- convert: every target format, then read back with info ----
 expect_ok conv_vtp "wrote .*fran.vtp" "$bin" convert "$data/fran_cut.vtk" "$tmp/fran.vtp"
@@ -63,17 +77,60 @@ expect_ok quiet_is_silent "^$" "$bin" --quiet convert "$data/hello.vtk" "$tmp/he
 
 # ---- errors: one line, non-zero exit, names the file and the problem ----
 expect_error missing_file "nosuch.vtk" "$bin" info "$tmp/nosuch.vtk"
-expect_error unknown_ext "unknown file extension '.xyzw'" "$bin" info "$data/../README.md.xyzw"
+expect_usage unknown_ext "unknown file extension '.xyzw'" "$bin" info "$data/../README.md.xyzw"
 expect_error wrong_target "holds polygonal data only" "$bin" convert "$data/post.vtk" "$tmp/post.ply"
-expect_error unwritable "cannot create" "$bin" convert "$data/hello.vtk" "$tmp/no/such/dir/h.vtp"
+expect_error unwritable "cannot create a file in" "$bin" convert "$data/hello.vtk" "$tmp/no/such/dir/h.vtp"
 printf '# vtk DataFile Version 3.0\ntruncated\nASCII\nDATASET POLYDATA\nPOINTS 5 float\n0 0 0\n' > "$tmp/trunc.vtk"
 expect_error truncated "trunc.vtk" "$bin" info "$tmp/trunc.vtk"
+
+# Messages say what is wrong: file content is quoted whole with unprintable bytes escaped (a NUL
+# cut the message short), a PLY without x says so (not "face 0 has 0 vertices").
+printf 'NRRD0004\ntype: fl\0oat\ndimension: 1\nsizes: 1\nencoding: raw\n\nx' > "$tmp/nul.nrrd"
+expect_error nul_in_header "nul.nrrd:2: unknown type 'fl\\\\x00oat'" "$bin" info "$tmp/nul.nrrd"
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' > "$tmp/nox.ply"
+expect_error ply_without_x "nox.ply:3: the vertex element lacks the 'x' property \\(it has y, z\\)" "$bin" info "$tmp/nox.ply"
 
 # A failed conversion must not clobber an existing good output file.
 cp "$tmp/fran.vtp" "$tmp/keep.vtp"
 "$bin" convert "$tmp/trunc.vtk" "$tmp/keep.vtp" >/dev/null 2>&1 && fail "convert of a truncated file succeeded"
 cmp -s "$tmp/fran.vtp" "$tmp/keep.vtp" || fail "a failed convert changed the existing output file"
 ls -A "$tmp" | grep -q '\.tmp\.' && fail "temporary files left behind: $(ls -A "$tmp")"
+
+# ---- killed while writing: SIGINT/SIGTERM leave neither a temporary file nor an output, and the
+# exit status is the signal's (the temporary .NAME.tmp.* stayed behind) ----
+# interrupted SIGNAL NUMBER: a big dense sample is signalled once its output is being written.
+interrupted() {
+  local sig=$1 num=$2 dir="$tmp/killed_$1"
+  mkdir -p "$dir"
+  set -m  # job control: the background job is not made to ignore SIGINT
+  "$bin" --quiet sample -f 'icecream()' -b -0.1 2 -0.7 0.7 -0.7 0.7 -d 400 -o "$dir/out.vti" &
+  local pid=$!
+  set +m
+  local writing=0
+  for _ in $(seq 12000); do  # wait (up to 2 min) until the temporary file exists
+    if ls -A "$dir" | grep -q '\.tmp\.'; then writing=1; break; fi
+    kill -0 "$pid" 2>/dev/null || break
+    sleep 0.01
+  done
+  if [ $writing -eq 0 ]; then fail "killed_$sig: the temporary file never appeared"; wait "$pid"; return; fi
+  kill "-$sig" "$pid"
+  wait "$pid"
+  local rc=$?
+  [ $rc -eq $((128 + num)) ] || fail "killed_$sig: exit status $rc, expected $((128 + num))"
+  [ -z "$(ls -A "$dir")" ] || fail "killed_$sig: left behind: $(ls -A "$dir")"
+}
+interrupted INT 2
+interrupted TERM 15
+
+# ---- outputs: replacing keeps the file's mode; a symbolic link is written through ----
+"$bin" -q convert "$data/hello.vtk" "$tmp/private.vtp" && chmod 600 "$tmp/private.vtp"
+"$bin" -q convert "$data/hello.vtk" "$tmp/private.vtp"
+[ "$(stat -c %a "$tmp/private.vtp")" = 600 ] || fail "replacing a 0600 file changed its mode to $(stat -c %a "$tmp/private.vtp")"
+mkdir -p "$tmp/real" && ln -sf real/linked.vtp "$tmp/link.vtp"
+expect_ok write_through_link "wrote" "$bin" convert "$data/hello.vtk" "$tmp/link.vtp"
+[ -L "$tmp/link.vtp" ] || fail "writing to a symbolic link replaced the link by a file"
+expect_ok write_through_link_info "cells: 15" "$bin" info "$tmp/real/linked.vtp"
+expect_error unwritable_before_work "cannot create a file in" "$bin" sample -f 'sphere()' -b 0 1 0 1 0 1 -d 100000 -o "$tmp/no/such/dir/x.vti"
 
 # ---- sample, select, contour ----
 expect_ok sample_vti "wrote .*16 x 16 x 16 samples" "$bin" sample -f 'sphere(r=0.8)' -b -1 1 -1 1 -1 1 -d 16 -o "$tmp/sphere.vti"
@@ -89,11 +146,86 @@ expect_ok contour_largest "kept from 2 connected pieces" "$bin" contour "$tmp/tw
 expect_ok select_cells "wrote .*of 3375 cells" "$bin" select "$tmp/sphere.vti" -f 'sphere(r=0.5)' -o "$tmp/inside.vtu"
 expect_ok select_ids "'OriginalCellIds'" "$bin" info "$tmp/inside.vtu"
 expect_ok select_shrink "wrote" "$bin" select "$tmp/sphere.vti" -f 'sphere(r=0.5)' --shrink 0.5 -o "$tmp/shrunk.vtu"
-expect_error bad_function "column 11: expected '\)'" "$bin" sample -f 'sphere(r=1' -b 0 1 0 1 0 1 -o "$tmp/x.vti"
-expect_error bad_parameter "'r' \(radius\) is negative" "$bin" sample -f 'sphere(r=-1)' -b 0 1 0 1 0 1 -o "$tmp/x.vti"
-expect_error no_values "at least one value" "$bin" contour "$tmp/sphere.vti" -o "$tmp/x.vtp"
+expect_usage bad_function "column 11: expected '\)'" "$bin" sample -f 'sphere(r=1' -b 0 1 0 1 0 1 -o "$tmp/x.vti"
+expect_usage bad_parameter "'r' \(radius\) is negative" "$bin" sample -f 'sphere(r=-1)' -b 0 1 0 1 0 1 -o "$tmp/x.vti"
+expect_usage no_values "at least one value" "$bin" contour "$tmp/sphere.vti" -o "$tmp/x.vtp"
 expect_error missing_array "no point array named 'nope'" "$bin" contour "$tmp/sphere.vti" -v 0 -a nope -o "$tmp/x.vtp"
-expect_error contour_to_vti "holds|not" "$bin" contour "$tmp/sphere.vti" -v 0 -o "$tmp/x.vti"
+expect_usage contour_to_vti "holds|not" "$bin" contour "$tmp/sphere.vti" -v 0 -o "$tmp/x.vti"
+
+# ---- every option value checked: counts (never wrapped), numbers, meaning, contradictions ----
+v=(-f 'sphere()' -b -1 1 -1 1 -1 1)  # a valid sample
+# counts: negative, zero where meaningless, non-integer (CLI11 would wrap -5 into 2^64-5)
+expect_usage steps_negative "--steps: must be an integer >= 1, got -5" "$bin" attractor --steps -5 -o "$tmp/x.vtp"
+expect_usage steps_zero "--steps: must be an integer >= 1, got 0" "$bin" attractor --steps 0 -o "$tmp/x.vtp"
+expect_usage steps_fraction "--steps: must be an integer >= 1, got '1.5'" "$bin" attractor --steps 1.5 -o "$tmp/x.vtp"
+expect_usage transient_negative "--transient: must be an integer >= 0" "$bin" attractor --transient -1 -o "$tmp/x.vtp"
+expect_usage attractor_dims_1 "--dims: must be an integer >= 2, got 1" "$bin" attractor --dims 1 -o "$tmp/x.vtp"
+expect_usage largest_n_negative "--largest-n: must be an integer >= 1, got -1" "$bin" contour "$tmp/sphere.vti" -v 0 --largest-n -1 -o "$tmp/x.vtp"
+expect_usage largest_n_zero "--largest-n: must be an integer >= 1, got 0" "$bin" contour "$tmp/sphere.vti" -v 0 --largest-n 0 -o "$tmp/x.vtp"
+expect_usage range_n_negative "--range: must be an integer in \[1, 1000000\], got -3" "$bin" contour "$tmp/sphere.vti" --range 0 1 -3 -o "$tmp/x.vtp"
+expect_usage range_n_fraction "--range: must be an integer .*got '2.5'" "$bin" contour "$tmp/sphere.vti" --range 0 1 2.5 -o "$tmp/x.vtp"
+expect_usage range_n_huge "--range: must be an integer in \[1, 1000000\], got 1000000000" "$bin" contour "$tmp/sphere.vti" --range 0 1 1000000000 -o "$tmp/x.vtp"
+expect_usage range_repeated "--range: FIRST equals LAST, so N must be 1" "$bin" contour "$tmp/sphere.vti" --range 0 0 5 -o "$tmp/x.vtp"
+expect_usage sample_dims_negative "--dims: must be an integer >= 1, got -5" "$bin" sample "${v[@]}" -d -5 -o "$tmp/x.vti"
+expect_usage sample_dims_zero "--dims: must be an integer >= 1, got 0" "$bin" sample "${v[@]}" -d 4 0 4 -o "$tmp/x.vti"
+expect_usage distance_dims_1 "--dims: must be an integer >= 2" "$bin" distance "$data/hello.vtk" -d 1 -o "$tmp/x.vti"
+expect_usage offset_dims_negative "--dims: must be an integer >= 2" "$bin" offset "$data/hello.vtk" -d 0.2 --dims -64 -o "$tmp/x.vtp"
+expect_ok dims_decimal "10 x 10 x 10 samples" "$bin" sample "${v[@]}" -d 010 -o "$tmp/x.vti"  # not octal 8
+# numbers: non-finite, zero or negative where a positive value is needed, out of range
+expect_usage shrink_nan "--shrink: must be a finite number in \[0, 1\], got 'nan'" "$bin" select "$tmp/sphere.vti" -f 'sphere()' --shrink nan -o "$tmp/x.vtu"
+expect_usage shrink_range "--shrink: must be a finite number in \[0, 1\], got '1.5'" "$bin" select "$tmp/sphere.vti" -f 'sphere()' --shrink 1.5 -o "$tmp/x.vtu"
+expect_usage bounds_nan "--bounds: must be a finite number, got 'nan'" "$bin" sample -f 'sphere()' -b 0 nan 0 1 0 1 -o "$tmp/x.vti"
+expect_usage bounds_inf "--bounds: must be a finite number, got 'inf'" "$bin" sample -f 'sphere()' -b 0 inf 0 1 0 1 -o "$tmp/x.vti"
+expect_usage bounds_order "--bounds: y 1 .. 0: min must not exceed max" "$bin" sample -f 'sphere()' -b 0 1 1 0 0 1 -o "$tmp/x.vti"
+expect_usage bounds_flat "--bounds/--dims: .*zero extent" "$bin" sample -f 'sphere()' -b 0 1 0 0 0 1 -o "$tmp/x.vti"
+expect_usage value_nan "--value: must be a finite number, got 'nan'" "$bin" contour "$tmp/sphere.vti" -v nan -o "$tmp/x.vtp"
+expect_usage voxel_size_zero "--voxel-size: must be a finite number > 0, got '0'" "$bin" sample "${v[@]}" --voxel-size 0 -o "$tmp/x.vdb"
+expect_usage max_distance_zero "--max-distance: must be a finite number > 0, got '0'" "$bin" distance "$data/hello.vtk" -m 0 -o "$tmp/x.vti"
+expect_usage max_distance_inf "--max-distance: must be a finite number > 0, got 'inf'" "$bin" distance "$data/hello.vtk" -m inf -o "$tmp/x.vti"
+expect_usage half_width_negative "--half-width: must be a finite number > 0" "$bin" sample "${v[@]}" --half-width -3 -o "$tmp/x.vdb"
+expect_usage step_zero "--step: must be a finite number > 0" "$bin" attractor --step 0 -o "$tmp/x.vtp"
+expect_usage visits_negative "--value: must be a finite number > 0" "$bin" attractor --value -5 -o "$tmp/x.vtp"
+expect_usage tolerance_negative "--vdb-tolerance: must be a finite number >= 0" "$bin" convert "$tmp/sphere.vti" "$tmp/x.vdb" --vdb-tolerance -1
+expect_usage offset_a_nan "--offset-a: must be a finite number" "$bin" csg union "$tmp/sphere.vti" "$tmp/sphere.vti" --offset-a nan -o "$tmp/x.vti"
+# options that do nothing for these inputs/outputs
+expect_usage normals_sparse "--normals: applies to dense output" "$bin" sample "${v[@]}" --normals -o "$tmp/x.vdb"
+expect_usage half_width_dense "--half-width: applies to sparse output" "$bin" sample "${v[@]}" --half-width 2 -o "$tmp/x.vti"
+expect_usage ascii_vdb "--ascii: applies to VTK and PLY output" "$bin" convert "$tmp/sphere.vti" "$tmp/x.vdb" --ascii
+expect_usage legacy_xml "--legacy-version: applies to VTK legacy output" "$bin" convert "$data/hello.vtk" "$tmp/x.vtp" --legacy-version 5.1
+expect_usage no_compress_legacy "--no-compress: applies to VTK XML output only" "$bin" convert "$data/hello.vtk" "$tmp/x.vtk" --no-compress
+expect_usage tolerance_vti "--vdb-tolerance: applies to OpenVDB output only" "$bin" convert "$tmp/sphere.vti" "$tmp/x.vti" --vdb-tolerance 0.1
+expect_usage q_not_plot3d "--q: a PLOT3D solution goes with a PLOT3D grid input" "$bin" info "$data/hello.vtk" --q "$data/combq.bin"
+expect_usage grid_not_vdb "--grid: names a grid of an OpenVDB input" "$bin" contour "$tmp/sphere.vti" -v 0 --grid F -o "$tmp/x.vtp"
+expect_usage cap_sparse "--cap: applies to dense output" "$bin" distance "$data/hello.vtk" --cap -o "$tmp/x.vdb"
+expect_usage float64_sparse "--float64: applies to dense output" "$bin" distance "$data/hello.vtk" --float64 -o "$tmp/x.vdb"
+expect_usage voxel_size_dense "--voxel-size: applies to sparse output" "$bin" distance "$data/hello.vtk" --voxel-size 0.1 -o "$tmp/x.vti"
+expect_usage allow_open_unsigned "--allow-open: applies with --signed only" "$bin" distance "$data/hello.vtk" --allow-open -o "$tmp/x.vti"
+expect_usage cap_value_no_cap "--cap-value: applies with --cap only" "$bin" distance "$data/hello.vtk" --cap-value 1 -o "$tmp/x.vti"
+expect_usage offset_field_dims "--dims: applies when the input is polygonal data" "$bin" offset "$tmp/sphere.vti" -d 0 --dims 32 -o "$tmp/x.vtp"
+expect_usage offset_unsigned_negative "--distance: -0.1: an unsigned distance field" "$bin" offset "$data/hello.vtk" -d -0.1 -o "$tmp/x.vtp"
+expect_usage offset_band_short "--max-distance: 0.1 must exceed the largest \|distance\| 0.2" "$bin" offset "$data/hello.vtk" -d 0.2 -m 0.1 -o "$tmp/x.vtp"
+expect_usage attractor_volume_twice "--volume: the counts are the output already" "$bin" attractor --volume "$tmp/v.vti" -o "$tmp/x.vti"
+expect_usage attractor_value_counts "--value: applies to a surface output" "$bin" attractor -v 20 -o "$tmp/x.vti"
+# contradictions and outputs that cannot hold the result
+expect_usage largest_closest "--largest and --closest exclude each other" "$bin" contour "$tmp/sphere.vti" -v 0 --largest --closest 0 0 0 -o "$tmp/x.vtp"
+expect_usage dims_voxel_size "--dims and --voxel-size exclude each other" "$bin" sample "${v[@]}" -d 32 --voxel-size 0.1 -o "$tmp/x.vdb"
+expect_usage no_cap_sparse "--no-cap and --voxel-size exclude each other" "$bin" offset "$data/hello.vtk" -d 0.2 --no-cap --voxel-size 0.05 -o "$tmp/x.vtp"
+expect_usage ascii_no_compress "--ascii and --no-compress exclude each other" "$bin" convert "$data/hello.vtk" "$tmp/x.vtp" --ascii --no-compress
+expect_usage sample_to_vtp "x.vtp: this subcommand writes .vti .vtk" "$bin" sample "${v[@]}" -o "$tmp/x.vtp"
+expect_usage select_to_vtp "x.vtp: this subcommand writes .vtu .vtk" "$bin" select "$tmp/sphere.vti" -f 'sphere()' -o "$tmp/x.vtp"
+expect_usage convert_to_nrrd "writing NRRD is not supported" "$bin" convert "$tmp/sphere.vti" "$tmp/x.nrrd"
+expect_usage csg_sparse_to_vti "this subcommand writes .vdb \(the field\)" "$bin" csg union "$tmp/ice.vdb" "$tmp/ice.vdb" -o "$tmp/x.vti"
+
+# ---- huge requests: refused at once with the size they need (they ended in std::bad_alloc after
+# growing to gigabytes); no machine has the petabytes these need, so nothing is allocated ----
+expect_error huge_sample "sample: a 100000³ Float32 volume needs 4 PB; this machine has" "$bin" sample "${v[@]}" -d 100000 -o "$tmp/refused.vti"
+expect_error huge_sample_normals "sample: a 100000³ Float32 volume needs 16 PB" "$bin" sample "${v[@]}" -d 100000 --normals -o "$tmp/refused.vti"
+expect_error huge_distance "distance: a 100000³ Float32 volume needs 4 PB" "$bin" distance "$data/hello.vtk" -d 100000 -o "$tmp/refused.vti"
+expect_error huge_offset "distance: a 100000³ Float32 volume needs 4 PB" "$bin" offset "$data/hello.vtk" -d 0.2 --dims 100000 -o "$tmp/refused.vtp"
+expect_error huge_attractor "trajectory density: a 100000³ UInt32 volume needs 4 PB" "$bin" attractor --dims 100000 -o "$tmp/refused.vtp"
+expect_error huge_band "sparse sample: a narrow band \(half width 3\) of about .* leaves \(8³ voxels\) in a 100000³ grid needs .* TB; this machine has" "$bin" sample -f 'sphere(r=0.8)' -b -1 1 -1 1 -1 1 -d 100000 -o "$tmp/refused.vdb"
+expect_ok tiny_band_in_huge_grid "active" "$bin" sample -f 'sphere(r=0.0002)' -b -1 1 -1 1 -1 1 -d 100000 -o "$tmp/tiny.vdb"
+ls "$tmp"/refused.* >/dev/null 2>&1 && fail "a refused request left an output"
 
 # ---- implicit modeling ----
 expect_ok offset_hello "5 connected surfaces" "$bin" offset "$data/hello.vtk" -d 0.25 --dims 110 40 20 --bounds -1 10 -1 3 -1 1 -o "$tmp/hello.vtp"
@@ -101,11 +233,46 @@ expect_ok offset_hello_info "cells: [0-9]+ \\([0-9]+ triangle\\)" "$bin" info "$
 expect_error distance_open "open" "$bin" distance "$data/bunny.ply" --signed -m 0.01 -d 16 -o "$tmp/b.vti"
 expect_ok attractor "discarded" "$bin" attractor --steps 100000 --dims 50 -o "$tmp/l.vtp"
 
+# ---- --threads N: every subcommand honours it, results do not depend on it ----
+expect_ok threads_1 "wrote" "$bin" --threads 1 sample -f 'icecream()' -b -0.1 2 -0.7 0.7 -0.7 0.7 -d 40 -o "$tmp/t1.vti"
+expect_ok threads_2 "wrote" "$bin" sample -f 'icecream()' -b -0.1 2 -0.7 0.7 -0.7 0.7 -d 40 -o "$tmp/t2.vti" --threads 2
+cmp -s "$tmp/t1.vti" "$tmp/t2.vti" || fail "threads: sample with --threads 1 and 2 differ"
+# (dense: a .vdb file holds a random UUID, so two runs never give the same bytes)
+expect_ok threads_d1 "wrote" "$bin" --threads 1 distance "$data/bunny.ply" -m 0.01 -d 40 -o "$tmp/t1d.vti"
+expect_ok threads_d2 "wrote" "$bin" --threads 2 distance "$data/bunny.ply" -m 0.01 -d 40 -o "$tmp/t2d.vti"
+cmp -s "$tmp/t1d.vti" "$tmp/t2d.vti" || fail "threads: distance with --threads 1 and 2 differ"
+expect_usage threads_0 "--threads: must be an integer in \[1, 4096\], got 0" "$bin" --threads 0 info "$data/hello.vtk"
+expect_usage threads_negative "--threads: must be an integer" "$bin" --threads -2 info "$data/hello.vtk"
+expect_usage threads_fraction "--threads: must be an integer" "$bin" --threads 1.5 info "$data/hello.vtk"
+
+# ---- an empty result is written (exit 0) with a warning naming the value and the data's range ----
+expect_ok empty_contour "^isoforge: warning: contour: no surface at value 5000: 'Scalars' ranges 0 \.\. 3926$" "$bin" contour "$data/headsq/quarter.nhdr" -v 5000 -o "$tmp/empty.vtp"
+expect_ok empty_contour_info "points: 0" "$bin" info "$tmp/empty.vtp"
+expect_ok empty_contour_values "no surface at values 5, 6: 'F' ranges -0\.[0-9]+ \.\. 0\.[0-9]+" "$bin" contour "$tmp/sphere.vti" -v 5 -v 6 -o "$tmp/empty.vtp"
+expect_ok empty_contour_vdb "no surface at value 5: 'F' ranges .* over [0-9]+ active voxels \(background" "$bin" contour "$tmp/ice.vdb" -v 5 -o "$tmp/empty.vtp"
+expect_ok empty_offset "warning: offset: no surface at distance 7: 'F' ranges" "$bin" offset "$tmp/sphere.vti" -d 7 -o "$tmp/empty.vtp"
+expect_ok empty_select "warning: select: no cell lies inside 'sphere\(center=\[5,5,5\], r=0.1\)' .*: 'F' ranges [0-9.]+ \.\. [0-9.]+ over the points of" "$bin" select "$tmp/sphere.vti" -f 'sphere(center=[5,5,5], r=0.1)' -o "$tmp/empty.vtu"
+expect_ok empty_csg "warning: csg: the intersection is empty \(no value <= 0\): 'F' ranges" "$bin" csg intersection "$tmp/sphere.vti" "$tmp/sphere.vti" --offset-a -5 -o "$tmp/empty.vtp"
+expect_ok empty_attractor "warning: attractor: no surface at 1000 visits: the counts range 0 \.\. [0-9]+" "$bin" attractor --steps 1000 --dims 20 -v 1000 -o "$tmp/empty.vtp"
+expect_ok empty_distance "warning: distance: no sample lies within 0.9 of .*hello.vtk" "$bin" distance "$data/hello.vtk" -b 20 21 20 21 20 21 -d 8 -o "$tmp/empty.vti"
+expect_ok empty_band "warning: sample: the band is empty" "$bin" sample -f 'sphere(r=0.5)' -b 2 3 2 3 2 3 -d 32 -o "$tmp/empty.vdb"
+out=$("$bin" contour "$tmp/sphere.vti" -v 0 -o "$tmp/full.vtp" 2>&1)
+grep -q warning <<<"$out" && fail "a non-empty contour warned: $out"
+
 # ---- help: every subcommand has examples ----
 for sub in info convert sample select contour distance offset csg attractor; do
   expect_ok "help_$sub" "Examples:" "$bin" "$sub" --help
 done
-out=$("$bin" 2>&1); [ $? -ne 0 ] || fail "no subcommand should be an error"
+
+# ---- one form for every error, one exit code per kind (README "Exit status") ----
+expect_usage no_subcommand "subcommand is required.*isoforge --help" "$bin"
+expect_usage unknown_option "info: .*not expected: --bogus.*isoforge info --help" "$bin" info --bogus "$data/hello.vtk"
+expect_usage missing_positional "contour: .*input is required" "$bin" contour -v 0 -o "$tmp/x.vtp"
+expect_usage missing_option "sample: .*--output is required" "$bin" sample -f 'sphere()' -b 0 1 0 1 0 1
+expect_usage bad_choice "--normals" "$bin" contour "$tmp/sphere.vti" -v 0 --normals bogus -o "$tmp/x.vtp"
+expect_usage wrong_arity "--bounds" "$bin" sample -f 'sphere()' -b 0 1 0 1 -o "$tmp/x.vti"
+expect_ok help_exit_0 "Exit status: 0 success" "$bin" --help
+expect_ok version_exit_0 "^[0-9]+\.[0-9]+\.[0-9]+" "$bin" --version
 
 if [ $failures -ne 0 ]; then echo "$failures CLI test(s) failed"; exit 1; fi
 echo "all CLI tests passed"

@@ -567,6 +567,18 @@ TEST(PlyBad, FloatListCount) {
       "ply\nformat ascii 1.0\nelement face 1\nproperty list float int vertex_indices\nend_header\n",
       {"bad.ply:4", "not an integer type"});
 }
+TEST(PlyBad, VertexWithoutXIsNamedInTheHeader) {
+  // The body has three values a vertex: read as two, the face count came out 0 and the message
+  // was "face 0 has 0 vertices".
+  expect_error(ply_reader(),
+               "ply\nformat ascii 1.0\nelement vertex 3\nproperty float y\nproperty float z\n"
+               "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+               "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+               {"bad.ply:3", "the vertex element lacks the 'x' property (it has y, z)",
+                "x, y and z are required"});
+  expect_error(ply_reader(), "ply\nformat ascii 1.0\nelement vertex 1\nend_header\n0 0 0\n",
+               {"bad.ply:3", "lacks the 'x' property (it has none)"});
+}
 TEST(PlyBad, PropertyBeforeElement) {
   expect_error(ply_reader(), "ply\nformat ascii 1.0\nproperty float x\nend_header\n",
                {"bad.ply:3", "property before any element"});
@@ -660,7 +672,7 @@ TEST(PlyBad, MissingCoordinate) {
   expect_error(ply_reader(),
                "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float "
                "z\nend_header\n0 0\n",
-               {"bad.ply", "no 'y' property"});
+               {"bad.ply:3", "the vertex element lacks the 'y' property (it has x, z)"});
 }
 TEST(PlyBad, FaceWithoutIndexList) {
   expect_error(ply_reader(),

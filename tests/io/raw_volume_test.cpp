@@ -354,6 +354,18 @@ TEST(NrrdBad, UnknownFieldAndType) {
   expect_error_with([] { (void)nrrd_text(kNrrd + "no colon here\n"); },
                     {"t.nrrd:6", "field: value"});
 }
+TEST(NrrdBad, ControlBytesInQuotedContentAreEscaped) {
+  // A NUL in a header value cut the message short ("unknown type 'fl"): the whole value is shown,
+  // with every unprintable byte as \xNN, and nothing after it in the message is lost.
+  using namespace std::string_literals;
+  expect_error_with(
+      [] { (void)nrrd_text("NRRD0004\ntype: fl\0oat\ndimension: 1\nsizes: 1\nencoding: raw\n\nx"s); },
+      {"t.nrrd:2", "unknown type 'fl\\x00oat'"});
+  expect_error_with([] { (void)nrrd_text(kNrrd + "col\x1b[31mour: blue\n\n" + kEight); },
+                    {"t.nrrd:6", "unknown field 'col\\x1b[31mour'"});
+  expect_error_with([] { (void)nrrd_text("NRRD0004\ntype: uchar\ndimension: 1\nsizes: 1\nencoding: ra\0w\n\nx"s); },
+                    {"t.nrrd:5", "encoding ra\\x00w not supported (raw and gzip are)"});
+}
 TEST(NrrdBad, DuplicateAndMissingFields) {
   expect_error_with([] { (void)nrrd_text(kNrrd + "sizes: 2 2 2\n\n" + kEight); },
                     {"t.nrrd:6", "duplicate field 'sizes'"});

@@ -49,6 +49,30 @@ inline void swap_bytes_inplace(std::byte* data, std::size_t count, std::size_t e
   for (std::size_t i = 0; i < count; ++i) std::reverse(data + i * elem_size, data + (i + 1) * elem_size);
 }
 
+/// File content shown in an error message: at most `max` bytes, "..." when cut, and every byte
+/// outside printable ASCII as \xNN — a NUL would end the message, an escape sequence would
+/// reach the terminal.
+inline std::string printable(std::string_view text, std::size_t max = 40) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string s;
+  for (const char c : text.substr(0, max)) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u >= 0x20 && u < 0x7f) {
+      s += c;
+    } else {
+      s += "\\x";
+      s += kHex[u >> 4];
+      s += kHex[u & 15];
+    }
+  }
+  if (text.size() > max) s += "...";
+  return s;
+}
+/// `printable` in single quotes.
+inline std::string quoted(std::string_view text, std::size_t max = 40) {
+  return "'" + printable(text, max) + "'";
+}
+
 class Scanner {
  public:
   Scanner(std::span<const std::byte> data, std::string name)
@@ -159,16 +183,16 @@ class Scanner {
         value = static_cast<T>(std::strtod(std::string(t).c_str(), nullptr));
       } else if (ec != std::errc() || p != e) {
         // Accept nan/inf spellings from other writers (handled by from_chars), else fail.
-        fail_line("expected " + std::string(what) + ", found '" + std::string(t.substr(0, 40)) + "'");
+        fail_line("expected " + std::string(what) + ", found " + quoted(t));
       }
     } else {
       if (!t.empty() && *b == '+') ++b;
       auto [p, ec] = std::from_chars(b, e, value);
       if (ec == std::errc::result_out_of_range) {
-        fail_line(std::string(what) + " '" + std::string(t.substr(0, 40)) + "' is out of range");
+        fail_line(std::string(what) + " " + quoted(t) + " is out of range");
       }
       if (ec != std::errc() || p != e) {
-        fail_line("expected " + std::string(what) + ", found '" + std::string(t.substr(0, 40)) + "'");
+        fail_line("expected " + std::string(what) + ", found " + quoted(t));
       }
     }
     return value;

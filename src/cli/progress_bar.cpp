@@ -1,4 +1,4 @@
-#include "progress.hpp"
+#include "progress_bar.hpp"
 
 #include <unistd.h>
 

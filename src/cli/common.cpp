@@ -1,0 +1,206 @@
+#include "common.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "isoforge/core/error.hpp"
+#include "isoforge/implicit/parse.hpp"
+#include "isoforge/io/atomic_file.hpp"
+
+namespace isoforge::cli {
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+}  // namespace
+
+CLI::Validator integer_in(std::int64_t min, std::int64_t max) {
+  const std::string range = max == INT64_MAX ? fmt::format(">= {}", min)
+                                             : fmt::format("in [{}, {}]", min, max);
+  return CLI::Validator(
+      [min, max, range](std::string& s) -> std::string {
+        const char* b = s.data();
+        const char* e = b + s.size();
+        if (b != e && *b == '+') ++b;
+        std::int64_t v = 0;
+        const auto [p, ec] = std::from_chars(b, e, v);
+        if (b == e || p != e || ec == std::errc::invalid_argument) {
+          return fmt::format("must be an integer {}, got '{}'", range, s);
+        }
+        if (ec == std::errc::result_out_of_range || v < min || v > max) {
+          return fmt::format("must be an integer {}, got {}", range, s);
+        }
+        s = std::to_string(v);  // what CLI11 converts: no sign, no leading zeros
+        return {};
+      },
+      max == INT64_MAX ? fmt::format(">={}", min) : fmt::format("{}..{}", min, max));
+}
+
+CLI::Validator number_in(double lo, double hi, bool open_lo) {
+  std::string range;
+  if (lo == -kInf && hi == kInf) {
+    range = "";
+  } else if (hi == kInf) {
+    range = fmt::format(" {} {}", open_lo ? ">" : ">=", lo);
+  } else {
+    range = fmt::format(" in {}{}, {}]", open_lo ? "(" : "[", lo, hi);
+  }
+  return CLI::Validator(
+      [lo, hi, open_lo, range](std::string& s) -> std::string {
+        const char* b = s.data();
+        const char* e = b + s.size();
+        if (b != e && *b == '+') ++b;
+        double v = 0;
+        const auto [p, ec] = std::from_chars(b, e, v);
+        const bool parsed = b != e && p == e && ec == std::errc();
+        if (!parsed || !std::isfinite(v) || v < lo || v > hi || (open_lo && v == lo)) {
+          return fmt::format("must be a finite number{}, got '{}'", range, s);
+        }
+        return {};
+      },
+      range.empty() ? "finite" : range.substr(1));
+}
+
+CLI::Validator finite_number() { return number_in(-kInf, kInf); }
+CLI::Validator positive_number() { return number_in(0, kInf, true); }
+CLI::Validator non_negative_number() { return number_in(0, kInf); }
+
+void require_meaningful(const CLI::Option* option, bool meaningful, std::string_view why) {
+  if (option->count() > 0 && !meaningful) throw UsageError(option->get_name(), std::string(why));
+}
+
+void exclude_each_other(std::initializer_list<const CLI::Option*> options) {
+  std::string given;
+  int n = 0;
+  for (const CLI::Option* o : options) {
+    if (o->count() == 0) continue;
+    given += (n++ == 0 ? "" : " and ") + o->get_name();
+  }
+  if (n > 1) throw UsageError(given + " exclude each other");
+}
+
+void warn(std::string_view message) {
+  fmt::print(stderr, "isoforge: warning: {}\n", message);
+}
+
+std::string values_text(const std::vector<double>& values, std::string_view word) {
+  constexpr std::size_t kShown = 5;
+  std::string s = fmt::format("{}{}", word, values.size() == 1 ? "" : "s");
+  for (std::size_t i = 0; i < values.size() && i < kShown; ++i) {
+    s += fmt::format("{}{:g}", i == 0 ? " " : ", ", values[i]);
+  }
+  if (values.size() > kShown) s += fmt::format(", ... ({} {}s)", values.size(), word);
+  return s;
+}
+
+std::string range_text(const DataArray& array) {
+  if (array.tuples() == 0) return fmt::format("'{}' is empty", array.name());
+  const auto [lo, hi] = array.range(0);
+  if (!(lo <= hi)) return fmt::format("'{}' is all NaN", array.name());
+  return fmt::format("'{}' ranges {:g} .. {:g}", array.name(), lo, hi);
+}
+
+FileFormat format_of(const std::string& path) {
+  try {
+    return format_from_path(path);
+  } catch (const Error& e) {
+    throw UsageError(e.what());
+  }
+}
+
+FileFormat output_format(const std::string& path, const std::vector<FileFormat>& allowed,
+                         std::string_view extensions) {
+  const FileFormat f = format_of(path);
+  if (std::find(allowed.begin(), allowed.end(), f) == allowed.end()) {
+    throw UsageError(path + ": this subcommand writes " + std::string(extensions) + ", not " +
+                     std::string(format_name(f)));
+  }
+  check_writable(path);  // a bad output directory fails now, not after the work
+  return f;
+}
+
+CLI::Option* add_dims_option(CLI::App& cmd, const std::string& name, std::vector<Index>& dims,
+                             Index min, const std::string& description) {
+  return cmd.add_option(name, dims, description)->expected(1, 3)->transform(integer_in(min));
+}
+
+CLI::Option* add_bounds_option(CLI::App& cmd, std::vector<double>& bounds,
+                               const std::string& description) {
+  return cmd.add_option("-b,--bounds", bounds, description)->expected(6)->check(finite_number());
+}
+
+CLI::Option* add_q_option(CLI::App& cmd, std::string& q) {
+  return cmd.add_option("--q", q, "PLOT3D solution (Q) file to read with a PLOT3D grid input");
+}
+
+void require_plot3d_input(const CLI::Option* q_option, const std::string& input) {
+  require_meaningful(q_option, format_of(input) == FileFormat::Plot3d,
+                     "a PLOT3D solution goes with a PLOT3D grid input (.xyz .bin), not " + input);
+}
+
+CLI::Option* add_grid_option(CLI::App& cmd, std::string& grid) {
+  return cmd.add_option("--grid", grid, "OpenVDB input: name of the float grid to read");
+}
+
+void require_vdb_input(const CLI::Option* grid_option, const std::string& input) {
+  require_meaningful(grid_option, format_of(input) == FileFormat::Vdb,
+                     "names a grid of an OpenVDB input (.vdb), not of " + input);
+}
+
+ImplicitFunction parse_function(const std::string& expression, const char* option) {
+  try {
+    return parse_implicit(expression);
+  } catch (const Error& e) {
+    throw UsageError(option, e.what());
+  }
+}
+
+Bounds parse_bounds(const std::vector<double>& b, const char* option) {
+  if (b.size() != 6) throw UsageError(std::string(option) + ": needs 6 numbers: xmin xmax ymin ymax zmin zmax");
+  Bounds out;
+  out.min = {b[0], b[2], b[4]};
+  out.max = {b[1], b[3], b[5]};
+  static constexpr const char* kAxis[3] = {"x", "y", "z"};
+  for (int a = 0; a < 3; ++a) {
+    if (!std::isfinite(out.min[a]) || !std::isfinite(out.max[a])) {
+      throw UsageError(fmt::format("{}: {} {:g} .. {:g}: the bounds must be finite", option,
+                                   kAxis[a], out.min[a], out.max[a]));
+    }
+    if (out.min[a] > out.max[a]) {
+      throw UsageError(fmt::format("{}: {} {:g} .. {:g}: min must not exceed max", option,
+                                   kAxis[a], out.min[a], out.max[a]));
+    }
+  }
+  return out;
+}
+
+Dims parse_dims(const std::vector<Index>& d, const char* option) {
+  if (d.size() == 1) return {d[0], d[0], d[0]};
+  if (d.size() == 3) return {d[0], d[1], d[2]};
+  throw UsageError(std::string(option) + ": give one number (a cube) or three");
+}
+
+GridSpec grid_from_bounds(const Bounds& bounds, const Dims& dims) {
+  try {
+    return GridSpec::from_bounds(bounds, dims);
+  } catch (const Error& e) {
+    throw UsageError("--bounds/--dims", e.what());
+  }
+}
+
+Bounds grown(const Bounds& b, double pad) {
+  Bounds r = b;
+  r.min = b.min - Vec3{pad, pad, pad};
+  r.max = b.max + Vec3{pad, pad, pad};
+  return r;
+}
+
+double elapsed_ms(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace isoforge::cli

@@ -1,0 +1,112 @@
+#pragma once
+// Helpers shared by several subcommands: exit codes, usage errors, argument checks and
+// conversion and small geometry/timing helpers.
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdint>
+#include <initializer_list>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "isoforge/core/dataset.hpp"
+#include "isoforge/implicit/function.hpp"
+#include "isoforge/implicit/sample.hpp"
+#include "isoforge/io/io.hpp"
+
+namespace isoforge::cli {
+
+/// Exit codes of the isoforge command (documented in README.md and `isoforge --help`).
+inline constexpr int kExitOk = 0;        ///< success (also --help, --version)
+inline constexpr int kExitError = 1;     ///< the work failed: bad input file, cannot write, ...
+inline constexpr int kExitUsage = 2;     ///< the command line is wrong: unknown, missing,
+                                         ///< malformed, out-of-range or contradictory options
+inline constexpr int kExitInternal = 3;  ///< an internal error (a bug: please report it)
+
+/// A mistake on the command line found after parsing (a contradictory or meaningless option, a
+/// bad function expression): main reports it like CLI11's own errors, with kExitUsage.
+using UsageError = CLI::ValidationError;
+
+/// CLI11 validator for `->transform()` (it rewrites the value): a decimal integer in [min, max],
+/// e.g. "--steps: must be an integer >= 1, got '-5'". The value is rewritten without sign and
+/// leading zeros, because CLI11 itself would read "010" as octal and wrap "-5" into a huge
+/// unsigned number.
+[[nodiscard]] CLI::Validator integer_in(std::int64_t min, std::int64_t max = INT64_MAX);
+
+/// CLI11 check: a finite number (no NaN, no infinity) in [lo, hi] (`open_lo`: lo excluded), e.g.
+/// "--shrink: must be a finite number in [0, 1], got 'nan'".
+[[nodiscard]] CLI::Validator number_in(double lo, double hi, bool open_lo = false);
+/// CLI11 check: any finite number.
+[[nodiscard]] CLI::Validator finite_number();
+/// CLI11 check: a finite number > 0.
+[[nodiscard]] CLI::Validator positive_number();
+/// CLI11 check: a finite number >= 0.
+[[nodiscard]] CLI::Validator non_negative_number();
+
+/// \throw UsageError "OPTION: WHY" when `option` was given on the command line although it does
+/// nothing here (`meaningful` false), e.g. "--normals: applies to dense output only, not .vdb".
+void require_meaningful(const CLI::Option* option, bool meaningful, std::string_view why);
+/// \throw UsageError when two or more of `options` were given ("--a and --b exclude each other").
+void exclude_each_other(std::initializer_list<const CLI::Option*> options);
+
+/// Prints "isoforge: warning: MESSAGE" on stderr (also with --quiet: a warning is not chatter).
+void warn(std::string_view message);
+/// "value 5", "values 1, 2, 3" or "values 1, 2, 3, ... (100 values)", with `word` for "value".
+[[nodiscard]] std::string values_text(const std::vector<double>& values, std::string_view word);
+/// What an array holds, for a warning: "'Scalars' ranges 0 .. 1200" (component 0), "'F' is all
+/// NaN", "'F' is empty".
+[[nodiscard]] std::string range_text(const DataArray& array);
+
+/// The format of a file named on the command line (by its extension). \throw UsageError naming
+/// the path when the extension is not known.
+[[nodiscard]] FileFormat format_of(const std::string& path);
+
+/// The format of an output file, which must be one of `allowed`. \throw UsageError naming the
+/// path and the `extensions` this subcommand writes (e.g. ".vtp .vtk .ply .obj .off"); Error if
+/// its directory does not exist or is not writable (checked before any work).
+[[nodiscard]] FileFormat output_format(const std::string& path,
+                                       const std::vector<FileFormat>& allowed,
+                                       std::string_view extensions);
+/// The polygonal-data formats (.vtp .vtk .ply .obj .off) and their extensions, for surfaces.
+inline const std::vector<FileFormat> kSurfaceFormats = {
+    FileFormat::VtkPolyData, FileFormat::VtkLegacy, FileFormat::Ply, FileFormat::Obj,
+    FileFormat::Off};
+inline constexpr std::string_view kSurfaceExtensions = ".vtp .vtk .ply .obj .off";
+
+/// Adds "-d,--dims"-style option: N (a cube) or NX NY NZ samples, each an integer >= `min`.
+CLI::Option* add_dims_option(CLI::App& cmd, const std::string& name, std::vector<Index>& dims,
+                             Index min, const std::string& description);
+/// Adds a "-b,--bounds" option: six finite numbers xmin xmax ymin ymax zmin zmax.
+CLI::Option* add_bounds_option(CLI::App& cmd, std::vector<double>& bounds,
+                               const std::string& description);
+
+/// Adds "--q FILE": the PLOT3D solution read with a PLOT3D grid input.
+CLI::Option* add_q_option(CLI::App& cmd, std::string& q);
+/// \throw UsageError if --q was given but `input` is not a PLOT3D grid file.
+void require_plot3d_input(const CLI::Option* q_option, const std::string& input);
+/// Adds "--grid NAME": the float grid to read from an OpenVDB input.
+CLI::Option* add_grid_option(CLI::App& cmd, std::string& grid);
+/// \throw UsageError if --grid was given but `input` is not a .vdb file.
+void require_vdb_input(const CLI::Option* grid_option, const std::string& input);
+
+/// The function expression given to `option` (see docs/implicit.md). \throw UsageError naming
+/// the option, the column and the problem.
+[[nodiscard]] ImplicitFunction parse_function(const std::string& expression, const char* option);
+
+/// "--bounds xmin xmax ymin ymax zmin zmax" → Bounds. \throw UsageError naming `option`.
+Bounds parse_bounds(const std::vector<double>& values, const char* option);
+/// "--dims N" or "--dims NX NY NZ" → Dims. \throw UsageError naming `option`.
+Dims parse_dims(const std::vector<Index>& values, const char* option);
+
+/// `GridSpec::from_bounds(bounds, dims)`. \throw UsageError naming --bounds/--dims when they do
+/// not make a grid (e.g. 64 samples along an axis of zero extent).
+[[nodiscard]] GridSpec grid_from_bounds(const Bounds& bounds, const Dims& dims);
+
+/// `b` grown by `pad` on every side.
+Bounds grown(const Bounds& b, double pad);
+
+/// Milliseconds since `t0`.
+double elapsed_ms(std::chrono::steady_clock::time_point t0);
+
+}  // namespace isoforge::cli
