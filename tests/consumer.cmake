@@ -1,4 +1,5 @@
-# Packaging tests: an installed isoforge used by a separate project.
+# Packaging tests: an installed isoforge used by a separate project, and installed programs run
+# from a moved install prefix.
 #
 # consumer_package: install this build (shared or static, as configured) into a scratch prefix,
 # then configure, build and run the separate project in tests/consumer/ against it with
@@ -39,3 +40,15 @@ if(_isoforge_type STREQUAL "SHARED_LIBRARY")
   # A cold ccache compiles the whole library.
   set_tests_properties(consumer_package_static PROPERTIES LABELS consumer TIMEOUT 1800)
 endif()
+
+# install_relocatable: install into a scratch prefix and run the installed programs with
+# LD_LIBRARY_PATH unset, then move the prefix and run them again (relative RPATH).
+add_test(NAME install_relocatable
+  COMMAND ${CMAKE_COMMAND}
+    -DBUILD_DIR=${PROJECT_BINARY_DIR}
+    -DWORK_DIR=${CMAKE_CURRENT_BINARY_DIR}/install_relocatable
+    -DDATA_DIR=${PROJECT_SOURCE_DIR}/data
+    -DWITH_VERIFY=${ISOFORGE_BUILD_VERIFY}
+    -DLIBRARY_TYPE=${_isoforge_type}
+    -P ${CMAKE_CURRENT_SOURCE_DIR}/consumer/run_install.cmake)
+set_tests_properties(install_relocatable PROPERTIES LABELS install TIMEOUT 300)
