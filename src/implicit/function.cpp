@@ -117,6 +117,18 @@ void put(std::array<double, 16>& p, int at, const Vec3& v) {
   p[at + 2] = v.z;
 }
 
+// Sets the depth of a combination node from its children. Evaluation, bounds, gradients,
+// printing and destruction recurse once per level, so the depth is bounded (kMaxFunctionDepth).
+void set_depth(Node& n, const char* fn) {
+  int deepest = 0;
+  for (const auto& c : n.children) deepest = std::max(deepest, c.node().depth);
+  n.depth = deepest + 1;
+  if (n.depth > kMaxFunctionDepth) {
+    throw Error(std::string(fn) + ": the function would be nested " + std::to_string(n.depth) +
+                " levels deep; the limit is " + std::to_string(kMaxFunctionDepth));
+  }
+}
+
 }  // namespace
 
 ImplicitFunction ImplicitFunction::plane(const Vec3& origin, const Vec3& normal) {
@@ -249,6 +261,7 @@ ImplicitFunction ImplicitFunction::transformed(const Affine& placement) const {
   n->forward = placement;
   n->inverse = placement.inverse();
   n->children = {*this};
+  set_depth(*n, "transform");
   return ImplicitFunction(std::move(n));
 }
 
@@ -258,6 +271,7 @@ ImplicitFunction ImplicitFunction::union_of(std::vector<ImplicitFunction> parts)
   auto n = std::make_shared<Node>();
   n->kind = Kind::Union;
   n->children = std::move(parts);
+  set_depth(*n, "union");
   return ImplicitFunction(std::move(n));
 }
 
@@ -267,6 +281,7 @@ ImplicitFunction ImplicitFunction::intersection_of(std::vector<ImplicitFunction>
   auto n = std::make_shared<Node>();
   n->kind = Kind::Intersection;
   n->children = std::move(parts);
+  set_depth(*n, "intersection");
   return ImplicitFunction(std::move(n));
 }
 
@@ -274,6 +289,7 @@ ImplicitFunction ImplicitFunction::minus(const ImplicitFunction& other) const {
   auto n = std::make_shared<Node>();
   n->kind = Kind::Difference;
   n->children = {*this, other};
+  set_depth(*n, "difference");
   return ImplicitFunction(std::move(n));
 }
 
@@ -281,6 +297,7 @@ ImplicitFunction ImplicitFunction::complement() const {
   auto n = std::make_shared<Node>();
   n->kind = Kind::Complement;
   n->children = {*this};
+  set_depth(*n, "complement");
   return ImplicitFunction(std::move(n));
 }
 
@@ -290,10 +307,13 @@ ImplicitFunction ImplicitFunction::offset(double distance) const {
   n->kind = Kind::Offset;
   n->p[0] = distance;
   n->children = {*this};
+  set_depth(*n, "offset");
   return ImplicitFunction(std::move(n));
 }
 
 ImplicitFunction::Kind ImplicitFunction::kind() const { return node_->kind; }
+
+int ImplicitFunction::depth() const { return node_->depth; }
 
 ImplicitFunction ice_cream_cone() {
   using F = ImplicitFunction;

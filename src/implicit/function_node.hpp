@@ -16,6 +16,7 @@ struct ImplicitFunction::Node {
   Affine forward;  ///< Transform: placement (object → world), kept for printing
   Affine inverse;  ///< Transform: world → object, applied to points
   std::vector<ImplicitFunction> children;
+  int depth = 1;  ///< 1 + the deepest child (<= kMaxFunctionDepth)
 };
 
 namespace implicit_detail {

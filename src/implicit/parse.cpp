@@ -114,6 +114,17 @@ class Parser {
     Call call;
     call.column = pos_ + 1;
     call.name = name();
+    // Parsing recurses once per level too: refuse before going deeper than a function may be.
+    if (depth_ == kMaxFunctionDepth) {
+      throw Error("function expression: column " + std::to_string(call.column) + ": " + call.name +
+                  ": nested more than " + std::to_string(kMaxFunctionDepth) +
+                  " levels deep (the limit)");
+    }
+    struct Level {
+      int& depth;
+      explicit Level(int& d) : depth(++d) {}
+      ~Level() { --depth; }
+    } level(depth_);
     expect('(');
     if (!accept(')')) {
       do {
@@ -289,6 +300,7 @@ class Parser {
 
   std::string_view s_;
   std::size_t pos_ = 0;
+  int depth_ = 0;  ///< functions being parsed around the current position
   std::vector<std::string> used_;
 };
 

@@ -215,3 +215,24 @@ TEST(Affine, InverseAndComposition) {
   const F moved = F::sphere({0, 0, 0}, 1).transformed(Affine::translation({2, 0, 0}));
   EXPECT_DOUBLE_EQ(moved.value({2, 0, 0}), -1.0);
 }
+
+TEST(Implicit, CombinationsDeeperThanTheLimitAreRefused) {
+  // Every recursive walk of the tree is bounded by kMaxFunctionDepth levels: a factory that would
+  // go deeper throws instead of building a function that overflows the stack when evaluated.
+  ImplicitFunction f = ImplicitFunction::sphere({0, 0, 0}, 1);
+  EXPECT_EQ(f.depth(), 1);
+  for (int level = 2; level <= kMaxFunctionDepth; ++level) {
+    f = level % 2 ? f.offset(0.0) : f.complement();
+    ASSERT_EQ(f.depth(), level);
+  }
+  EXPECT_EQ(ImplicitFunction::union_of({f}).depth(), kMaxFunctionDepth);  // f itself
+  try {
+    (void)f.transformed(Affine::translation({1, 0, 0}));
+    ADD_FAILURE() << "no Error for 101 levels";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "transform: the function would be nested 101 levels deep; the limit is 100");
+  }
+  EXPECT_THROW((void)(f | ImplicitFunction::sphere({0, 0, 0}, 2)), Error);
+  EXPECT_THROW((void)f.minus(ImplicitFunction::sphere({0, 0, 0}, 2)), Error);
+  EXPECT_THROW((void)f.complement(), Error);
+}

@@ -4,6 +4,8 @@
 
 #include <random>
 
+#include "isoforge/implicit/sample.hpp"
+
 using namespace isoforge;
 
 namespace {
@@ -14,6 +16,16 @@ std::string error_of(const std::string& expr) {
     return e.what();
   }
   return "<no error>";
+}
+
+// `inner` inside `levels` nested calls: open + ... + open + inner + close + ... + close.
+std::string nested(const std::string& open, const std::string& close, int levels,
+                   const std::string& inner) {
+  std::string s;
+  for (int i = 0; i < levels; ++i) s += open;
+  s += inner;
+  for (int i = 0; i < levels; ++i) s += close;
+  return s;
 }
 }  // namespace
 
@@ -64,4 +76,56 @@ TEST(Parse, ErrorsNameTheColumnOrParameter) {
   EXPECT_NE(error_of("sphere(r=1e999)").find("finite number"), std::string::npos);
   EXPECT_NE(error_of("sphere() sphere()").find("after the expression"), std::string::npos);
   EXPECT_NE(error_of("").find("expected a name"), std::string::npos);
+}
+
+TEST(Parse, NestingDeeperThanTheLimitIsAnErrorNotACrash) {
+  // Parsing, evaluating, bounding and printing recurse once per level: a thousand nested
+  // complements used to overflow the stack. The 101st call is refused where it opens, at column
+  // 1 + 100 * strlen("complement(") = 1101.
+  const std::string deep = error_of(nested("complement(", ")", 1000, "sphere()"));
+  EXPECT_NE(deep.find("function expression: column 1101: complement: nested more than 100 levels "
+                      "deep (the limit)"),
+            std::string::npos)
+      << deep;
+  EXPECT_NE(error_of(nested("complement(", ")", 100, "sphere()")).find("column 1101"),
+            std::string::npos);
+  // In the 100th union, its first operand opens the 101st level: column 1 + 99 * 16 + 6.
+  EXPECT_NE(error_of(nested("union(sphere(), ", ")", 100, "box()")).find("column 1591: sphere"),
+            std::string::npos);
+  // icecream() is itself 3 levels deep (union, intersection, cone): 98 complements around it make
+  // 101 levels, refused by the function tree itself.
+  const std::string ice = error_of(nested("complement(", ")", 98, "icecream()"));
+  EXPECT_NE(ice.find("complement: the function would be nested 101 levels deep; the limit is 100"),
+            std::string::npos)
+      << ice;
+}
+
+TEST(Parse, FunctionsAtTheDepthLimitEvaluateEverywhere) {
+  // 99 translations by zero around a sphere: 100 levels, the deepest allowed, and transforms are
+  // the levels with the largest stack frames (three blocks of coordinates each). Point values,
+  // gradients, bounds, batches, printing and the multi-threaded sampler (which evaluates on TBB
+  // worker stacks, with pruning) all work and give the sphere's values bit for bit.
+  const ImplicitFunction f = parse_implicit(nested("translate(", ", [0, 0, 0])", 99, "sphere(r=0.75)"));
+  const ImplicitFunction s = ImplicitFunction::sphere({0, 0, 0}, 0.75);
+  EXPECT_EQ(f.depth(), kMaxFunctionDepth);
+  for (const Vec3 p : {Vec3{0, 0, 0}, Vec3{0.3, -0.2, 0.9}, Vec3{-1.5, 2, 0.25}}) {
+    EXPECT_EQ(f.value(p), s.value(p));
+    const Vec3 gf = f.gradient(p), gs = s.gradient(p);
+    EXPECT_EQ(gf.x, gs.x);
+    EXPECT_EQ(gf.y, gs.y);
+    EXPECT_EQ(gf.z, gs.z);
+  }
+  const Bounds box{{-0.5, -0.25, 0}, {1, 0.5, 0.75}};
+  EXPECT_EQ(f.bound(box).lo, s.bound(box).lo);
+  EXPECT_EQ(f.bound(box).hi, s.bound(box).hi);
+  EXPECT_EQ(parse_implicit(f.to_string()).depth(), kMaxFunctionDepth);
+
+  const GridSpec grid = GridSpec::from_bounds({{-1, -1, -1}, {1, 1, 1}}, {40, 40, 40});
+  const ImageData a = sample_image(f, grid), b = sample_image(s, grid);
+  EXPECT_TRUE(a.point_data.get("F") == b.point_data.get("F"));
+
+  // 99 complements: the sphere negated (an odd number of them).
+  const ImplicitFunction c = parse_implicit(nested("complement(", ")", 99, "sphere(r=0.75)"));
+  EXPECT_EQ(c.depth(), kMaxFunctionDepth);
+  EXPECT_EQ(c.value({0.1, 0.2, 0.3}), -s.value({0.1, 0.2, 0.3}));
 }

@@ -181,7 +181,9 @@ AnalyticSurface sphere_surface(const Vec3& center, double radius) {
 AnalyticSurface torus_surface(const Vec3& center, const Vec3& axis, double major, double minor) {
   if (!(major > minor && minor > 0)) throw Error("torus_surface: need major > minor > 0");
   const Vec3 a = unit(axis);
-  const auto [e1, e2] = frame(a);
+  // Named copies, not a structured binding: clang 14 (make sanitize) cannot capture those.
+  const auto basis = frame(a);
+  const Vec3 e1 = basis.first, e2 = basis.second;
   auto sample = [=](double spacing) {
     // u around the axis, v around the tube; the area element is r (R + r cos v) du dv, so u is
     // uniform and v follows the CDF (R v + r sin v) / (2 pi R), inverted by Newton's method.

@@ -11,6 +11,7 @@
 #include "catalogue.hpp"
 #include "isoforge/implicit/parse.hpp"
 #include "isoforge/io/io.hpp"
+#include "isoforge/version.hpp"
 #include "mesh_checks.hpp"
 #include "report.hpp"
 
@@ -75,6 +76,7 @@ int main(int argc, char** argv) {
   add_io_cases(catalogue);
   add_model_cases(catalogue);
 
+  app.set_version_flag("--version", std::string(kVersion));
   bool list = false, all = false, quick = false, verbose = false;
   std::vector<std::string> names;
   std::string report_dir;
@@ -89,10 +91,17 @@ int main(int argc, char** argv) {
                                       "Check a mesh file: closed, manifold, orientation, "
                                       "degenerate faces, self-intersections, genus, volume");
   std::string mesh_file, compare_file, implicit;
+  std::vector<std::string> required;
   double spacing = 0;
   bool no_si = false;
   mesh_cmd->add_option("file", mesh_file, "Mesh file (.vtp .vtk .ply .off)")->required();
   mesh_cmd->add_flag("--no-self-intersections", no_si, "Skip the exact self-intersection test");
+  mesh_cmd
+      ->add_option("--require", required,
+                   "Exit with status 1, naming the failures, unless these checks pass "
+                   "(comma-separated: closed,manifold,oriented,no-self-intersections)")
+      ->delimiter(',')
+      ->check(CLI::IsMember(mesh_requirement_names()));
   mesh_cmd->add_option("--compare", compare_file,
                        "Also measure the distance both ways to this mesh (AABB-tree sampling)");
   mesh_cmd->add_option("--implicit", implicit,
@@ -103,7 +112,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    return app.exit(e) == 0 ? 0 : 2;  // --help, --version; else a usage error
   }
   try {
     if (*mesh_cmd) {
@@ -112,9 +121,14 @@ int main(int argc, char** argv) {
       if (!pd)
         throw Error(mesh_file + ": is " + std::string(dataset_type_name(ds)) +
                     ", not a polygonal mesh");
+      if (no_si && std::find(required.begin(), required.end(), "no-self-intersections") !=
+                       required.end()) {
+        throw Error("--require no-self-intersections contradicts --no-self-intersections");
+      }
       MeshCheckOptions o;
       o.self_intersections = !no_si;
-      fmt::print("{}\n{}", mesh_file, format_report(check_mesh(*pd, o)));
+      const MeshReport report = check_mesh(*pd, o);
+      fmt::print("{}\n{}", mesh_file, format_report(report));
       if (spacing <= 0) spacing = 0.25 * mean_edge_length(*pd);
       if (!implicit.empty()) {
         const ImplicitFunction f = parse_implicit(implicit);
@@ -141,6 +155,18 @@ int main(int argc, char** argv) {
             compare_file, spacing, d.max_a_to_b, d.rms_a_to_b, d.samples_a, d.max_b_to_a,
             d.rms_b_to_a, d.samples_b, d.hausdorff());
       }
+      if (required.empty()) return 0;
+      const std::vector<std::string> failed = failed_requirements(report, required);
+      if (!failed.empty()) {
+        std::string list;
+        for (const auto& f : failed) list += (list.empty() ? "" : ", ") + f;
+        std::fflush(stdout);
+        fmt::print(stderr, "isoforge-verify: {}: required checks failed: {}\n", mesh_file, list);
+        return 1;
+      }
+      std::string list;
+      for (const auto& n : required) list += (list.empty() ? "" : ", ") + n;
+      fmt::print("required checks passed: {}\n", list);
       return 0;
     }
     if (list) {

@@ -24,9 +24,9 @@ struct MeshReport {
   std::size_t inconsistent_edges = 0;     ///< manifold edges both faces traverse the same way
   std::size_t degenerate_faces = 0;       ///< repeated ids or collinear corners (exact)
   std::size_t duplicate_points = 0;       ///< distinct ids with identical coordinates
-  std::size_t self_intersections = 0;     ///< intersecting pairs of non-adjacent faces (exact)
-  bool self_intersection_checked = false;
-  bool self_intersection_requested = false;  ///< MeshCheckOptions::self_intersections
+  /// Pairs of faces that intersect beyond the corner or edge they share (exact; manifold or not).
+  std::size_t self_intersections = 0;
+  bool self_intersection_checked = false;  ///< the test ran (MeshCheckOptions::self_intersections)
   bool closed = false;                       ///< no border edges
   bool manifold = false;                     ///< no non-manifold edges or vertices
   bool oriented = false;                     ///< no inconsistent edges
@@ -56,5 +56,14 @@ struct MeshCheckOptions {
 
 /// Multi-line human-readable summary of a report.
 [[nodiscard]] std::string format_report(const MeshReport& r);
+
+/// The names `failed_requirements` accepts: closed, manifold, oriented, no-self-intersections.
+[[nodiscard]] const std::vector<std::string>& mesh_requirement_names();
+
+/// The requirements among `names` that `r` fails, each with what failed, e.g.
+/// "closed (3 border edges)"; empty when all pass. "no-self-intersections" fails when the test
+/// did not run. \throw Error naming an unknown requirement.
+[[nodiscard]] std::vector<std::string> failed_requirements(const MeshReport& r,
+                                                           const std::vector<std::string>& names);
 
 }  // namespace isoforge::verify

@@ -245,3 +245,87 @@ TEST(MeshChecks, OutwardNeedsAValidClosedSurface) {
   for (std::size_t c = 0; c < 3; ++c) open.polys.add(t.polys.cell(c));
   EXPECT_FALSE(check_mesh(open).outward);
 }
+
+// ---- self-intersections of faces that share corners or edges (manifold or not) ----
+
+namespace {
+
+PolyData triangles(std::vector<Vec3> points, std::vector<std::vector<Index>> faces) {
+  PolyData pd;
+  for (const Vec3& p : points) pd.points.push_back(p);
+  for (const auto& f : faces) pd.polys.add(f);
+  return pd;
+}
+
+}  // namespace
+
+TEST(MeshChecks, ThreeTrianglesOnOneEdgeDoNotIntersect) {
+  // A non-manifold "book" of three pages on the edge (0,0,0)-(1,0,0): two pages in the plane
+  // z = 0 on opposite sides of the edge, one standing up. They meet only along the edge.
+  const PolyData pd = triangles({{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, -1, 0}, {0.5, 0, 1}},
+                                {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
+  const MeshReport r = check_mesh(pd);
+  EXPECT_EQ(r.non_manifold_edges, 1u);
+  EXPECT_TRUE(r.self_intersection_checked);
+  EXPECT_EQ(r.self_intersections, 0u);
+}
+
+TEST(MeshChecks, CoplanarPagesOnTheSameSideOfAnEdgeOverlap) {
+  // The same book with the third page folded flat onto the first: those two overlap (1 pair);
+  // the page on the other side touches both only along the edge.
+  const PolyData pd = triangles({{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, -1, 0}, {0.2, 0.5, 0}},
+                                {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
+  EXPECT_EQ(check_mesh(pd).self_intersections, 1u);
+}
+
+TEST(MeshChecks, TwoTetrahedraTouchingAtOneCornerDoNotIntersect) {
+  // Non-manifold vertex: the faces around the shared apex meet only there.
+  PolyData pd = tetra();
+  pd.points.push_back({0, 0, 2});
+  pd.points.push_back({1, 0, 2});
+  pd.points.push_back({0, 1, 2});
+  pd.polys.add({3, 4, 6});
+  pd.polys.add({3, 5, 4});
+  pd.polys.add({3, 6, 5});
+  pd.polys.add({4, 5, 6});
+  const MeshReport r = check_mesh(pd);
+  EXPECT_EQ(r.non_manifold_vertices, 1u);
+  EXPECT_TRUE(r.self_intersection_checked);
+  EXPECT_EQ(r.self_intersections, 0u);
+}
+
+TEST(MeshChecks, FacesSharingOneCornerIntersectOnlyBeyondIt) {
+  // Two triangles sharing corner 0: crossed like a bow tie out of plane (they meet only at the
+  // corner), then with the second one piercing the first (the opposite edge 3-4 passes through).
+  const PolyData apart = triangles({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-1, 0, 1}, {-1, 1, 1}},
+                                   {{0, 1, 2}, {0, 3, 4}});
+  EXPECT_EQ(check_mesh(apart).self_intersections, 0u);
+  const PolyData pierced = triangles({{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {1.5, 0.5, -1}, {1.5, 0.5, 1}},
+                                     {{0, 1, 2}, {0, 3, 4}});
+  EXPECT_EQ(check_mesh(pierced).self_intersections, 1u);
+}
+
+TEST(MeshChecks, RequirementsNameWhatFailed) {
+  const MeshReport ok = check_mesh(tetra());
+  EXPECT_TRUE(failed_requirements(ok, mesh_requirement_names()).empty());
+
+  PolyData open;
+  const PolyData t = tetra();
+  open.points = t.points;
+  for (std::size_t c = 0; c < 3; ++c) open.polys.add(t.polys.cell(c));
+  const auto failed = failed_requirements(check_mesh(open), {"closed", "manifold"});
+  ASSERT_EQ(failed.size(), 1u);
+  EXPECT_EQ(failed[0], "closed (3 border edges)");
+
+  const PolyData crossing = triangles(
+      {{0, 0, 0}, {2, 0, 0}, {1, 2, 0}, {1, 1, -1}, {1, 1, 1}, {1, 3, 0.5}}, {{0, 1, 2}, {3, 4, 5}});
+  const auto si = failed_requirements(check_mesh(crossing), {"no-self-intersections"});
+  ASSERT_EQ(si.size(), 1u);
+  EXPECT_EQ(si[0], "no-self-intersections (1 intersecting face pairs)");
+  MeshCheckOptions skip;
+  skip.self_intersections = false;
+  EXPECT_EQ(failed_requirements(check_mesh(crossing, skip), {"no-self-intersections"}).at(0),
+            "no-self-intersections (not checked)");
+
+  EXPECT_THROW((void)failed_requirements(ok, {"watertight"}), Error);
+}

@@ -54,8 +54,15 @@ struct Affine {
   [[nodiscard]] Affine inverse() const;
 };
 
+/// The deepest an implicit function may be nested: at most this many levels of functions from
+/// the outermost one to a primitive (`sphere()` is 1 level, `complement(sphere())` 2). Evaluation
+/// recurses once per level with up to 12 KiB of stack (blocks of 512 points), so the limit keeps
+/// it within about 1.2 MiB, a third of a TBB worker thread's stack, sanitizers included.
+inline constexpr int kMaxFunctionDepth = 100;
+
 /// An implicit function: a primitive, a transformed function, or a boolean combination.
-/// Immutable value type; copies share the tree (cheap).
+/// Immutable value type; copies share the tree (cheap). Combinations are at most
+/// kMaxFunctionDepth levels deep: a factory that would exceed it throws Error.
 class ImplicitFunction {
  public:
   /// Node kinds (see the factory functions).
@@ -147,6 +154,9 @@ class ImplicitFunction {
   [[nodiscard]] Interval bound(const Bounds& box) const;
 
   [[nodiscard]] Kind kind() const;
+  /// Levels of nesting: 1 for a primitive, 1 + the deepest operand for a combination; at most
+  /// kMaxFunctionDepth.
+  [[nodiscard]] int depth() const;
   /// The expression, in the syntax `parse_implicit` reads (see docs/implicit.md).
   [[nodiscard]] std::string to_string() const;
 
