@@ -91,8 +91,7 @@ void add_attractor_command(CLI::App& app, Context& ctx) {
         warn(fmt::format("attractor: every one of the {} states fell outside the box: the counts "
                          "are all 0", d.discarded));
       }
-      bar.stage("writing");
-      write(d.volume, args->out);
+      write_output(d.volume, args->out, bar);
       bar.finish();
       if (!ctx.quiet) {
         fmt::print(stderr,
@@ -110,8 +109,8 @@ void add_attractor_command(CLI::App& app, Context& ctx) {
     }
     const double ms = elapsed_ms(t0);
     bar.stage("writing");
-    if (!args->volume.empty()) write(r.density.volume, args->volume);
-    write(r.surface, args->out);
+    if (!args->volume.empty()) write_output(r.density.volume, args->volume, bar);
+    write_output(r.surface, args->out, bar);
     bar.finish();
     if (!ctx.quiet) {
       fmt::print(stderr,

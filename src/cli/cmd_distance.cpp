@@ -19,8 +19,8 @@ namespace isoforge::cli {
 
 namespace {
 
-PolyData read_polydata(const std::string& path, const char* command) {
-  Dataset ds = read(path);
+PolyData read_polydata(const std::string& path, const char* command, ProgressBar& bar) {
+  Dataset ds = read_input(path, bar);
   if (auto* pd = std::get_if<PolyData>(&ds)) return std::move(*pd);
   throw Error(std::string(command) + ": " + path + " is " + std::string(dataset_type_name(ds)) +
               "; distances are measured from polygonal data (points, lines, polygons)");
@@ -148,7 +148,7 @@ void add_distance_command(CLI::App& app, Context& ctx) {
                              : std::optional<Bounds>(parse_bounds(args->bounds, "--bounds"));
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
     bar.stage("reading");
-    const PolyData in = read_polydata(args->in, "distance");
+    const PolyData in = read_polydata(args->in, "distance", bar);
     const Bounds ib = in.bounds();
     if (ib.empty()) throw Error("distance: " + args->in + " has no points");
     DistanceOptions o;
@@ -201,8 +201,7 @@ void add_distance_command(CLI::App& app, Context& ctx) {
     if (stats.active_voxels == 0) warn_empty_band();
     if (args->cap) cap_boundary(img, cap_value_opt->count() > 0 ? args->cap_value : o.max_distance);
     const double ms = elapsed_ms(t0);
-    bar.stage("writing");
-    write(img, args->out);
+    write_output(img, args->out, bar);
     bar.finish();
     if (!ctx.quiet) {
       fmt::print(stderr, "wrote {}: {} x {} x {} samples, {} within {:g}, {} strategy, {:.0f} ms\n",

@@ -108,7 +108,7 @@ void add_offset_command(CLI::App& app, Context& ctx) {
       surface = offset_surfaces(*grid, args->distances);
       warn_if_empty(range_text(*grid));
     } else {
-      Dataset ds = read(args->in);
+      Dataset ds = read_input(args->in, bar);
       if (auto* img = std::get_if<ImageData>(&ds)) {
         require_polygonal_input(false);
         bar.stage("contouring");
@@ -168,8 +168,7 @@ void add_offset_command(CLI::App& app, Context& ctx) {
     const double ms = elapsed_ms(t0);
     bar.stage("connectivity");
     const std::size_t components = connectivity(surface).components;
-    bar.stage("writing");
-    write(surface, args->out);
+    write_output(surface, args->out, bar);
     bar.finish();
     if (!ctx.quiet) {
       fmt::print(stderr, "wrote {}: {} points, {} triangles, {} connected surfaces, {:.0f} ms\n",

@@ -151,6 +151,18 @@ void require_vdb_input(const CLI::Option* grid_option, const std::string& input)
                      "names a grid of an OpenVDB input (.vdb), not of " + input);
 }
 
+Dataset read_input(const std::string& path, ProgressBar& bar, ReadOptions options) {
+  options.progress = bar.callback();
+  return read(path, options);
+}
+
+void write_output(DatasetRef ds, const std::filesystem::path& path, ProgressBar& bar,
+                  WriteOptions options) {
+  bar.stage("writing");
+  options.progress = bar.callback();
+  write(ds, path, options);
+}
+
 ImplicitFunction parse_function(const std::string& expression, const char* option) {
   try {
     return parse_implicit(expression);

@@ -14,6 +14,7 @@
 #include "isoforge/implicit/function.hpp"
 #include "isoforge/implicit/sample.hpp"
 #include "isoforge/io/io.hpp"
+#include "progress_bar.hpp"
 
 namespace isoforge::cli {
 
@@ -89,6 +90,13 @@ void require_plot3d_input(const CLI::Option* q_option, const std::string& input)
 CLI::Option* add_grid_option(CLI::App& cmd, std::string& grid);
 /// \throw UsageError if --grid was given but `input` is not a .vdb file.
 void require_vdb_input(const CLI::Option* grid_option, const std::string& input);
+
+/// `read(path, options)` reporting to `bar`'s current stage.
+[[nodiscard]] Dataset read_input(const std::string& path, ProgressBar& bar,
+                                 ReadOptions options = {});
+/// `write(ds, path, options)` as the stage "writing" of `bar`.
+void write_output(DatasetRef ds, const std::filesystem::path& path, ProgressBar& bar,
+                  WriteOptions options = {});
 
 /// The function expression given to `option` (see docs/implicit.md). \throw UsageError naming
 /// the option, the column and the problem.
