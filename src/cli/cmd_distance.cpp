@@ -179,6 +179,12 @@ void add_distance_command(CLI::App& app, Context& ctx) {
       const GridSpec g =
           cubic_from_dims(b, dims, voxel_size_opt->count() > 0 ? args->voxel_size : 0.0);
       o.name = "distance";
+      double reach = o.max_distance;  // of a vertex: its ball's radius too
+      if (const DataArray* r = in.point_data.find(o.radius_array); r && r->tuples() > 0) {
+        const double largest = r->range().second;
+        if (largest > 0) reach += largest;
+      }
+      require_band_memory(in, g, reach, "distance");
       auto grid = distance_grid(in, g, o, &stats);
       if (stats.active_voxels == 0) warn_empty_band();
       const double ms = elapsed_ms(t0);

@@ -146,6 +146,7 @@ void add_offset_command(CLI::App& app, Context& ctx) {
           }
           o.max_distance =
               args->max_distance > 0 ? args->max_distance : dmax + 2 * args->voxel_size;
+          require_band_memory(*pd, g, o.max_distance, "offset");
           const auto grid = distance_grid(*pd, g, o);
           bar.stage("contouring");
           surface = offset_surfaces(*grid, args->distances);

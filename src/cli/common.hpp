@@ -70,9 +70,9 @@ void warn(std::string_view message);
                                        const std::vector<FileFormat>& allowed,
                                        std::string_view extensions);
 /// The polygonal-data formats (.vtp .vtk .ply .obj .off) and their extensions, for surfaces.
-inline const std::vector<FileFormat> kSurfaceFormats = {
-    FileFormat::VtkPolyData, FileFormat::VtkLegacy, FileFormat::Ply, FileFormat::Obj,
-    FileFormat::Off};
+inline const std::vector<FileFormat> kSurfaceFormats = {FileFormat::VtkPolyData,
+                                                        FileFormat::VtkLegacy, FileFormat::Ply,
+                                                        FileFormat::Obj, FileFormat::Off};
 inline constexpr std::string_view kSurfaceExtensions = ".vtp .vtk .ply .obj .off";
 
 /// Adds "-d,--dims"-style option: N (a cube) or NX NY NZ samples, each an integer >= `min`.
@@ -110,6 +110,14 @@ Dims parse_dims(const std::vector<Index>& values, const char* option);
 /// `GridSpec::from_bounds(bounds, dims)`. \throw UsageError naming --bounds/--dims when they do
 /// not make a grid (e.g. 64 samples along an axis of zero extent).
 [[nodiscard]] GridSpec grid_from_bounds(const Bounds& bounds, const Dims& dims);
+
+/// Refuses at once a sparse distance band that cannot fit in memory. The band's leaves are
+/// estimated on a coarse grid (cells of at least 8 voxels, at most 256 a side): the cells within
+/// `band` of a primitive (its box grown by `band`) are counted, each holding about 1.5 c² (2 band
+/// / h + 8) voxels of band (a surface crossing it), at most c³. \throw Error "<what>: a narrow
+/// band of about N voxels ... needs X; this machine has Y".
+void require_band_memory(const PolyData& input, const GridSpec& grid, double band,
+                         std::string_view what);
 
 /// `b` grown by `pad` on every side.
 Bounds grown(const Bounds& b, double pad);

@@ -22,7 +22,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path scratch(const std::string& name) { return isoforge::test::scratch_dir("progress", name); }
+fs::path scratch(const std::string& name) {
+  return isoforge::test::scratch_dir("progress", name);
+}
 
 /// Records the fractions a callback is given.
 struct Recorder {

@@ -26,8 +26,11 @@ class Progress {
   /// `operation` names it in `Cancelled` ("reading", "writing").
   Progress(const ProgressCallback& callback, std::uint64_t total, const char* operation,
            double from = 0, double to = 1)
-      : callback_(callback ? &callback : nullptr), operation_(operation), total_(total),
-        from_(from), to_(to) {
+      : callback_(callback ? &callback : nullptr),
+        operation_(operation),
+        total_(total),
+        from_(from),
+        to_(to) {
     if (callback_) {
       next_ = 0;  // the first add/set reports `from`
     }
@@ -57,9 +60,8 @@ class Progress {
 
  private:
   void report() {
-    const double f = total_ == 0 ? 0.0
-                                 : std::min(1.0, static_cast<double>(done_) /
-                                                     static_cast<double>(total_));
+    const double f =
+        total_ == 0 ? 0.0 : std::min(1.0, static_cast<double>(done_) / static_cast<double>(total_));
     report_fraction(from_ + (to_ - from_) * f);
     next_ = done_ + kStep;
   }
@@ -93,7 +95,9 @@ class Progress {
   for (const Attributes* at : {&point_data(ds), &cell_data(ds), &field_data(ds)}) {
     for (const DataArray& a : *at) n += a.size();
   }
-  const auto cells = [&n](const CellArray& c) { n += c.connectivity().size() + c.offsets().size(); };
+  const auto cells = [&n](const CellArray& c) {
+    n += c.connectivity().size() + c.offsets().size();
+  };
   if (const auto* sg = ds.get_if<StructuredGrid>()) n += 3 * sg->points.size();
   if (const auto* pd = ds.get_if<PolyData>()) {
     n += 3 * pd->points.size();
