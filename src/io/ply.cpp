@@ -436,9 +436,7 @@ class PlyReader {
     for (std::size_t k = 0; k < vertex_props_.size(); ++k) used[k] = vertex_props_[k].is_list;
 
     const int ix = vertex_prop("x"), iy = vertex_prop("y"), iz = vertex_prop("z");
-    if (ix < 0 || iy < 0 || iz < 0) {  // check_coordinates made sure of them
-      throw Error(sc_.name() + ": internal error: x, y or z missing after the header check");
-    }
+    ISOFORGE_ASSERT(ix >= 0 && iy >= 0 && iz >= 0);  // check_coordinates
     const int xyz[3] = {ix, iy, iz};
     bool dbl = false;
     for (int a : xyz) {
