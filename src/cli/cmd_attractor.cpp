@@ -91,8 +91,7 @@ void add_attractor_command(CLI::App& app, Context& ctx) {
         warn(fmt::format("attractor: every one of the {} states fell outside the box: the counts "
                          "are all 0", d.discarded));
       }
-      bar.stage("writing");
-      write(volume, args->out);
+      write_output(volume, args->out, bar);
       bar.finish();
       if (!ctx.quiet) {
         fmt::print(stderr,
@@ -111,8 +110,8 @@ void add_attractor_command(CLI::App& app, Context& ctx) {
     }
     const double ms = elapsed_ms(t0);
     bar.stage("writing");
-    if (!args->volume.empty()) write(out.volume, args->volume);
-    write(out.surface, args->out);
+    if (!args->volume.empty()) write_output(out.volume, args->volume, bar);
+    write_output(out.surface, args->out, bar);
     bar.finish();
     if (!ctx.quiet) {
       fmt::print(stderr,

@@ -106,7 +106,7 @@ void add_contour_command(CLI::App& app, Context& ctx) {
     } else {
       ReadOptions ro;
       ro.plot3d_q = args->q;
-      const Dataset ds = read(args->in, ro);
+      const Dataset ds = read_input(args->in, bar, ro);
       bar.stage("contouring");
       o.progress = bar.callback();
       auto r = contour(ds, o);
@@ -136,8 +136,7 @@ void add_contour_command(CLI::App& app, Context& ctx) {
       components = r.stats.components;
       surface = std::move(r.output);
     }
-    bar.stage("writing");
-    write(surface, args->out);
+    write_output(surface, args->out, bar);
     bar.finish();
     if (!ctx.quiet) {
       fmt::print(stderr, "wrote {}: {} points, {} cells", args->out, surface.num_points(), surface.num_cells());

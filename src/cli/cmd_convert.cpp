@@ -83,11 +83,10 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     wo.vdb_tolerance = args->vdb_tolerance;
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
     bar.stage("reading");
-    const Dataset ds = read(args->in, ro);
+    const Dataset ds = read_input(args->in, bar, ro);
     std::filesystem::path out = args->out;
     if (args->vtk_xml) out.replace_extension(vtk_xml_extension(ds));
-    bar.stage("writing");
-    write(ds, out, wo);
+    write_output(ds, out, bar, wo);
     bar.finish();
     if (!ctx.quiet) {
       fmt::print(stderr, "wrote {} ({} points, {} cells)\n", out.string(), num_points(ds),

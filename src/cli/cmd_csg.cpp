@@ -91,8 +91,8 @@ void add_csg_command(CLI::App& app, Context& ctx) {
       surface = offset_surfaces(*a, {0.0}).output;
       if (surface.num_points() == 0) warn_empty(range);
     } else {
-      const auto image_of = [](const std::string& path) {
-        Dataset ds = read(path);
+      const auto image_of = [&bar](const std::string& path) {
+        Dataset ds = read_input(path, bar);
         if (auto* img = std::get_if<ImageData>(&ds)) return std::move(*img);
         throw Error("csg: " + path + " is " + std::string(dataset_type_name(ds)) +
                     ", not image data");
@@ -105,8 +105,7 @@ void add_csg_command(CLI::App& app, Context& ctx) {
       const std::string range = range_text(*r.point_data.scalars());
       if (out_field) {
         if (!(r.point_data.scalars()->range().first <= 0)) warn_empty(range);
-        bar.stage("writing");
-        write(r, args->out);
+        write_output(r, args->out, bar);
         bar.finish();
         if (!ctx.quiet) fmt::print(stderr, "wrote {}: {} samples\n", args->out, r.num_points());
         return;
@@ -115,8 +114,7 @@ void add_csg_command(CLI::App& app, Context& ctx) {
       surface = offset_surfaces(r, {0.0}).output;
       if (surface.num_points() == 0) warn_empty(range);
     }
-    bar.stage("writing");
-    write(surface, args->out);
+    write_output(surface, args->out, bar);
     bar.finish();
     if (!ctx.quiet) {
       fmt::print(stderr, "wrote {}: {} points, {} triangles\n", args->out, surface.num_points(),

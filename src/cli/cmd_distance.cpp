@@ -19,8 +19,8 @@ namespace isoforge::cli {
 
 namespace {
 
-PolyData read_polydata(const std::string& path, const char* command) {
-  Dataset ds = read(path);
+PolyData read_polydata(const std::string& path, const char* command, ProgressBar& bar) {
+  Dataset ds = read_input(path, bar);
   if (auto* pd = std::get_if<PolyData>(&ds)) return std::move(*pd);
   throw Error(std::string(command) + ": " + path + " is " + std::string(dataset_type_name(ds)) +
               "; distances are measured from polygonal data (points, lines, polygons)");
@@ -148,7 +148,7 @@ void add_distance_command(CLI::App& app, Context& ctx) {
                              : std::optional<Bounds>(parse_bounds(args->bounds, "--bounds"));
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
     bar.stage("reading");
-    const PolyData in = read_polydata(args->in, "distance");
+    const PolyData in = read_polydata(args->in, "distance", bar);
     const Bounds ib = in.bounds();
     if (ib.empty()) throw Error("distance: " + args->in + " has no points");
     DistanceOptions o;
@@ -179,6 +179,12 @@ void add_distance_command(CLI::App& app, Context& ctx) {
       const GridSpec g =
           cubic_from_dims(b, dims, voxel_size_opt->count() > 0 ? args->voxel_size : 0.0);
       o.name = "distance";
+      double reach = o.max_distance;  // of a vertex: its ball's radius too
+      if (const DataArray* r = in.point_data.find(o.radius_array); r && r->tuples() > 0) {
+        const double largest = r->range().second;
+        if (largest > 0) reach += largest;
+      }
+      require_band_memory(in, g, reach, "distance");
       auto [grid, grid_stats] = distance_grid(in, g, o);
       stats = grid_stats;
       if (stats.active_voxels == 0) warn_empty_band();
@@ -203,8 +209,7 @@ void add_distance_command(CLI::App& app, Context& ctx) {
     if (stats.active_voxels == 0) warn_empty_band();
     if (args->cap) cap_boundary(img, cap_value_opt->count() > 0 ? args->cap_value : o.max_distance);
     const double ms = elapsed_ms(t0);
-    bar.stage("writing");
-    write(img, args->out);
+    write_output(img, args->out, bar);
     bar.finish();
     if (!ctx.quiet) {
       fmt::print(stderr, "wrote {}: {} x {} x {} samples, {} within {:g}, {} strategy, {:.0f} ms\n",

@@ -108,7 +108,7 @@ void add_offset_command(CLI::App& app, Context& ctx) {
       surface = offset_surfaces(*grid, args->distances).output;
       warn_if_empty(range_text(*grid));
     } else {
-      Dataset ds = read(args->in);
+      Dataset ds = read_input(args->in, bar);
       if (auto* img = std::get_if<ImageData>(&ds)) {
         require_polygonal_input(false);
         bar.stage("contouring");
@@ -146,6 +146,7 @@ void add_offset_command(CLI::App& app, Context& ctx) {
           }
           o.max_distance =
               args->max_distance > 0 ? args->max_distance : dmax + 2 * args->voxel_size;
+          require_band_memory(*pd, g, o.max_distance, "offset");
           const auto grid = distance_grid(*pd, g, o).output;
           bar.stage("contouring");
           surface = offset_surfaces(*grid, args->distances).output;
@@ -168,8 +169,7 @@ void add_offset_command(CLI::App& app, Context& ctx) {
     const double ms = elapsed_ms(t0);
     bar.stage("connectivity");
     const std::size_t components = connectivity(surface).stats.components;
-    bar.stage("writing");
-    write(surface, args->out);
+    write_output(surface, args->out, bar);
     bar.finish();
     if (!ctx.quiet) {
       fmt::print(stderr, "wrote {}: {} points, {} triangles, {} connected surfaces, {:.0f} ms\n",

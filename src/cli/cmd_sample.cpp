@@ -117,8 +117,7 @@ void add_sample_command(CLI::App& app, Context& ctx) {
     bar.stage("sampling");
     o.progress = bar.callback();
     const ImageData img = sample_image(f, grid_from_bounds(b, dims), o);
-    bar.stage("writing");
-    write(img, args->out);
+    write_output(img, args->out, bar);
     bar.finish();
     if (!ctx.quiet) {
       auto [lo, hi] = img.point_data.scalars()->range();

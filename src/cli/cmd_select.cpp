@@ -48,7 +48,7 @@ void add_select_command(CLI::App& app, Context& ctx) {
     bar.stage("reading");
     ReadOptions ro;
     ro.plot3d_q = args->q;
-    const Dataset ds = read(args->in, ro);
+    const Dataset ds = read_input(args->in, bar, ro);
     bar.stage("selecting");
     SelectOptions o;
     o.inside = !args->outside;
@@ -65,8 +65,7 @@ void add_select_command(CLI::App& app, Context& ctx) {
                        range_text(values), args->in));
     }
     if (args->shrink != 1.0) out = shrink(out, args->shrink);
-    bar.stage("writing");
-    write(out, args->out);
+    write_output(out, args->out, bar);
     bar.finish();
     if (!ctx.quiet) {
       fmt::print(stderr, "wrote {}: {} of {} cells, {} points\n", args->out, out.num_cells(),

@@ -6,9 +6,11 @@
 #include <charconv>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <string>
 
 #include "isoforge/core/error.hpp"
+#include "isoforge/core/memory.hpp"
 #include "isoforge/implicit/parse.hpp"
 #include "isoforge/io/atomic_file.hpp"
 
@@ -19,8 +21,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 }  // namespace
 
 CLI::Validator integer_in(std::int64_t min, std::int64_t max) {
-  const std::string range = max == INT64_MAX ? fmt::format(">= {}", min)
-                                             : fmt::format("in [{}, {}]", min, max);
+  const std::string range =
+      max == INT64_MAX ? fmt::format(">= {}", min) : fmt::format("in [{}, {}]", min, max);
   return CLI::Validator(
       [min, max, range](std::string& s) -> std::string {
         const char* b = s.data();
@@ -65,9 +67,15 @@ CLI::Validator number_in(double lo, double hi, bool open_lo) {
       range.empty() ? "finite" : range.substr(1));
 }
 
-CLI::Validator finite_number() { return number_in(-kInf, kInf); }
-CLI::Validator positive_number() { return number_in(0, kInf, true); }
-CLI::Validator non_negative_number() { return number_in(0, kInf); }
+CLI::Validator finite_number() {
+  return number_in(-kInf, kInf);
+}
+CLI::Validator positive_number() {
+  return number_in(0, kInf, true);
+}
+CLI::Validator non_negative_number() {
+  return number_in(0, kInf);
+}
 
 void require_meaningful(const CLI::Option* option, bool meaningful, std::string_view why) {
   if (option->count() > 0 && !meaningful) throw UsageError(option->get_name(), std::string(why));
@@ -151,6 +159,18 @@ void require_vdb_input(const CLI::Option* grid_option, const std::string& input)
                      "names a grid of an OpenVDB input (.vdb), not of " + input);
 }
 
+Dataset read_input(const std::string& path, ProgressBar& bar, ReadOptions options) {
+  options.progress = bar.callback();
+  return read(path, options);
+}
+
+void write_output(DatasetRef ds, const std::filesystem::path& path, ProgressBar& bar,
+                  WriteOptions options) {
+  bar.stage("writing");
+  options.progress = bar.callback();
+  write(ds, path, options);
+}
+
 ImplicitFunction parse_function(const std::string& expression, const char* option) {
   try {
     return parse_implicit(expression);
@@ -160,7 +180,8 @@ ImplicitFunction parse_function(const std::string& expression, const char* optio
 }
 
 Bounds parse_bounds(const std::vector<double>& b, const char* option) {
-  if (b.size() != 6) throw UsageError(std::string(option) + ": needs 6 numbers: xmin xmax ymin ymax zmin zmax");
+  if (b.size() != 6)
+    throw UsageError(std::string(option) + ": needs 6 numbers: xmin xmax ymin ymax zmin zmax");
   Bounds out;
   out.min = {b[0], b[2], b[4]};
   out.max = {b[1], b[3], b[5]};
@@ -171,8 +192,8 @@ Bounds parse_bounds(const std::vector<double>& b, const char* option) {
                                    kAxis[a], out.min[a], out.max[a]));
     }
     if (out.min[a] > out.max[a]) {
-      throw UsageError(fmt::format("{}: {} {:g} .. {:g}: min must not exceed max", option,
-                                   kAxis[a], out.min[a], out.max[a]));
+      throw UsageError(fmt::format("{}: {} {:g} .. {:g}: min must not exceed max", option, kAxis[a],
+                                   out.min[a], out.max[a]));
     }
   }
   return out;
@@ -190,6 +211,67 @@ GridSpec grid_from_bounds(const Bounds& bounds, const Dims& dims) {
   } catch (const Error& e) {
     throw UsageError("--bounds/--dims", e.what());
   }
+}
+
+void require_band_memory(const PolyData& input, const GridSpec& grid, double band,
+                         std::string_view what) {
+  // Bytes of one voxel of a band held in OpenVDB leaves (8³ floats, masks, node), halved fill.
+  constexpr double kBytesPerVoxel = 2 * (2048.0 + 200.0) / 512.0;
+  const double memory = static_cast<double>(physical_memory());
+  const double voxels = static_cast<double>(grid.dims[0]) * static_cast<double>(grid.dims[1]) *
+                        static_cast<double>(grid.dims[2]);
+  if (memory == 0 || voxels * kBytesPerVoxel <= memory) return;  // even a full box fits
+  const double h = grid.spacing.x;
+  Index c = 8;  // coarse cell side, voxels
+  for (int a = 0; a < 3; ++a) c = std::max<Index>(c, (grid.dims[a] + 255) / 256);
+  Dims n{};
+  for (int a = 0; a < 3; ++a) n[a] = (grid.dims[a] + c - 1) / c;
+  std::vector<std::uint8_t> near(static_cast<std::size_t>(n[0] * n[1] * n[2]), 0);
+  const auto mark = [&](Bounds b) {  // the coarse cells meeting b grown by the band
+    Index lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      const double cell = h * static_cast<double>(c);
+      lo[a] = std::clamp<Index>(
+          static_cast<Index>(std::floor((b.min[a] - band - grid.origin[a]) / cell)), 0, n[a] - 1);
+      hi[a] = std::clamp<Index>(
+          static_cast<Index>(std::floor((b.max[a] + band - grid.origin[a]) / cell)), 0, n[a] - 1);
+      if (b.max[a] + band < grid.origin[a] ||
+          b.min[a] - band > grid.origin[a] + cell * static_cast<double>(n[a]))
+        return;
+    }
+    for (Index k = lo[2]; k <= hi[2]; ++k)
+      for (Index j = lo[1]; j <= hi[1]; ++j)
+        for (Index i = lo[0]; i <= hi[0]; ++i)
+          near[static_cast<std::size_t>(i + n[0] * (j + n[1] * k))] = 1;
+  };
+  const auto mark_ids = [&](std::span<const Index> ids, std::size_t first, std::size_t count) {
+    Bounds b;
+    for (std::size_t t = first; t < first + count; ++t)
+      b.extend(input.points[static_cast<std::size_t>(ids[t])]);
+    mark(b);
+  };
+  for (std::size_t v = 0; v < input.verts.size(); ++v) {
+    const auto ids = input.verts.cell(v);
+    for (std::size_t t = 0; t < ids.size(); ++t) mark_ids(ids, t, 1);
+  }
+  for (std::size_t l = 0; l < input.lines.size(); ++l) {  // segment by segment
+    const auto ids = input.lines.cell(l);
+    for (std::size_t t = 0; t + 1 < ids.size(); ++t) mark_ids(ids, t, 2);
+  }
+  for (const CellArray* cells : {&input.polys, &input.strips}) {
+    for (std::size_t p = 0; p < cells->size(); ++p) {
+      const auto ids = cells->cell(p);
+      mark_ids(ids, 0, ids.size());
+    }
+  }
+  const double cells = static_cast<double>(std::count(near.begin(), near.end(), 1));
+  const double side = static_cast<double>(c);
+  const double per_cell = std::min(side * side * side, 1.5 * side * side * (2 * band / h + 8));
+  const double band_voxels = std::min(voxels, cells * per_cell);
+  require_memory(band_voxels * kBytesPerVoxel,
+                 fmt::format("{}: a narrow band of about {:.2g} voxels (within {:g} of the input, "
+                             "voxel size {:g}) in a {} grid",
+                             what, band_voxels, band, h, format_dims(grid.dims)));
 }
 
 Bounds grown(const Bounds& b, double pad) {

@@ -14,6 +14,7 @@
 #include "isoforge/implicit/function.hpp"
 #include "isoforge/implicit/sample.hpp"
 #include "isoforge/io/io.hpp"
+#include "progress_bar.hpp"
 
 namespace isoforge::cli {
 
@@ -69,9 +70,9 @@ void warn(std::string_view message);
                                        const std::vector<FileFormat>& allowed,
                                        std::string_view extensions);
 /// The polygonal-data formats (.vtp .vtk .ply .obj .off) and their extensions, for surfaces.
-inline const std::vector<FileFormat> kSurfaceFormats = {
-    FileFormat::VtkPolyData, FileFormat::VtkLegacy, FileFormat::Ply, FileFormat::Obj,
-    FileFormat::Off};
+inline const std::vector<FileFormat> kSurfaceFormats = {FileFormat::VtkPolyData,
+                                                        FileFormat::VtkLegacy, FileFormat::Ply,
+                                                        FileFormat::Obj, FileFormat::Off};
 inline constexpr std::string_view kSurfaceExtensions = ".vtp .vtk .ply .obj .off";
 
 /// Adds "-d,--dims"-style option: N (a cube) or NX NY NZ samples, each an integer >= `min`.
@@ -90,6 +91,13 @@ CLI::Option* add_grid_option(CLI::App& cmd, std::string& grid);
 /// \throw UsageError if --grid was given but `input` is not a .vdb file.
 void require_vdb_input(const CLI::Option* grid_option, const std::string& input);
 
+/// `read(path, options)` reporting to `bar`'s current stage.
+[[nodiscard]] Dataset read_input(const std::string& path, ProgressBar& bar,
+                                 ReadOptions options = {});
+/// `write(ds, path, options)` as the stage "writing" of `bar`.
+void write_output(DatasetRef ds, const std::filesystem::path& path, ProgressBar& bar,
+                  WriteOptions options = {});
+
 /// The function expression given to `option` (see docs/implicit.md). \throw UsageError naming
 /// the option, the column and the problem.
 [[nodiscard]] ImplicitFunction parse_function(const std::string& expression, const char* option);
@@ -102,6 +110,14 @@ Dims parse_dims(const std::vector<Index>& values, const char* option);
 /// `GridSpec::from_bounds(bounds, dims)`. \throw UsageError naming --bounds/--dims when they do
 /// not make a grid (e.g. 64 samples along an axis of zero extent).
 [[nodiscard]] GridSpec grid_from_bounds(const Bounds& bounds, const Dims& dims);
+
+/// Refuses at once a sparse distance band that cannot fit in memory. The band's leaves are
+/// estimated on a coarse grid (cells of at least 8 voxels, at most 256 a side): the cells within
+/// `band` of a primitive (its box grown by `band`) are counted, each holding about 1.5 c² (2 band
+/// / h + 8) voxels of band (a surface crossing it), at most c³. \throw Error "<what>: a narrow
+/// band of about N voxels ... needs X; this machine has Y".
+void require_band_memory(const PolyData& input, const GridSpec& grid, double band,
+                         std::string_view what);
 
 /// `b` grown by `pad` on every side.
 Bounds grown(const Bounds& b, double pad);

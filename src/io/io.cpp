@@ -6,6 +6,7 @@
 #include <cstring>
 #include <fstream>
 
+#include "detail/progress.hpp"
 #include "isoforge/io/off_obj.hpp"
 #include "isoforge/io/ply.hpp"
 #include "isoforge/io/plot3d.hpp"
@@ -73,7 +74,9 @@ std::string_view format_name(FileFormat format) {
   return "?";
 }
 
-std::vector<std::byte> read_file_bytes(const std::filesystem::path& path) {
+namespace io_detail {
+
+std::vector<std::byte> read_file(const std::filesystem::path& path, Progress& progress) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
     throw Error(path.string() + ": is a directory, not a file");
@@ -85,25 +88,45 @@ std::vector<std::byte> read_file_bytes(const std::filesystem::path& path) {
   if (size < 0) throw Error(path.string() + ": cannot determine the file size");
   in.seekg(0, std::ios::beg);
   std::vector<std::byte> bytes(static_cast<std::size_t>(size));
-  if (size > 0 && !in.read(reinterpret_cast<char*>(bytes.data()), size)) {
-    throw Error(path.string() + ": read failed");
+  constexpr std::size_t kBlock = std::size_t{8} << 20;  // progress between blocks
+  for (std::size_t at = 0; at < bytes.size(); at += kBlock) {
+    const std::size_t n = std::min(kBlock, bytes.size() - at);
+    if (!in.read(reinterpret_cast<char*>(bytes.data() + at), static_cast<std::streamsize>(n))) {
+      throw Error(path.string() + ": read failed");
+    }
+    progress.add(n);
   }
   return bytes;
 }
 
+std::uint64_t file_size_or_zero(const std::filesystem::path& path) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  return ec ? 0 : static_cast<std::uint64_t>(size);
+}
+
+}  // namespace io_detail
+
+std::vector<std::byte> read_file_bytes(const std::filesystem::path& path) {
+  io_detail::Progress none;
+  return io_detail::read_file(path, none);
+}
+
 Dataset read(const std::filesystem::path& path, const ReadOptions& options) {
+  const ProgressCallback& progress = options.progress;
   switch (format_from_path(path)) {
-    case FileFormat::VtkLegacy: return read_vtk_legacy(path);
+    case FileFormat::VtkLegacy: return read_vtk_legacy(path, progress);
     case FileFormat::VtkImageData:
     case FileFormat::VtkStructuredGrid:
     case FileFormat::VtkPolyData:
-    case FileFormat::VtkUnstructuredGrid: return read_vtk_xml(path);
-    case FileFormat::Ply: return read_ply(path);
+    case FileFormat::VtkUnstructuredGrid: return read_vtk_xml(path, progress);
+    case FileFormat::Ply: return read_ply(path, progress);
     case FileFormat::Obj:
       throw Error(path.string() + ": reading OBJ is not supported (OBJ is an export format here)");
-    case FileFormat::Off: return read_off(path);
+    case FileFormat::Off: return read_off(path, progress);
     case FileFormat::Plot3d: {
       Plot3dOptions p;
+      p.progress = progress;
       if (options.plot3d_byte_order == "big") {
         p.byte_order = Plot3dByteOrder::Big;
       } else if (options.plot3d_byte_order == "little") {
@@ -114,10 +137,13 @@ Dataset read(const std::filesystem::path& path, const ReadOptions& options) {
       }
       return read_plot3d(path, options.plot3d_q, p);
     }
-    case FileFormat::Nrrd: return read_nrrd(path);
-    case FileFormat::MetaImage: return read_metaimage(path);
-    case FileFormat::Vdb:
-      return vdb_to_image(*read_vdb_grid(path, options.vdb_grid), options.vdb_max_voxels);
+    case FileFormat::Nrrd: return read_nrrd(path, progress);
+    case FileFormat::MetaImage: return read_metaimage(path, progress);
+    case FileFormat::Vdb: {
+      ImageData img = vdb_to_image(*read_vdb_grid(path, options.vdb_grid), options.vdb_max_voxels);
+      report_progress(progress, 1.0, "reading");
+      return img;
+    }
   }
   throw Error(path.string() + ": unsupported format");
 }
@@ -129,6 +155,7 @@ void write(DatasetRef ds, const std::filesystem::path& path, const WriteOptions&
       VtkLegacyWriteOptions o;
       o.binary = options.binary;
       o.version = options.vtk_legacy_version;
+      o.progress = options.progress;
       write_vtk_legacy(ds, path, o);
       return;
     }
@@ -139,17 +166,25 @@ void write(DatasetRef ds, const std::filesystem::path& path, const WriteOptions&
       VtkXmlWriteOptions o;
       o.encoding = options.binary ? VtkXmlEncoding::Appended : VtkXmlEncoding::Ascii;
       o.compress = options.compress;
+      o.progress = options.progress;
       write_vtk_xml(ds, path, o);
       return;
     }
     case FileFormat::Ply: {
       PlyWriteOptions o;
       o.encoding = options.binary ? PlyEncoding::BinaryLittleEndian : PlyEncoding::Ascii;
+      o.progress = options.progress;
       write_ply(require_poly(ds, path, "PLY"), path, o);
       return;
     }
-    case FileFormat::Obj: write_obj(require_poly(ds, path, "OBJ"), path); return;
-    case FileFormat::Off: write_off(require_poly(ds, path, "OFF"), path); return;
+    case FileFormat::Obj:
+      write_obj(require_poly(ds, path, "OBJ"), path);
+      if (options.progress) (void)options.progress(1.0);  // done: too late to cancel
+      return;
+    case FileFormat::Off:
+      write_off(require_poly(ds, path, "OFF"), path);
+      if (options.progress) (void)options.progress(1.0);  // done: too late to cancel
+      return;
     case FileFormat::Vdb: {
       const auto* img = ds.get_if<ImageData>();
       if (!img) {
@@ -159,6 +194,7 @@ void write(DatasetRef ds, const std::filesystem::path& path, const WriteOptions&
       ImageToVdbOptions o;
       o.tolerance = static_cast<float>(options.vdb_tolerance);
       write_vdb(*image_to_vdb(*img, o), path);
+      if (options.progress) (void)options.progress(1.0);  // done: too late to cancel
       return;
     }
     case FileFormat::Plot3d:

@@ -67,8 +67,11 @@ int significant_digits(std::string_view t) {
 
 class OffReader {
  public:
-  OffReader(std::span<const std::byte> data, std::string_view name)
-      : sc_(data, std::string(name)) {}
+  OffReader(std::span<const std::byte> data, std::string_view name,
+            io_detail::Progress* progress = nullptr, std::uint64_t progress_base = 0)
+      : sc_(data, std::string(name)) {
+    sc_.track(progress, progress_base);
+  }
 
   PolyData read() {
     // ---- header keyword: [ST][C][N]OFF ----
@@ -299,9 +302,10 @@ PolyData read_off(std::span<const std::byte> data, std::string_view name) {
   return reader.read();
 }
 
-PolyData read_off(const std::filesystem::path& path) {
-  const auto bytes = read_file_bytes(path);
-  return read_off(bytes, path.string());
+PolyData read_off(const std::filesystem::path& path, const ProgressCallback& progress) {
+  return io_detail::read_with_progress(
+      path, progress, [&](std::span<const std::byte> bytes, io_detail::Progress* p,
+                          std::uint64_t base) { return OffReader(bytes, path.string(), p, base).read(); });
 }
 
 void write_off(const PolyData& mesh, const std::filesystem::path& path) {

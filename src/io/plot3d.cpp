@@ -213,9 +213,11 @@ DataArray make_array(const std::string& name, int comps, const std::vector<doubl
 }
 
 void read_q(StructuredGrid& grid, std::span<const std::byte> q, const std::string& q_name,
-            const Layout& gl, const std::string& grid_name, const Plot3dOptions& options) {
+            const Layout& gl, const std::string& grid_name, const Plot3dOptions& options,
+            io_detail::Progress* progress, std::uint64_t progress_base) {
   const Layout l = detect_q(q, q_name, gl, grid_name, options.byte_order);
   Scanner sc(q, q_name);
+  sc.track(progress, progress_base);
   sc.seek(l.header_bytes);
   const auto cond = read_reals(sc, 4, l, "fsmach, alpha, re, time");
   const char* field_names[4] = {"FreeStreamMach", "AngleOfAttack", "ReynoldsNumber", "Time"};
@@ -279,15 +281,16 @@ DataArray valid_cells(const Dims& dims, std::span<const std::int32_t> iblank) {
   return DataArray::from_vector("Valid", 1, std::move(valid));
 }
 
-}  // namespace
-
-StructuredGrid read_plot3d(std::span<const std::byte> xyz, std::string_view xyz_name,
-                           std::span<const std::byte> q, std::string_view q_name,
-                           const Plot3dOptions& options) {
+// Parses the grid (reporting `progress_base` + its bytes consumed) and then the solution.
+StructuredGrid read_plot3d_impl(std::span<const std::byte> xyz, std::string_view xyz_name,
+                                std::span<const std::byte> q, std::string_view q_name,
+                                const Plot3dOptions& options, io_detail::Progress* progress,
+                                std::uint64_t progress_base) {
   const std::string name(xyz_name);
   if (!std::isfinite(options.gamma)) throw Error(name + ": PLOT3D gamma is not finite");
   const Layout l = detect_grid(xyz, name, options.byte_order);
   Scanner sc(xyz, name);
+  sc.track(progress, progress_base);
   sc.seek(l.header_bytes);
   const std::size_t n = l.count;
   StructuredGrid grid;
@@ -324,18 +327,37 @@ StructuredGrid read_plot3d(std::span<const std::byte> xyz, std::string_view xyz_
     grid.point_data.add(DataArray::from_vector("IBlank", 1, std::move(ib)));
   }
   if (!q.empty() || !q_name.empty()) {
-    read_q(grid, q, std::string(q_name), l, name, options);
+    read_q(grid, q, std::string(q_name), l, name, options, progress,
+           progress_base + xyz.size());
   }
   grid.validate();
   return grid;
 }
 
+}  // namespace
+
+StructuredGrid read_plot3d(std::span<const std::byte> xyz, std::string_view xyz_name,
+                           std::span<const std::byte> q, std::string_view q_name,
+                           const Plot3dOptions& options) {
+  io_detail::Progress progress(options.progress, xyz.size() + q.size(), "reading");
+  StructuredGrid grid = read_plot3d_impl(xyz, xyz_name, q, q_name, options, &progress, 0);
+  progress.finish();
+  return grid;
+}
+
 StructuredGrid read_plot3d(const std::filesystem::path& xyz_path,
                            const std::filesystem::path& q_path, const Plot3dOptions& options) {
-  const auto xyz = read_file_bytes(xyz_path);
+  // Loading both files is the first half of the work, parsing them the second.
+  const std::uint64_t size = io_detail::file_size_or_zero(xyz_path) +
+                             (q_path.empty() ? 0 : io_detail::file_size_or_zero(q_path));
+  io_detail::Progress progress(options.progress, 2 * size, "reading");
+  const auto xyz = io_detail::read_file(xyz_path, progress);
   std::vector<std::byte> q;
-  if (!q_path.empty()) q = read_file_bytes(q_path);
-  return read_plot3d(xyz, xyz_path.string(), q, q_path.string(), options);
+  if (!q_path.empty()) q = io_detail::read_file(q_path, progress);
+  StructuredGrid grid = read_plot3d_impl(xyz, xyz_path.string(), q, q_path.string(), options,
+                                         &progress, xyz.size() + q.size());
+  progress.finish();
+  return grid;
 }
 
 }  // namespace isoforge

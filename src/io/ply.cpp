@@ -89,8 +89,11 @@ std::vector<std::string_view> split_words(std::string_view line) {
 
 class PlyReader {
  public:
-  PlyReader(std::span<const std::byte> data, std::string_view name)
-      : sc_(data, std::string(name)) {}
+  PlyReader(std::span<const std::byte> data, std::string_view name,
+            io_detail::Progress* progress = nullptr, std::uint64_t progress_base = 0)
+      : sc_(data, std::string(name)) {
+    sc_.track(progress, progress_base);
+  }
 
   PolyData read() {
     parse_header();
@@ -348,6 +351,7 @@ class PlyReader {
                                   p.is_list ? 0 : n);
     }
     for (std::size_t i = 0; i < n; ++i) {
+      sc_.tick();  // progress, once a record
       for (std::size_t k = 0; k < e.props.size(); ++k) {
         if (e.props[k].is_list) {
           skip_property(e.props[k]);
@@ -385,6 +389,7 @@ class PlyReader {
     auto& conn = polys_.connectivity();
     offsets.reserve(n + 1);
     for (std::size_t f = 0; f < n; ++f) {
+      sc_.tick();  // progress, once a record
       for (std::size_t k = 0; k < e.props.size(); ++k) {
         const PlyProperty& p = e.props[k];
         if (static_cast<int>(k) == idx) {
@@ -626,9 +631,10 @@ PolyData read_ply(std::span<const std::byte> data, std::string_view name) {
   return reader.read();
 }
 
-PolyData read_ply(const std::filesystem::path& path) {
-  const auto bytes = read_file_bytes(path);
-  return read_ply(bytes, path.string());
+PolyData read_ply(const std::filesystem::path& path, const ProgressCallback& progress) {
+  return io_detail::read_with_progress(
+      path, progress, [&](std::span<const std::byte> bytes, io_detail::Progress* p,
+                          std::uint64_t base) { return PlyReader(bytes, path.string(), p, base).read(); });
 }
 
 void write_ply(const PolyData& mesh, const std::filesystem::path& path,
@@ -754,12 +760,18 @@ void write_ply(const PolyData& mesh, const std::filesystem::path& path,
   }
   buf += "end_header\n";
 
-  // ---- body ----
+  // ---- body: built in memory (90% of the progress, by values), then written ----
+  const std::uint64_t vertex_values = 3 + vprops.size(), face_values = 1 + fprops.size();
+  io_detail::Progress progress(options.progress,
+                               np * vertex_values + faces.connectivity().size() +
+                                   faces.size() * face_values,
+                               "writing", 0, 0.9);
   for (std::size_t i = 0; i < np; ++i) {
     const Vec3 p = mesh.points[i];
     for (int a = 0; a < 3; ++a) out.put_as(pt, p[a]);
     for (const auto& q : vprops) out.put_as(q.type, q.array->get(i, q.comp));
     out.end_record();
+    progress.add(vertex_values);
   }
   for (std::size_t f = 0; f < faces.size(); ++f) {
     const auto ids = faces.cell(f);
@@ -767,10 +779,13 @@ void write_ply(const PolyData& mesh, const std::filesystem::path& path,
     for (Index id : ids) out.put_as(index_type, static_cast<double>(id));
     for (const auto& q : fprops) out.put_as(q.type, q.array->get(rows[f], q.comp));
     out.end_record();
+    progress.add(ids.size() + face_values);
   }
 
   AtomicFile file_out(path);
-  file_out.stream().write(buf.data(), static_cast<std::streamsize>(buf.size()));
+  io_detail::Progress written(options.progress, buf.size(), "writing", 0.9, 1);
+  io_detail::write_blocks(file_out.stream(), buf.data(), buf.size(), written);
+  written.finish();  // before the commit: a cancel leaves the target unchanged
   file_out.commit();
 }
 

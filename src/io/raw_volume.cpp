@@ -145,6 +145,9 @@ struct DataSpec {
   int components = 1;
   Endian endian = io_detail::kHostEndian;
   std::size_t tuples = 0;
+  // Progress of loading the samples: fractions [progress_from, 1] of the callback (none if null).
+  const ProgressCallback* progress = nullptr;
+  double progress_from = 0;
 };
 
 fs::path resolve(const DataSpec& spec, const std::string& file) {
@@ -170,13 +173,20 @@ std::uint64_t data_file_size(const DataSpec& spec, const std::string& file) {
   return size;
 }
 
-/// Reads the first `n` bytes of a data file (already checked to be that long).
-std::vector<std::byte> read_prefix(const DataSpec& spec, const std::string& file, std::uint64_t n) {
+/// Reads the first `n` bytes of a data file (already checked to be that long), in blocks added to
+/// `progress`.
+std::vector<std::byte> read_prefix(const DataSpec& spec, const std::string& file, std::uint64_t n,
+                                   io_detail::Progress& progress) {
   std::ifstream in(resolve(spec, file), std::ios::binary);
   if (!in) throw Error(data_label(spec, file) + ": cannot open");
   std::vector<std::byte> bytes(static_cast<std::size_t>(n));
-  if (n > 0 && !in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(n))) {
-    throw Error(data_label(spec, file) + ": read failed (the file is shorter than it claims)");
+  constexpr std::size_t kBlock = std::size_t{8} << 20;
+  for (std::size_t at = 0; at < bytes.size(); at += kBlock) {
+    const std::size_t m = std::min(kBlock, bytes.size() - at);
+    if (!in.read(reinterpret_cast<char*>(bytes.data() + at), static_cast<std::streamsize>(m))) {
+      throw Error(data_label(spec, file) + ": read failed (the file is shorter than it claims)");
+    }
+    progress.add(m);
   }
   return bytes;
 }
@@ -284,6 +294,9 @@ DataArray load_samples(const DataSpec& spec) {
                 std::to_string(elem) + " bytes overflow the addressable size");
   }
   std::vector<std::byte> raw;
+  static const ProgressCallback kNone;
+  const ProgressCallback& callback = spec.progress ? *spec.progress : kNone;
+  io_detail::Progress progress;
   if (spec.files.empty()) {
     // Attached data: check that it can be there before allocating.
     const std::uint64_t avail = spec.attached.size() - spec.attached_offset;
@@ -302,7 +315,9 @@ DataArray load_samples(const DataSpec& spec) {
                   " bytes the header describes");
     }
     raw.resize(static_cast<std::size_t>(total));
+    progress = io_detail::Progress(callback, 2 * total, "reading", spec.progress_from);
     decode_piece(spec, spec.attached, spec.attached_offset, raw, spec.header + ": attached data");
+    progress.add(total);
   } else {
     const std::uint64_t nfiles = spec.files.size();
     if (total % nfiles != 0) {
@@ -332,23 +347,37 @@ DataArray load_samples(const DataSpec& spec) {
       sizes.push_back(size);
     }
     raw.resize(static_cast<std::size_t>(total));
+    const bool whole = spec.compressed || spec.line_skip > 0 || spec.byte_skip < 0;
+    std::uint64_t reads = 0;  // bytes read from the files
+    for (std::size_t i = 0; i < spec.files.size(); ++i) {
+      reads += whole ? sizes[i] : static_cast<std::uint64_t>(spec.byte_skip) + per_file;
+    }
+    // Work: the files read, each piece decoded, and the samples copied at the end.
+    progress = io_detail::Progress(callback, reads + 2 * total, "reading", spec.progress_from);
     for (std::size_t i = 0; i < spec.files.size(); ++i) {
       const std::string f = spec.files.name(i);
-      const bool whole = spec.compressed || spec.line_skip > 0 || spec.byte_skip < 0;
       const std::uint64_t n =
           whole ? sizes[i] : static_cast<std::uint64_t>(spec.byte_skip) + per_file;
-      const auto bytes = read_prefix(spec, f, n);
+      const auto bytes = read_prefix(spec, f, n, progress);
       decode_piece(spec, bytes, 0,
                    std::span<std::byte>(raw).subspan(static_cast<std::size_t>(i * per_file),
                                                      static_cast<std::size_t>(per_file)),
                    data_label(spec, f));
+      progress.add(per_file);
     }
   }
   DataArray a("Scalars", spec.type, spec.components, spec.tuples);
-  if (total > 0) std::memcpy(a.bytes(), raw.data(), static_cast<std::size_t>(total));
-  if (spec.endian != io_detail::kHostEndian) {
-    io_detail::swap_bytes_inplace(a.bytes(), a.size(), scalar_size(spec.type));
+  const std::size_t elem_size = scalar_size(spec.type);
+  constexpr std::size_t kBlock = std::size_t{4} << 20;  // a multiple of every element size
+  for (std::size_t at = 0; at < static_cast<std::size_t>(total); at += kBlock) {
+    const std::size_t n = std::min(kBlock, static_cast<std::size_t>(total) - at);
+    std::memcpy(a.bytes() + at, raw.data() + at, n);
+    if (spec.endian != io_detail::kHostEndian) {
+      io_detail::swap_bytes_inplace(a.bytes() + at, n / elem_size, elem_size);
+    }
+    progress.add(n);
   }
+  progress.finish();
   return a;
 }
 
@@ -595,7 +624,8 @@ bool nrrd_known_ignored(const std::string& f) {
 }
 
 ImageData read_nrrd_impl(std::span<const std::byte> data, const std::string& name,
-                         const fs::path& base_dir) {
+                         const fs::path& base_dir,
+                         const ProgressCallback* progress = nullptr, double progress_from = 0) {
   Scanner sc(data, name);
   std::string_view line;
   if (!sc.read_line(line)) fail_at(name, 1, "empty file, expected the NRRD magic 'NRRD000X'");
@@ -756,6 +786,8 @@ ImageData read_nrrd_impl(std::span<const std::byte> data, const std::string& nam
 
   // ---- storage ----
   DataSpec spec;
+  spec.progress = progress;
+  spec.progress_from = progress_from;
   spec.header = name;
   spec.base_dir = base_dir;
   spec.type = *type;
@@ -852,7 +884,8 @@ std::optional<bool> met_bool(std::string_view v) {
 }
 
 ImageData read_metaimage_impl(std::span<const std::byte> data, const std::string& name,
-                              const fs::path& base_dir) {
+                              const fs::path& base_dir,
+                              const ProgressCallback* progress = nullptr, double progress_from = 0) {
   Scanner sc(data, name);
   struct Field {
     std::string value;
@@ -1003,6 +1036,8 @@ ImageData read_metaimage_impl(std::span<const std::byte> data, const std::string
   }
 
   DataSpec spec;
+  spec.progress = progress;
+  spec.progress_from = progress_from;
   spec.header = name;
   spec.base_dir = base_dir;
   const Field& et_f = require("elementtype", "ElementType");
@@ -1079,9 +1114,25 @@ ImageData read_nrrd(std::span<const std::byte> data, std::string_view name,
   return read_nrrd_impl(data, std::string(name), base_dir);
 }
 
-ImageData read_nrrd(const std::filesystem::path& path) {
-  const auto bytes = read_file_bytes(path);
-  return read_nrrd(bytes, path.string(), path.parent_path());
+namespace {
+
+// Loads a header file with progress, then its samples: the header is a weight-free first step
+// when small (detached data), the first half of the work when big (attached data).
+template <class Impl>
+ImageData read_raw_volume(const std::filesystem::path& path, const ProgressCallback& callback,
+                          Impl&& impl) {
+  const std::uint64_t size = io_detail::file_size_or_zero(path);
+  const double header_share = size >= io_detail::Progress::kStep ? 0.5 : 0.0;
+  io_detail::Progress progress(callback, size, "reading", 0, header_share);
+  const auto bytes = io_detail::read_file(path, progress);
+  return impl(std::span<const std::byte>(bytes), path.string(), path.parent_path(),
+              callback ? &callback : nullptr, header_share);
+}
+
+}  // namespace
+
+ImageData read_nrrd(const std::filesystem::path& path, const ProgressCallback& progress) {
+  return read_raw_volume(path, progress, [](auto&&... a) { return read_nrrd_impl(a...); });
 }
 
 ImageData read_metaimage(std::span<const std::byte> data, std::string_view name,
@@ -1089,9 +1140,8 @@ ImageData read_metaimage(std::span<const std::byte> data, std::string_view name,
   return read_metaimage_impl(data, std::string(name), base_dir);
 }
 
-ImageData read_metaimage(const std::filesystem::path& path) {
-  const auto bytes = read_file_bytes(path);
-  return read_metaimage(bytes, path.string(), path.parent_path());
+ImageData read_metaimage(const std::filesystem::path& path, const ProgressCallback& progress) {
+  return read_raw_volume(path, progress, [](auto&&... a) { return read_metaimage_impl(a...); });
 }
 
 }  // namespace isoforge

@@ -224,8 +224,11 @@ struct CellSection {
 
 class LegacyReader {
  public:
-  LegacyReader(std::span<const std::byte> data, std::string_view name)
-      : s_(data, std::string(name)) {}
+  LegacyReader(std::span<const std::byte> data, std::string_view name,
+               io_detail::Progress* progress = nullptr, std::uint64_t progress_base = 0)
+      : s_(data, std::string(name)) {
+    s_.track(progress, progress_base);
+  }
 
   Dataset read() {
     read_header();
@@ -1086,7 +1089,8 @@ void check_writable(DatasetRef ds, const VtkLegacyWriteOptions& options,
 class LegacyWriter {
  public:
   LegacyWriter(std::ostream& out, const VtkLegacyWriteOptions& options)
-      : out_(out), binary_(options.binary), v5_(options.version == "5.1") {
+      : out_(out), binary_(options.binary), v5_(options.version == "5.1"),
+        callback_(options.progress) {
     std::string title = options.title;
     std::replace(title.begin(), title.end(), '\n', ' ');
     std::replace(title.begin(), title.end(), '\r', ' ');
@@ -1095,10 +1099,13 @@ class LegacyWriter {
   }
 
   void write(DatasetRef ds) {
+    // Progress by values written (the buffer is flushed to the stream every megabyte).
+    progress_ = io_detail::Progress(callback_, io_detail::payload_values(ds), "writing");
     ds.visit([&](const auto& d) { write_geometry(d); });
     write_attributes(cell_data(ds), "CELL_DATA", num_cells(ds));
     write_attributes(point_data(ds), "POINT_DATA", num_points(ds));
     flush();
+    progress_.finish();
   }
 
  private:
@@ -1137,8 +1144,12 @@ class LegacyWriter {
         number(v[i]);
         buf_ += (i % 9 == 8 || i + 1 == v.size()) ? '\n' : ' ';
       }
-      if (i % 4096 == 4095) maybe_flush();
+      if (i % 4096 == 4095) {
+        maybe_flush();
+        progress_.add(4096);
+      }
     }
+    progress_.add(v.size() % 4096);
     if (binary_ || v.empty()) buf_ += '\n';
   }
   void values(const DataArray& a) {
@@ -1218,6 +1229,7 @@ class LegacyWriter {
         }
         buf_ += '\n';
       }
+      progress_.add(ids.size() + 1);
       if (c % 1024 == 1023) maybe_flush();
     }
     if (binary_) buf_ += '\n';
@@ -1303,19 +1315,19 @@ class LegacyWriter {
   std::ostream& out_;
   bool binary_;
   bool v5_;
+  const ProgressCallback& callback_;
+  io_detail::Progress progress_;
   std::string buf_;
 };
 
 }  // namespace
 
-Dataset read_vtk_legacy(const std::filesystem::path& path) {
-  const std::vector<std::byte> bytes = read_file_bytes(path);
-  return read_vtk_legacy(bytes, path.string());
-}
+namespace {
 
-Dataset read_vtk_legacy(std::span<const std::byte> data, std::string_view name) {
+Dataset read_legacy(std::span<const std::byte> data, std::string_view name,
+                    io_detail::Progress* progress, std::uint64_t progress_base) {
   try {
-    return LegacyReader(data, name).read();
+    return LegacyReader(data, name, progress, progress_base).read();
   } catch (const Error&) {
     throw;
   } catch (const std::bad_alloc&) {
@@ -1323,6 +1335,18 @@ Dataset read_vtk_legacy(std::span<const std::byte> data, std::string_view name) 
   } catch (const std::exception& e) {
     throw Error(std::string(name) + ": internal error while reading: " + e.what());
   }
+}
+
+}  // namespace
+
+Dataset read_vtk_legacy(const std::filesystem::path& path, const ProgressCallback& progress) {
+  return io_detail::read_with_progress(
+      path, progress, [&](std::span<const std::byte> bytes, io_detail::Progress* p,
+                          std::uint64_t base) { return read_legacy(bytes, path.string(), p, base); });
+}
+
+Dataset read_vtk_legacy(std::span<const std::byte> data, std::string_view name) {
+  return read_legacy(data, name, nullptr, 0);
 }
 
 void write_vtk_legacy(DatasetRef ds, const std::filesystem::path& path,

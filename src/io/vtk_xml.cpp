@@ -456,7 +456,9 @@ void copy_box(const DataArray& src, const std::array<std::size_t, 3>& sub, DataA
 
 class Reader {
  public:
-  Reader(std::span<const std::byte> data, std::string_view name) : data_(data), name_(name) {
+  Reader(std::span<const std::byte> data, std::string_view name,
+         io_detail::Progress* progress = nullptr, std::uint64_t progress_base = 0)
+      : data_(data), name_(name), progress_(progress), progress_base_(progress_base) {
     // Every decoded byte must come from somewhere: a legitimate file never decodes to more
     // than zlib's maximum expansion of the whole file.
     budget_ = static_cast<std::uint64_t>(data.size()) * (kZlibMaxRatio + 8) + (1u << 20);
@@ -470,6 +472,11 @@ class Reader {
   }
 
   void split_appended();
+  /// Progress: the data up to byte `file_pos` of the file is decoded (one comparison when no
+  /// report is due).
+  void tick(std::uint64_t file_pos) {
+    if (progress_) progress_->set(progress_base_ + file_pos);
+  }
   void charge(std::uint64_t bytes, const Where& w) {
     if (bytes > budget_) {
       w.fail("arrays decode to more data than the file can hold (" + num(bytes) +
@@ -516,6 +523,8 @@ class Reader {
 
   std::span<const std::byte> data_;
   std::string name_;
+  io_detail::Progress* progress_ = nullptr;
+  std::uint64_t progress_base_ = 0;
   std::uint64_t budget_ = 0;
 
   Endian endian_ = Endian::Little;
@@ -600,7 +609,11 @@ void Reader::read_payload(ByteSource& src, const Where& w, std::optional<std::ui
     }
     charge(n, w);
     std::byte* dst = alloc(n);
-    src.read(dst, static_cast<std::size_t>(n), w, "the array data");
+    for (std::uint64_t at = 0; at < n; at += io_detail::Progress::kStep) {  // progress between
+      const auto m = static_cast<std::size_t>(std::min(io_detail::Progress::kStep, n - at));
+      src.read(dst + at, m, w, "the array data");
+      tick(src.file_pos());
+    }
     return;
   }
 
@@ -676,6 +689,7 @@ void Reader::read_payload(ByteSource& src, const Where& w, std::optional<std::ui
                         " bytes but the header says " + num(u));
     }
     out += u;
+    tick(src.file_pos());
   }
 }
 
@@ -698,9 +712,10 @@ std::string_view element_text(pugi::xml_node el, std::string& storage, std::uint
   return count <= 1 ? first : std::string_view(storage);
 }
 
-template <class T>
+/// Parses whitespace-separated values; `tick(i)` is told the offset reached in `text`.
+template <class T, class Tick>
 std::vector<T> parse_ascii(std::string_view text, std::optional<std::uint64_t> count,
-                           const Where& w, std::string_view type_name) {
+                           const Where& w, std::string_view type_name, Tick&& tick) {
   std::vector<T> out;
   // Each value takes at least two characters (digit and separator), which bounds the reservation
   // whatever count the file claims.
@@ -723,6 +738,7 @@ std::vector<T> parse_ascii(std::string_view text, std::optional<std::uint64_t> c
     }
     out.push_back(v);
     i = j;
+    tick(i);
   }
   if (count && out.size() != *count) {
     w.fail("ascii data holds " + num(out.size()) + " values but the array needs " + num(*count));
@@ -780,7 +796,8 @@ std::optional<DataArray> Reader::read_array(pugi::xml_node el, const Where& w,
     const std::string_view text = element_text(el, storage, tw.byte);
     auto make = [&](auto tag) {
       using T = decltype(tag);
-      auto vec = parse_ascii<T>(text, values, tw, *type_name);
+      auto vec = parse_ascii<T>(text, values, tw, *type_name,
+                                [&, at = tw.byte](std::size_t i) { tick(at + i); });
       if (!values && vec.size() % comps != 0) {
         tw.fail("ascii data holds " + num(vec.size()) + " values, not a multiple of " + num(comps) +
                 " components");
@@ -1549,9 +1566,12 @@ void append_number(std::string& out, T v) {
 class Writer {
  public:
   explicit Writer(const VtkXmlWriteOptions& o)
-      : enc_(o.encoding), compress_(o.encoding != VtkXmlEncoding::Ascii && o.compress) {}
+      : enc_(o.encoding), compress_(o.encoding != VtkXmlEncoding::Ascii && o.compress),
+        callback_(o.progress) {}
 
+  // The document is built in memory (90% of the progress, by values encoded), then written out.
   void write(DatasetRef ds, std::ostream& os) {
+    progress_ = io_detail::Progress(callback_, io_detail::payload_values(ds), "writing", 0, 0.9);
     x_ = "<?xml version=\"1.0\"?>\n<VTKFile type=\"";
     const char* type =
         ds.visit(Overloaded{[](const ImageData&) { return "ImageData"; },
@@ -1563,14 +1583,20 @@ class Writer {
     if (compress_) x_ += " compressor=\"vtkZLibDataCompressor\"";
     x_ += ">\n";
     ds.visit([&](const auto& d) { body(d); });
-    if (enc_ == VtkXmlEncoding::Appended) {
-      x_ += "  <AppendedData encoding=\"raw\">\n   _";
-      os.write(x_.data(), static_cast<std::streamsize>(x_.size()));
-      os.write(app_.data(), static_cast<std::streamsize>(app_.size()));
-      x_ = "\n  </AppendedData>\n";
+    constexpr std::string_view kAppended = "  <AppendedData encoding=\"raw\">\n   _";
+    constexpr std::string_view kAppendedEnd = "\n  </AppendedData>\n";
+    const bool appended = enc_ == VtkXmlEncoding::Appended;
+    const std::size_t size = x_.size() + (appended ? kAppended.size() + app_.size() + kAppendedEnd.size() : 0);
+    io_detail::Progress out(callback_, size, "writing", progress_.to(), 1);
+    if (appended) {
+      x_ += kAppended;
+      io_detail::write_blocks(os, x_.data(), x_.size(), out);
+      io_detail::write_blocks(os, app_.data(), app_.size(), out);
+      x_ = kAppendedEnd;
     }
     x_ += "</VTKFile>\n";
-    os.write(x_.data(), static_cast<std::streamsize>(x_.size()));
+    io_detail::write_blocks(os, x_.data(), x_.size(), out);
+    out.finish();
   }
 
  private:
@@ -1732,6 +1758,7 @@ class Writer {
     if (!compress_) {
       put_word(n);
       if (n > 0) data.assign(reinterpret_cast<const char*>(bytes), n);
+      progress_.add(a.size());
       return;
     }
     const std::size_t nblocks = (n + kWriteBlockSize - 1) / kWriteBlockSize;
@@ -1748,6 +1775,7 @@ class Writer {
       if (r != Z_OK) throw Error("VTK XML writer: zlib compression failed");
       put_word(clen);
       data.append(reinterpret_cast<const char*>(buf.data()), clen);
+      progress_.add(len / es);
     }
   }
 
@@ -1766,6 +1794,7 @@ class Writer {
         } else {
           append_number(x_, v[i]);
         }
+        progress_.add(1);
       }
       if (!v.empty()) x_ += '\n';
     });
@@ -1812,6 +1841,8 @@ class Writer {
 
   VtkXmlEncoding enc_;
   bool compress_;
+  const ProgressCallback& callback_;
+  io_detail::Progress progress_;  // of building the document
   std::string x_;    // XML text
   std::string app_;  // raw appended data
 };
@@ -1823,9 +1854,12 @@ std::string lower(std::string s) {
 
 }  // namespace
 
-Dataset read_vtk_xml(std::span<const std::byte> data, std::string_view name) {
+namespace {
+
+Dataset read_xml(std::span<const std::byte> data, std::string_view name,
+                 io_detail::Progress* progress, std::uint64_t progress_base) {
   try {
-    Reader r(data, name);
+    Reader r(data, name, progress, progress_base);
     return r.read();
   } catch (const Error&) {
     throw;
@@ -1836,9 +1870,16 @@ Dataset read_vtk_xml(std::span<const std::byte> data, std::string_view name) {
   }
 }
 
-Dataset read_vtk_xml(const std::filesystem::path& path) {
-  const std::vector<std::byte> bytes = read_file_bytes(path);
-  return read_vtk_xml(bytes, path.string());
+}  // namespace
+
+Dataset read_vtk_xml(std::span<const std::byte> data, std::string_view name) {
+  return read_xml(data, name, nullptr, 0);
+}
+
+Dataset read_vtk_xml(const std::filesystem::path& path, const ProgressCallback& progress) {
+  return io_detail::read_with_progress(
+      path, progress, [&](std::span<const std::byte> bytes, io_detail::Progress* p,
+                          std::uint64_t base) { return read_xml(bytes, path.string(), p, base); });
 }
 
 std::string_view vtk_xml_extension(DatasetRef ds) {

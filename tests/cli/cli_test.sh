@@ -224,6 +224,8 @@ expect_error huge_distance "distance: a 100000³ Float32 volume needs 4 PB" "$bi
 expect_error huge_offset "distance: a 100000³ Float32 volume needs 4 PB" "$bin" offset "$data/hello.vtk" -d 0.2 --dims 100000 -o "$tmp/refused.vtp"
 expect_error huge_attractor "trajectory density: a 100000³ UInt32 volume needs 4 PB" "$bin" attractor --dims 100000 -o "$tmp/refused.vtp"
 expect_error huge_band "sparse sample: a narrow band \(half width 3\) of about .* leaves \(8³ voxels\) in a 100000³ grid needs .* TB; this machine has" "$bin" sample -f 'sphere(r=0.8)' -b -1 1 -1 1 -1 1 -d 100000 -o "$tmp/refused.vdb"
+expect_error huge_distance_band "distance: a narrow band of about .* voxels \(within 0.003 of the input, voxel size 1e-05\) in a 16171 x 16035 x 12669 grid needs .* TB" "$bin" distance "$data/bunny.ply" -m 0.003 --voxel-size 0.00001 -o "$tmp/refused.vdb"
+expect_error huge_offset_band "offset: a narrow band of about .* voxels .* needs .* TB" "$bin" offset "$data/bunny.ply" -d 0.001 --voxel-size 0.000005 -o "$tmp/refused.ply"
 expect_ok tiny_band_in_huge_grid "active" "$bin" sample -f 'sphere(r=0.0002)' -b -1 1 -1 1 -1 1 -d 100000 -o "$tmp/tiny.vdb"
 ls "$tmp"/refused.* >/dev/null 2>&1 && fail "a refused request left an output"
 

@@ -57,7 +57,9 @@ TEST(Memory, RefusesWhatExceedsPhysicalMemoryNamingBothSizes) {
 }
 
 TEST(Memory, RefusesAVolumeByItsDimsAndType) {
-  EXPECT_EQ(error_of([] { require_volume_memory("sample", {100000, 100000, 100000}, "Float32", 4); }),
+  EXPECT_EQ(error_of([] {
+              require_volume_memory("sample", {100000, 100000, 100000}, "Float32", 4);
+            }),
             "sample: a 100000³ Float32 volume needs 4 PB; this machine has " +
                 format_bytes(static_cast<double>(physical_memory())));
   EXPECT_NO_THROW(require_volume_memory("sample", {64, 64, 64}, "Float32", 4));
@@ -71,8 +73,9 @@ TEST(Memory, DenseEntryPointsRefuseHugeVolumesAtOnce) {
   box.min = {-1, -1, -1};
   box.max = {1, 1, 1};
   const GridSpec g = GridSpec::from_bounds(box, huge);
-  EXPECT_NE(error_of([&] { (void)sample_image(parse_implicit("sphere()"), g); })
-                .find("sample: a 100000³ Float32 volume needs 4 PB"),
+  EXPECT_NE(error_of([&] {
+              (void)sample_image(parse_implicit("sphere()"), g);
+            }).find("sample: a 100000³ Float32 volume needs 4 PB"),
             std::string::npos);
 
   PolyData line;
@@ -81,22 +84,25 @@ TEST(Memory, DenseEntryPointsRefuseHugeVolumesAtOnce) {
   line.lines.add({0, 1});
   DistanceOptions d;
   d.max_distance = 0.1;
-  EXPECT_NE(error_of([&] { (void)distance_image(line, g, d); })
-                .find("distance: a 100000³ Float32 volume needs 4 PB"),
+  EXPECT_NE(error_of([&] {
+              (void)distance_image(line, g, d);
+            }).find("distance: a 100000³ Float32 volume needs 4 PB"),
             std::string::npos);
 
   ImplicitModellerOptions m;
   m.sample_dimensions = huge;
   m.output_type = ScalarType::UInt8;  // a Float64 field and its UInt8 copy: 9 bytes a sample
-  EXPECT_NE(error_of([&] { (void)implicit_modeller(line, m); })
-                .find("implicit modeller: a 100000³ UInt8 volume needs 9 PB"),
+  EXPECT_NE(error_of([&] {
+              (void)implicit_modeller(line, m);
+            }).find("implicit modeller: a 100000³ UInt8 volume needs 9 PB"),
             std::string::npos);
 
   TrajectoryOptions t;
   t.dims = huge;
   t.steps = 1;
-  EXPECT_NE(error_of([&] { (void)lorenz_density({}, t); })
-                .find("trajectory density: a 100000³ UInt32 volume needs 4 PB"),
+  EXPECT_NE(error_of([&] {
+              (void)lorenz_density({}, t);
+            }).find("trajectory density: a 100000³ UInt32 volume needs 4 PB"),
             std::string::npos);
 }
 

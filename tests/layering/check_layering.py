@@ -98,9 +98,13 @@ def check(root):
                 elif path in headers:
                     errors.append(f"{rel(path)}: a public header includes the private '{inc}'")
                 else:
-                    target = os.path.normpath(os.path.join(os.path.dirname(path), inc))
+                    # Relative to the including file, or to src/ (the library's private
+                    # include directory): either way a file of this module.
                     home = os.path.join(root, "src", m)
-                    if not target.startswith(home + os.sep) or not os.path.exists(target):
+                    candidates = [os.path.normpath(os.path.join(os.path.dirname(path), inc)),
+                                  os.path.normpath(os.path.join(root, "src", inc))]
+                    if not any(t.startswith(home + os.sep) and os.path.exists(t)
+                               for t in candidates):
                         errors.append(f"{rel(path)}: '{inc}' is not a header of module '{m}' "
                                       "(use the public header of another module)")
 

@@ -56,7 +56,7 @@ class AtomicFile {
   std::filesystem::path resolved_;  // target_ with symbolic links followed: what is replaced
   std::filesystem::path temp_;      // empty until writing begins
   std::ofstream stream_;
-  int slot_ = -1;                   // registry slot of temp_ (see remove_temporary_files)
+  int slot_ = -1;  // registry slot of temp_ (see remove_temporary_files)
   bool committed_ = false;
 };
 

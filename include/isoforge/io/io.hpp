@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "isoforge/core/dataset.hpp"
+#include "isoforge/core/progress.hpp"
 
 namespace isoforge {
 
@@ -56,6 +57,9 @@ struct ReadOptions {
   std::string vdb_grid;
   /// OpenVDB: refuse to densify grids with more voxels than this (guards memory).
   std::size_t vdb_max_voxels = std::size_t{1} << 28;
+  /// Told the fraction of the file(s) loaded and parsed, about every megabyte (VTK legacy and
+  /// XML, PLY, OFF, NRRD, MetaImage, PLOT3D; OpenVDB only at the end); false cancels.
+  ProgressCallback progress{};
 };
 
 /// Options understood by `write`.
@@ -67,9 +71,13 @@ struct WriteOptions {
   std::string vtk_legacy_version = "4.2";
   /// OpenVDB: voxels with |value - background| <= tolerance become inactive.
   double vdb_tolerance = 0.0;
+  /// Told the fraction written, about every megabyte of values (VTK legacy and XML, PLY; the
+  /// other formats only at the end); false cancels (`Cancelled`, the target is not changed).
+  ProgressCallback progress{};
 };
 
-/// Reads any supported file. \throw Error naming the file and what is wrong.
+/// Reads any supported file. \throw Error naming the file and what is wrong; `Cancelled` if
+/// `options.progress` returns false.
 [[nodiscard]] Dataset read(const std::filesystem::path& path, const ReadOptions& options = {});
 
 /// Writes `ds` atomically in the format given by the extension. \throw Error if the format

@@ -8,10 +8,14 @@
 #include <string_view>
 
 #include "isoforge/core/dataset.hpp"
+#include "isoforge/core/progress.hpp"
 
 namespace isoforge {
 
-[[nodiscard]] PolyData read_off(const std::filesystem::path& path);
+/// Reads an OFF file; `progress` is told the fraction loaded and parsed (about every megabyte).
+/// \throw Error naming the file and place; `Cancelled` if `progress` returns false.
+[[nodiscard]] PolyData read_off(const std::filesystem::path& path,
+                                const ProgressCallback& progress = {});
 /// The same from the bytes of a file; `name` is used in error messages.
 [[nodiscard]] PolyData read_off(std::span<const std::byte> data, std::string_view name);
 /// Writes OFF (points and polys; strips triangulated). \throw Error if there are lines or verts.

@@ -16,6 +16,7 @@
 #include <string_view>
 
 #include "isoforge/core/dataset.hpp"
+#include "isoforge/core/progress.hpp"
 
 namespace isoforge {
 
@@ -24,6 +25,8 @@ enum class Plot3dByteOrder { Auto, Big, Little };
 struct Plot3dOptions {
   Plot3dByteOrder byte_order = Plot3dByteOrder::Auto;  ///< Auto: the order that makes the header sane
   double gamma = 1.4;  ///< ratio of specific heats, for the derived pressure
+  /// Told the fraction of the files loaded and parsed (about every megabyte); false cancels.
+  ProgressCallback progress{};
 };
 
 /// Reads a PLOT3D grid and, if `q_path` is not empty, its solution.

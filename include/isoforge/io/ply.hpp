@@ -13,16 +13,22 @@
 #include <string_view>
 
 #include "isoforge/core/dataset.hpp"
+#include "isoforge/core/progress.hpp"
 
 namespace isoforge {
 
-[[nodiscard]] PolyData read_ply(const std::filesystem::path& path);
+/// Reads a PLY file; `progress` is told the fraction loaded and parsed (about every megabyte).
+/// \throw Error naming the file and place; `Cancelled` if `progress` returns false.
+[[nodiscard]] PolyData read_ply(const std::filesystem::path& path,
+                                const ProgressCallback& progress = {});
 /// The same from the bytes of a file; `name` is used in error messages.
 [[nodiscard]] PolyData read_ply(std::span<const std::byte> data, std::string_view name);
 
 enum class PlyEncoding { Ascii, BinaryLittleEndian, BinaryBigEndian };
 struct PlyWriteOptions {
-  PlyEncoding encoding = PlyEncoding::BinaryLittleEndian;
+  PlyEncoding encoding = PlyEncoding::BinaryLittleEndian;  ///< ASCII or binary (either order)
+  /// Told the fraction written (about every megabyte of values); false cancels (`Cancelled`).
+  ProgressCallback progress{};
 };
 /// Writes vertices (with point arrays as properties) and faces (polys; verts/lines/strips are
 /// not representable and make it throw unless empty; strips are triangulated).

@@ -14,12 +14,15 @@
 #include <string_view>
 
 #include "isoforge/core/dataset.hpp"
+#include "isoforge/core/progress.hpp"
 
 namespace isoforge {
 
-/// Reads a VTK legacy file. \throw Error naming the file, the line (ASCII) or byte offset
-/// (binary) and what is wrong.
-[[nodiscard]] Dataset read_vtk_legacy(const std::filesystem::path& path);
+/// Reads a VTK legacy file; `progress` is told the fraction of the file loaded and parsed (about
+/// every megabyte). \throw Error naming the file, the line (ASCII) or byte offset (binary) and
+/// what is wrong; `Cancelled` if `progress` returns false.
+[[nodiscard]] Dataset read_vtk_legacy(const std::filesystem::path& path,
+                                      const ProgressCallback& progress = {});
 /// Parses VTK legacy data held in memory; `name` is used in error messages.
 [[nodiscard]] Dataset read_vtk_legacy(std::span<const std::byte> data, std::string_view name);
 
@@ -27,6 +30,8 @@ struct VtkLegacyWriteOptions {
   bool binary = true;                   ///< BINARY (big-endian) or ASCII
   std::string version = "4.2";          ///< "4.2" (classic cell lists) or "5.1" (OFFSETS/CONNECTIVITY)
   std::string title = "written by isoforge";  ///< header line 2 (newlines are replaced)
+  /// Told the fraction written (about every megabyte of values); false cancels (`Cancelled`).
+  ProgressCallback progress{};
 };
 
 /// Writes atomically. \throw Error on invalid datasets or I/O failure.

@@ -11,12 +11,15 @@
 #include <string_view>
 
 #include "isoforge/core/dataset.hpp"
+#include "isoforge/core/progress.hpp"
 
 namespace isoforge {
 
-/// Reads a VTK XML file; the dataset type comes from the `VTKFile type=` attribute.
-/// \throw Error naming the file and what is wrong.
-[[nodiscard]] Dataset read_vtk_xml(const std::filesystem::path& path);
+/// Reads a VTK XML file; the dataset type comes from the `VTKFile type=` attribute. `progress`
+/// is told the fraction of the file loaded and decoded (about every megabyte).
+/// \throw Error naming the file and what is wrong; `Cancelled` if `progress` returns false.
+[[nodiscard]] Dataset read_vtk_xml(const std::filesystem::path& path,
+                                   const ProgressCallback& progress = {});
 /// Parses VTK XML held in memory; `name` is used in error messages.
 [[nodiscard]] Dataset read_vtk_xml(std::span<const std::byte> data, std::string_view name);
 
@@ -27,8 +30,10 @@ enum class VtkXmlEncoding {
 };
 
 struct VtkXmlWriteOptions {
-  VtkXmlEncoding encoding = VtkXmlEncoding::Appended;
+  VtkXmlEncoding encoding = VtkXmlEncoding::Appended;  ///< how the arrays are stored
   bool compress = true;  ///< zlib-compress binary blocks (vtkZLibDataCompressor, UInt64 headers)
+  /// Told the fraction written (about every megabyte of values); false cancels (`Cancelled`).
+  ProgressCallback progress{};
 };
 
 /// The extension a dataset type is written with (".vti", ".vts", ".vtp", ".vtu").

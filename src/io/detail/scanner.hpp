@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "isoforge/core/error.hpp"
+#include "io/detail/progress.hpp"
 
 namespace isoforge::io_detail {
 
@@ -85,6 +86,15 @@ class Scanner {
   [[nodiscard]] bool at_end() const { return pos_ >= data_.size(); }
   [[nodiscard]] std::int64_t line() const { return line_; }
   [[nodiscard]] std::span<const std::byte> data() const { return data_; }
+  /// Reports the bytes consumed to `progress` as `base` + offset (nullptr: none).
+  void track(Progress* progress, std::uint64_t base = 0) {
+    progress_ = progress;
+    progress_base_ = base;
+  }
+  /// Reports the current offset to the tracked progress (one comparison when nothing is due).
+  void tick() {
+    if (progress_) progress_->set(progress_base_ + pos_);
+  }
   void seek(std::size_t offset) {
     if (offset > data_.size()) fail_at_byte(offset, "seek past end of file");
     pos_ = offset;
@@ -125,6 +135,7 @@ class Scanner {
     skip_space();
     std::size_t start = pos_;
     while (pos_ < data_.size() && !is_space(static_cast<char>(data_[pos_]))) ++pos_;
+    tick();
     return view(start, pos_);
   }
   /// Next token, failing with "expected <what>" at end of file.
@@ -156,6 +167,7 @@ class Scanner {
     }
     if (end > start && static_cast<char>(data_[end - 1]) == '\r') --end;
     out = view(start, end);
+    tick();
     return true;
   }
   /// Skips to just after the next newline (or to the end).
@@ -241,21 +253,28 @@ class Scanner {
                 " bytes remain");
     }
     out.resize(count);
-    if (count == 0) return;  // out.data() may be null: memcpy(nullptr, ..., 0) is UB
-    std::memcpy(out.data(), data_.data() + pos_, count * sizeof(T));
-    pos_ += count * sizeof(T);
-    to_host(std::span<T>(out), endian);
+    // In blocks of about Progress::kStep bytes, so that progress advances through big arrays.
+    constexpr std::size_t kBlock = std::max<std::size_t>(1, Progress::kStep / sizeof(T));
+    for (std::size_t i = 0; i < count; i += kBlock) {
+      const std::size_t n = std::min(kBlock, count - i);
+      std::memcpy(out.data() + i, data_.data() + pos_, n * sizeof(T));
+      pos_ += n * sizeof(T);
+      to_host(std::span<T>(out.data() + i, n), endian);
+      tick();
+    }
   }
   /// Raw bytes, without conversion.
   [[nodiscard]] std::span<const std::byte> read_bytes(std::size_t n, std::string_view what) {
     require_bytes(n, what);
     auto s = data_.subspan(pos_, n);
     pos_ += n;
+    tick();
     return s;
   }
   void skip(std::size_t n, std::string_view what) {
     require_bytes(n, what);
     pos_ += n;
+    tick();
   }
 
  private:
@@ -268,6 +287,8 @@ class Scanner {
   std::size_t pos_ = 0;
   std::int64_t line_ = 1;
   bool report_offsets_ = false;
+  Progress* progress_ = nullptr;
+  std::uint64_t progress_base_ = 0;
 };
 
 /// Case-insensitive ASCII equality.
