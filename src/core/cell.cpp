@@ -246,7 +246,7 @@ void shape(CellType type, const Vec3& pc, double* w) {
       return;
     }
     default:
-      invariant_failed("shape: a fixed-size type", std::source_location::current());
+      invariant_failed("shape: a fixed-size type", __FILE__, __LINE__);
   }
 }
 
@@ -307,7 +307,7 @@ void shape_derivs(CellType type, const Vec3& pc, double* d) {
       return;
     }
     default:
-      invariant_failed("shape_derivs: a fixed-size type", std::source_location::current());
+      invariant_failed("shape_derivs: a fixed-size type", __FILE__, __LINE__);
   }
 }
 

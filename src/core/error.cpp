@@ -24,8 +24,8 @@ std::string at_byte(std::string_view file, std::uint64_t offset, std::string_vie
   return s;
 }
 
-void invariant_failed(std::string_view what, const std::source_location& where) {
-  throw Error(std::string(where.file_name()) + ":" + std::to_string(where.line()) +
+void invariant_failed(std::string_view what, const char* file, unsigned line) {
+  throw Error(std::string(file) + ":" + std::to_string(line) +
               ": internal error: " + std::string(what) + " does not hold");
 }
 

@@ -20,6 +20,7 @@ namespace isoforge {
 namespace {
 
 using io_detail::Scanner;
+using io_detail::split_words;
 
 /// Appends `v` in the shortest form that reads back to the same value.
 template <class T>
@@ -40,15 +41,7 @@ void append_coord(std::string& out, double v, bool single) {
 /// Strips '#' comments and splits on whitespace.
 std::vector<std::string_view> split_rest(std::string_view line) {
   if (auto h = line.find('#'); h != std::string_view::npos) line = line.substr(0, h);
-  std::vector<std::string_view> words;
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && Scanner::is_space(line[i])) ++i;
-    const std::size_t start = i;
-    while (i < line.size() && !Scanner::is_space(line[i])) ++i;
-    if (i > start) words.push_back(line.substr(start, i - start));
-  }
-  return words;
+  return split_words(line);
 }
 
 /// Number of significant digits in a decimal number token (to tell float32 text from float64).

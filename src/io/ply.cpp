@@ -29,6 +29,7 @@ namespace {
 
 using io_detail::Endian;
 using io_detail::Scanner;
+using io_detail::split_words;
 
 // ---------------------------------------------------------------------------------------------
 // Types
@@ -71,18 +72,6 @@ struct PlyElement {
 };
 
 enum class PlyFormat { Ascii, Little, Big };
-
-std::vector<std::string_view> split_words(std::string_view line) {
-  std::vector<std::string_view> words;
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && Scanner::is_space(line[i])) ++i;
-    std::size_t start = i;
-    while (i < line.size() && !Scanner::is_space(line[i])) ++i;
-    if (i > start) words.push_back(line.substr(start, i - start));
-  }
-  return words;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Reader

@@ -31,6 +31,7 @@ namespace fs = std::filesystem;
 using io_detail::Endian;
 using io_detail::iequals;
 using io_detail::Scanner;
+using io_detail::split_words;
 
 // ---------------------------------------------------------------------------------------------
 // Small text helpers
@@ -39,18 +40,6 @@ std::string_view trim(std::string_view s) {
   while (!s.empty() && Scanner::is_space(s.front())) s.remove_prefix(1);
   while (!s.empty() && Scanner::is_space(s.back())) s.remove_suffix(1);
   return s;
-}
-
-std::vector<std::string_view> split_words(std::string_view line) {
-  std::vector<std::string_view> words;
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && Scanner::is_space(line[i])) ++i;
-    const std::size_t start = i;
-    while (i < line.size() && !Scanner::is_space(line[i])) ++i;
-    if (i > start) words.push_back(line.substr(start, i - start));
-  }
-  return words;
 }
 
 std::string lower(std::string_view s) {

@@ -11,20 +11,11 @@
 #include "isoforge/model/attractor.hpp"
 #include "isoforge/model/distance.hpp"
 #include "isoforge/model/implicit_modeller.hpp"
+#include "support/expect_error.hpp"
 
 namespace isoforge {
+using test::error_message;
 namespace {
-
-// The message of the Error `f` throws ("" if none).
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
 
 TEST(Memory, PhysicalMemoryIsKnownOnLinux) {
   // sysconf reports it on every Linux; a machine with less than 64 MB does not run these tests.
@@ -49,15 +40,15 @@ TEST(Memory, RefusesWhatExceedsPhysicalMemoryNamingBothSizes) {
   const double have = static_cast<double>(physical_memory());
   EXPECT_NO_THROW(require_memory(1, "one byte"));
   EXPECT_NO_THROW(require_memory(have, "all of it"));
-  const std::string m = error_of([&] { require_memory(2 * have, "sample: a big volume"); });
+  const std::string m = error_message([&] { require_memory(2 * have, "sample: a big volume"); });
   EXPECT_EQ(m, "sample: a big volume needs " + format_bytes(2 * have) + "; this machine has " +
                    format_bytes(have));
-  EXPECT_NE(error_of([] { require_memory(std::numeric_limits<double>::quiet_NaN(), "x"); }), "");
-  EXPECT_NE(error_of([] { require_memory(std::numeric_limits<double>::infinity(), "x"); }), "");
+  EXPECT_THROW(require_memory(std::numeric_limits<double>::quiet_NaN(), "x"), Error);
+  EXPECT_THROW(require_memory(std::numeric_limits<double>::infinity(), "x"), Error);
 }
 
 TEST(Memory, RefusesAVolumeByItsDimsAndType) {
-  EXPECT_EQ(error_of([] {
+  EXPECT_EQ(error_message([] {
               require_volume_memory("sample", {100000, 100000, 100000}, "Float32", 4);
             }),
             "sample: a 100000³ Float32 volume needs 4 PB; this machine has " +
@@ -73,7 +64,7 @@ TEST(Memory, DenseEntryPointsRefuseHugeVolumesAtOnce) {
   box.min = {-1, -1, -1};
   box.max = {1, 1, 1};
   const GridSpec g = GridSpec::from_bounds(box, huge);
-  EXPECT_NE(error_of([&] {
+  EXPECT_NE(error_message([&] {
               (void)sample_image(parse_implicit("sphere()"), g);
             }).find("sample: a 100000³ Float32 volume needs 4 PB"),
             std::string::npos);
@@ -84,7 +75,7 @@ TEST(Memory, DenseEntryPointsRefuseHugeVolumesAtOnce) {
   line.lines.add({0, 1});
   DistanceOptions d;
   d.max_distance = 0.1;
-  EXPECT_NE(error_of([&] {
+  EXPECT_NE(error_message([&] {
               (void)distance_image(line, g, d);
             }).find("distance: a 100000³ Float32 volume needs 4 PB"),
             std::string::npos);
@@ -92,7 +83,7 @@ TEST(Memory, DenseEntryPointsRefuseHugeVolumesAtOnce) {
   ImplicitModellerOptions m;
   m.sample_dimensions = huge;
   m.output_type = ScalarType::UInt8;  // a Float64 field and its UInt8 copy: 9 bytes a sample
-  EXPECT_NE(error_of([&] {
+  EXPECT_NE(error_message([&] {
               (void)implicit_modeller(line, m);
             }).find("implicit modeller: a 100000³ UInt8 volume needs 9 PB"),
             std::string::npos);
@@ -100,7 +91,7 @@ TEST(Memory, DenseEntryPointsRefuseHugeVolumesAtOnce) {
   TrajectoryOptions t;
   t.dims = huge;
   t.steps = 1;
-  EXPECT_NE(error_of([&] {
+  EXPECT_NE(error_message([&] {
               (void)lorenz_density({}, t);
             }).find("trajectory density: a 100000³ UInt32 volume needs 4 PB"),
             std::string::npos);
@@ -118,7 +109,7 @@ TEST(Memory, SparseSampleRefusesABandThatCannotFit) {
   g.spacing = {h, h, h};
   g.dims = {100000, 100000, 100000};
   const std::string m =
-      error_of([&] { (void)sample_level_set(parse_implicit("sphere(r=0.8)"), g); });
+      error_message([&] { (void)sample_level_set(parse_implicit("sphere(r=0.8)"), g); });
   EXPECT_NE(m.find("sparse sample: a narrow band (half width 3) of about"), std::string::npos) << m;
   EXPECT_NE(m.find("leaves (8³ voxels) in a 100000³ grid needs"), std::string::npos) << m;
 

@@ -7,20 +7,14 @@
 #include <random>
 
 #include "isoforge/implicit/parse.hpp"
+#include "support/expect_error.hpp"
 
 using namespace isoforge;
+using isoforge::test::error_message;
 using F = ImplicitFunction;
 
 namespace {
 
-std::string error_of(auto&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "<no error>";
-}
 
 std::vector<std::pair<std::string, F>> catalogue() {
   return {
@@ -187,18 +181,18 @@ TEST(Implicit, BoundsAreTightEnoughToCull) {
 
 TEST(Implicit, BadParametersNameTheParameter) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_NE(error_of([] { (void)F::plane({0, 0, 0}, {0, 0, 0}); }).find("'normal' has zero length"), std::string::npos);
-  EXPECT_NE(error_of([] { (void)F::sphere({0, 0, 0}, -1); }).find("'r' (radius) is negative"), std::string::npos);
-  EXPECT_NE(error_of([&] { (void)F::sphere({nan, 0, 0}, 1); }).find("'center' is not finite"), std::string::npos);
-  EXPECT_NE(error_of([] { (void)F::cylinder({0, 0, 0}, {0, 0, 0}, 1); }).find("'axis'"), std::string::npos);
-  EXPECT_NE(error_of([] { (void)F::cone({0, 0, 0}, {1, 0, 0}, 90); }).find("(0, 90)"), std::string::npos);
-  EXPECT_NE(error_of([] { (void)F::cone({0, 0, 0}, {1, 0, 0}, 0); }).find("'angle'"), std::string::npos);
-  EXPECT_NE(error_of([&] { (void)F::cone({0, 0, 0}, {1, 0, 0}, nan); }).find("'angle' is not finite"), std::string::npos);
-  EXPECT_NE(error_of([] { (void)F::box({1, 0, 0}, {0, 1, 1}); }).find("'min' exceeds 'max'"), std::string::npos);
-  EXPECT_NE(error_of([] { (void)F::quadric({0, 0, 0, 0, 0, 0, 0, 0, 0, 1}); }).find("constant"), std::string::npos);
-  EXPECT_NE(error_of([] { (void)F::torus({0, 0, 0}, {0, 0, 1}, 0, 0.1); }).find("'R'"), std::string::npos);
-  EXPECT_NE(error_of([] { (void)F::superquadric({0, 0, 0}, {1, 0, 1}, 1, 1); }).find("'radii'"), std::string::npos);
-  EXPECT_NE(error_of([] { (void)F::sphere({0, 0, 0}, 1).transformed(Affine::scaling({1, 0, 1})); }).find("singular"),
+  EXPECT_NE(error_message([] { (void)F::plane({0, 0, 0}, {0, 0, 0}); }).find("'normal' has zero length"), std::string::npos);
+  EXPECT_NE(error_message([] { (void)F::sphere({0, 0, 0}, -1); }).find("'r' (radius) is negative"), std::string::npos);
+  EXPECT_NE(error_message([&] { (void)F::sphere({nan, 0, 0}, 1); }).find("'center' is not finite"), std::string::npos);
+  EXPECT_NE(error_message([] { (void)F::cylinder({0, 0, 0}, {0, 0, 0}, 1); }).find("'axis'"), std::string::npos);
+  EXPECT_NE(error_message([] { (void)F::cone({0, 0, 0}, {1, 0, 0}, 90); }).find("(0, 90)"), std::string::npos);
+  EXPECT_NE(error_message([] { (void)F::cone({0, 0, 0}, {1, 0, 0}, 0); }).find("'angle'"), std::string::npos);
+  EXPECT_NE(error_message([&] { (void)F::cone({0, 0, 0}, {1, 0, 0}, nan); }).find("'angle' is not finite"), std::string::npos);
+  EXPECT_NE(error_message([] { (void)F::box({1, 0, 0}, {0, 1, 1}); }).find("'min' exceeds 'max'"), std::string::npos);
+  EXPECT_NE(error_message([] { (void)F::quadric({0, 0, 0, 0, 0, 0, 0, 0, 0, 1}); }).find("constant"), std::string::npos);
+  EXPECT_NE(error_message([] { (void)F::torus({0, 0, 0}, {0, 0, 1}, 0, 0.1); }).find("'R'"), std::string::npos);
+  EXPECT_NE(error_message([] { (void)F::superquadric({0, 0, 0}, {1, 0, 1}, 1, 1); }).find("'radii'"), std::string::npos);
+  EXPECT_NE(error_message([] { (void)F::sphere({0, 0, 0}, 1).transformed(Affine::scaling({1, 0, 1})); }).find("singular"),
             std::string::npos);
   EXPECT_THROW((void)F::union_of({}), Error);
 }

@@ -5,17 +5,13 @@
 #include <random>
 
 #include "isoforge/implicit/sample.hpp"
+#include "support/expect_error.hpp"
 
 using namespace isoforge;
 
 namespace {
 std::string error_of(const std::string& expr) {
-  try {
-    (void)parse_implicit(expr);
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "<no error>";
+  return test::error_message([&] { (void)parse_implicit(expr); });
 }
 
 // `inner` inside `levels` nested calls: open + ... + open + inner + close + ... + close.

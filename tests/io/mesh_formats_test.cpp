@@ -1,5 +1,6 @@
 // Tests for the PLY reader/writer, the OFF reader/writer and the OBJ writer.
 
+#include "support/mutate.hpp"
 #include "support/scratch.hpp"
 #include "isoforge/io/off_obj.hpp"
 #include "isoforge/io/ply.hpp"
@@ -22,15 +23,12 @@
 
 using namespace isoforge;
 namespace fs = std::filesystem;
+using isoforge::test::data_path;
 
 namespace {
 
 fs::path scratch(const std::string& name) {
   return isoforge::test::scratch_dir("mesh_formats", name);
-}
-
-fs::path data(const std::string& name) {
-  return fs::path(ISOFORGE_DATA_DIR) / name;
 }
 
 std::vector<std::byte> bytes_of(const std::string& s) {
@@ -75,14 +73,8 @@ std::size_t prefixes_only_throw_error(Reader read, const std::vector<std::byte>&
   std::size_t rejected = 0;
   for (std::size_t n : offsets) {
     if (n > full.size()) continue;
-    std::vector<std::byte> part(full.begin(), full.begin() + static_cast<std::ptrdiff_t>(n));
-    try {
-      (void)read(part);
-    } catch (const Error&) {
-      ++rejected;
-    } catch (const std::exception& e) {
-      ADD_FAILURE() << "prefix " << n << ": non-isoforge exception: " << e.what();
-    }
+    const std::vector<std::byte> part(full.begin(), full.begin() + static_cast<std::ptrdiff_t>(n));
+    rejected += test::rejects_only_with_error(read, part, "prefix " + std::to_string(n));
   }
   return rejected;
 }
@@ -98,30 +90,9 @@ void random_mutations_only_throw_error(Reader read, const std::vector<std::byte>
                                        int rounds) {
   std::mt19937 rng(12345);
   for (int r = 0; r < rounds; ++r) {
-    std::vector<std::byte> b = base;
     const int edits = 1 + static_cast<int>(rng() % 4);
-    for (int e = 0; e < edits && !b.empty(); ++e) {
-      const std::size_t at = rng() % b.size();
-      switch (rng() % 4) {
-        case 0:
-          b[at] = static_cast<std::byte>(rng() % 256);
-          break;
-        case 1:
-          b[at] = static_cast<std::byte>("0123456789-e.# \n"[rng() % 16]);
-          break;
-        case 2:
-          b.erase(b.begin() + static_cast<std::ptrdiff_t>(at));
-          break;
-        default:
-          b.insert(b.begin() + static_cast<std::ptrdiff_t>(at), static_cast<std::byte>('9'));
-      }
-    }
-    try {
-      (void)read(b);
-    } catch (const Error&) {
-    } catch (const std::exception& e) {
-      ADD_FAILURE() << "mutation round " << r << ": non-isoforge exception: " << e.what();
-    }
+    (void)test::rejects_only_with_error(read, test::mutate(base, rng, edits, "0123456789-e.# \n"),
+                                        "mutation round " + std::to_string(r));
   }
 }
 
@@ -188,7 +159,7 @@ void expect_arrays_equal(const DataArray& a, const DataArray& b, const std::stri
 // PLY: the real bunny
 
 TEST(Ply, ReadsTheStanfordBunny) {
-  const PolyData m = read_ply(data("bunny.ply"));
+  const PolyData m = read_ply(data_path("bunny.ply"));
   EXPECT_EQ(m.num_points(), 35947u);
   EXPECT_EQ(m.polys.size(), 69451u);
   EXPECT_EQ(m.polys.connectivity().size(), 3u * 69451u);
@@ -218,7 +189,7 @@ TEST(Ply, ReadsTheStanfordBunny) {
 
 TEST(Ply, BunnyBinaryRoundTripKeepsEverything) {
   const fs::path dir = scratch("bunny");
-  const PolyData m = read_ply(data("bunny.ply"));
+  const PolyData m = read_ply(data_path("bunny.ply"));
   for (PlyEncoding enc : {PlyEncoding::BinaryLittleEndian, PlyEncoding::BinaryBigEndian}) {
     write_ply(m, dir / "bunny.ply", {enc});
     const PolyData r = read_ply(dir / "bunny.ply");
@@ -230,7 +201,7 @@ TEST(Ply, BunnyBinaryRoundTripKeepsEverything) {
 }
 
 TEST(Ply, TruncatedBunnyOnlyThrowsError) {
-  const auto full = read_file_bytes(data("bunny.ply"));
+  const auto full = read_file_bytes(data_path("bunny.ply"));
   std::vector<std::size_t> offsets;
   for (std::size_t n = 0; n < 400; n += 7) offsets.push_back(n);  // inside the header
   for (std::size_t k = 1; k < 40; ++k) offsets.push_back(full.size() * k / 40);

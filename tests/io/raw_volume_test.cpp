@@ -1,5 +1,6 @@
 // Tests for the NRRD and MetaImage raw volume readers.
 
+#include "support/mutate.hpp"
 #include "support/scratch.hpp"
 #include "isoforge/io/raw_volume.hpp"
 
@@ -19,12 +20,9 @@
 
 using namespace isoforge;
 namespace fs = std::filesystem;
+using isoforge::test::data_path;
 
 namespace {
-
-fs::path data(const std::string& name) {
-  return fs::path(ISOFORGE_DATA_DIR) / name;
-}
 
 fs::path scratch(const std::string& name) {
   return isoforge::test::scratch_dir("raw_volume", name);
@@ -88,37 +86,13 @@ template <class Reader>
 std::size_t robustness(Reader read, const std::vector<std::byte>& full, int mutations) {
   std::size_t rejected = 0;
   for (std::size_t n = 0; n < full.size(); ++n) {
-    std::vector<std::byte> part(full.begin(), full.begin() + static_cast<std::ptrdiff_t>(n));
-    try {
-      (void)read(part);
-    } catch (const Error&) {
-      ++rejected;
-    } catch (const std::exception& e) {
-      ADD_FAILURE() << "prefix " << n << ": non-isoforge exception: " << e.what();
-    }
+    const std::vector<std::byte> part(full.begin(), full.begin() + static_cast<std::ptrdiff_t>(n));
+    rejected += test::rejects_only_with_error(read, part, "prefix " + std::to_string(n));
   }
   std::mt19937 rng(99);
   for (int r = 0; r < mutations; ++r) {
-    auto b = full;
-    for (int e = 0; e < 3; ++e) {
-      const std::size_t at = rng() % b.size();
-      switch (rng() % 3) {
-        case 0:
-          b[at] = static_cast<std::byte>(rng() % 256);
-          break;
-        case 1:
-          b[at] = static_cast<std::byte>("0123456789-%() \n:=,"[rng() % 19]);
-          break;
-        default:
-          b.erase(b.begin() + static_cast<std::ptrdiff_t>(at));
-      }
-    }
-    try {
-      (void)read(b);
-    } catch (const Error&) {
-    } catch (const std::exception& e) {
-      ADD_FAILURE() << "mutation " << r << ": non-isoforge exception: " << e.what();
-    }
+    (void)test::rejects_only_with_error(read, test::mutate(full, rng, 3, "0123456789-%() \n:=,"),
+                                        "mutation " + std::to_string(r));
   }
   return rejected;
 }
@@ -129,7 +103,7 @@ std::size_t robustness(Reader read, const std::vector<std::byte>& full, int muta
 // Real data
 
 TEST(Nrrd, ReadsHeadsq) {
-  const ImageData img = read_nrrd(data("headsq/quarter.nhdr"));
+  const ImageData img = read_nrrd(data_path("headsq/quarter.nhdr"));
   EXPECT_EQ(img.dims, (Dims{64, 64, 93}));
   EXPECT_EQ(img.spacing, (Vec3{3.2, 3.2, 1.5}));
   EXPECT_EQ(img.origin, (Vec3{0, 0, 0}));
@@ -143,7 +117,7 @@ TEST(Nrrd, ReadsHeadsq) {
   EXPECT_EQ(hi, 3926.0);
   // Voxels against the slice files' little-endian bytes, read independently.
   for (auto [i, j, k] : {std::array<int, 3>{10, 20, 49}, {0, 0, 0}, {63, 63, 92}, {32, 40, 70}}) {
-    const auto slice = read_file_bytes(data("headsq/quarter." + std::to_string(k + 1)));
+    const auto slice = read_file_bytes(data_path("headsq/quarter." + std::to_string(k + 1)));
     const std::size_t off = 2 * static_cast<std::size_t>(i + 64 * j);
     const auto v = static_cast<std::int16_t>(std::to_integer<std::uint16_t>(slice[off]) |
                                              (std::to_integer<std::uint16_t>(slice[off + 1]) << 8));
@@ -155,7 +129,7 @@ TEST(Nrrd, ReadsHeadsq) {
 }
 
 TEST(MetaImage, ReadsHeadMRVolume) {
-  const ImageData img = read_metaimage(data("HeadMRVolume.mhd"));
+  const ImageData img = read_metaimage(data_path("HeadMRVolume.mhd"));
   EXPECT_EQ(img.dims, (Dims{48, 62, 42}));
   EXPECT_EQ(img.spacing, (Vec3{4, 4, 4}));
   const DataArray* s = img.point_data.scalars();
@@ -164,20 +138,20 @@ TEST(MetaImage, ReadsHeadMRVolume) {
   const auto [lo, hi] = s->range();
   EXPECT_EQ(lo, 0.0);
   EXPECT_EQ(hi, 255.0);
-  const auto raw = read_file_bytes(data("HeadMRVolume.raw"));
+  const auto raw = read_file_bytes(data_path("HeadMRVolume.raw"));
   ASSERT_EQ(raw.size(), 48u * 62u * 42u);
   for (std::size_t id : {0u, 5u + 48u * (30u + 62u * 20u), 124991u, 60000u}) {
     EXPECT_EQ(s->get(id), std::to_integer<int>(raw[id])) << id;
   }
   EXPECT_EQ(s->get(5u + 48u * (30u + 62u * 20u)), 38);
   // In-memory header with a base directory.
-  const auto header = read_file_bytes(data("HeadMRVolume.mhd"));
+  const auto header = read_file_bytes(data_path("HeadMRVolume.mhd"));
   EXPECT_EQ(read_metaimage(header, "HeadMRVolume.mhd", ISOFORGE_DATA_DIR), img);
 }
 
 TEST(Nrrd, HeadsqHeaderPrefixesAreErrors) {
-  const auto header = read_file_bytes(data("headsq/quarter.nhdr"));
-  const fs::path dir = data("headsq");
+  const auto header = read_file_bytes(data_path("headsq/quarter.nhdr"));
+  const fs::path dir = data_path("headsq");
   auto read = [&](const std::vector<std::byte>& b) { return read_nrrd(b, "quarter.nhdr", dir); };
   const std::size_t rejected = robustness(read, header, 1500);
   // Every strict prefix fails except the one missing only the final newline.
@@ -186,7 +160,7 @@ TEST(Nrrd, HeadsqHeaderPrefixesAreErrors) {
 
 TEST(Nrrd, ShortOrMissingSliceIsNamed) {
   const fs::path dir = scratch("headsq_short");
-  for (const auto& e : fs::directory_iterator(data("headsq")))
+  for (const auto& e : fs::directory_iterator(data_path("headsq")))
     fs::copy(e.path(), dir / e.path().filename());
   const auto slice = read_file_bytes(dir / "quarter.17");
   for (std::size_t n : {0u, 1u, 4096u, 8191u}) {
@@ -204,8 +178,8 @@ TEST(Nrrd, ShortOrMissingSliceIsNamed) {
 
 TEST(MetaImage, ShortOrMissingRawIsNamed) {
   const fs::path dir = scratch("mr_short");
-  fs::copy(data("HeadMRVolume.mhd"), dir / "HeadMRVolume.mhd");
-  const auto raw = str_of(read_file_bytes(data("HeadMRVolume.raw")));
+  fs::copy(data_path("HeadMRVolume.mhd"), dir / "HeadMRVolume.mhd");
+  const auto raw = str_of(read_file_bytes(data_path("HeadMRVolume.raw")));
   expect_error_with([&] { (void)read_metaimage(dir / "HeadMRVolume.mhd"); },
                     {"HeadMRVolume.mhd", "data file 'HeadMRVolume.raw'", "does not exist"});
   for (std::size_t k = 0; k < 30; ++k) {
@@ -214,7 +188,7 @@ TEST(MetaImage, ShortOrMissingRawIsNamed) {
                       {"HeadMRVolume.mhd", "data file 'HeadMRVolume.raw'", "too short"});
   }
   fs::create_directory(dir / "HeadMRVolume.raw.d");
-  std::string h = str_of(read_file_bytes(data("HeadMRVolume.mhd")));
+  std::string h = str_of(read_file_bytes(data_path("HeadMRVolume.mhd")));
   h.replace(h.find("HeadMRVolume.raw"), 16, "HeadMRVolume.raw.d");
   write_file(dir / "dir.mhd", h);
   expect_error_with([&] { (void)read_metaimage(dir / "dir.mhd"); },

@@ -11,8 +11,10 @@
 #include "support/scratch.hpp"
 #include "isoforge/io/io.hpp"
 #include "support/sample_datasets.hpp"
+#include "support/expect_error.hpp"
 
 using namespace isoforge;
+using isoforge::test::error_message;
 namespace fs = std::filesystem;
 
 namespace {
@@ -21,14 +23,6 @@ fs::path scratch(const std::string& name) {
   return isoforge::test::scratch_dir("roundtrip", name);
 }
 
-std::string error_of(auto&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "<no error>";
-}
 
 struct Case {
   std::string name;
@@ -128,18 +122,18 @@ TEST(RoundTrip, FormatThatCannotHoldTheDatasetIsAnErrorAndWritesNothing) {
   const UnstructuredGrid ug = test::sample_unstructured();
   for (std::string ext : {".ply", ".obj", ".off", ".vdb", ".vtp", ".vti"}) {
     const fs::path p = dir / ("ug" + ext);
-    const std::string msg = error_of([&] { write(ug, p); });
+    const std::string msg = error_message([&] { write(ug, p); });
     EXPECT_NE(msg.find("ug" + ext), std::string::npos) << msg;
     EXPECT_FALSE(fs::exists(p)) << p;
   }
-  EXPECT_NE(error_of([&] { write(ug, dir / "x.nhdr"); }).find("not supported"), std::string::npos);
-  EXPECT_NE(error_of([&] { write(ug, dir / "x.weird"); }).find("unknown file extension"),
+  EXPECT_NE(error_message([&] { write(ug, dir / "x.nhdr"); }).find("not supported"), std::string::npos);
+  EXPECT_NE(error_message([&] { write(ug, dir / "x.weird"); }).find("unknown file extension"),
             std::string::npos);
   EXPECT_TRUE(fs::is_empty(dir));
 }
 
 TEST(RoundTrip, MissingInputNamesTheFile) {
-  const std::string msg = error_of([] { (void)read("/nonexistent/dir/file.vtk"); });
+  const std::string msg = error_message([] { (void)read("/nonexistent/dir/file.vtk"); });
   EXPECT_NE(msg.find("/nonexistent/dir/file.vtk"), std::string::npos) << msg;
 }
 

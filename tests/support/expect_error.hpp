@@ -1,5 +1,6 @@
 #pragma once
-// expect_error(f, text): f() must throw isoforge::Error whose message contains `text`.
+// expect_error(f, text): f() must throw isoforge::Error whose message contains `text`;
+// error_message(f): the message of the Error f() throws, for tests that check several parts.
 
 #include <gtest/gtest.h>
 
@@ -18,6 +19,17 @@ void expect_error(F&& f, const std::string& text) {
     EXPECT_NE(std::string(e.what()).find(text), std::string::npos)
         << "message: " << e.what() << "\nexpected to contain: " << text;
   }
+}
+
+/// The message of the `Error` that f() throws, or "<no error>".
+template <class F>
+std::string error_message(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "<no error>";
 }
 
 }  // namespace isoforge::test

@@ -1,6 +1,7 @@
 #pragma once
-// Per-test scratch directories. ctest runs every test case as its own process, in parallel, so
-// two cases must never share a directory: the path includes the running test's full name.
+// Per-test scratch directories and the checked-in data. ctest runs every test case as its own
+// process, in parallel, so two cases must never share a directory: the path includes the running
+// test's full name.
 
 #include <gtest/gtest.h>
 
@@ -29,6 +30,11 @@ inline std::filesystem::path scratch_dir(const std::string& module, const std::s
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
+}
+
+/// A file of the checked-in data/ directory.
+inline std::filesystem::path data_path(const std::string& name) {
+  return std::filesystem::path(ISOFORGE_DATA_DIR) / name;
 }
 
 /// The whole content of a file (empty if it cannot be read).

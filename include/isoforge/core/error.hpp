@@ -3,7 +3,6 @@
 /// The one exception type isoforge throws for bad input, and the check of internal invariants.
 
 #include <cstdint>
-#include <source_location>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -27,13 +26,15 @@ class Error : public std::runtime_error {
 
 /// Throws `Error` naming the place of a broken internal invariant (a bug in isoforge, never bad
 /// input): "<file>:<line>: internal error: <what> does not hold".
-[[noreturn]] void invariant_failed(std::string_view what, const std::source_location& where);
+[[noreturn]] void invariant_failed(std::string_view what, const char* file, unsigned line);
 
 /// Checks an internal invariant; on failure throws `Error` naming `what` and the place — never
-/// aborts, because the library must not take down its host program on a bug.
-inline void check_invariant(bool holds, std::string_view what,
-                            const std::source_location& where = std::source_location::current()) {
-  if (!holds) [[unlikely]] invariant_failed(what, where);
+/// aborts, because the library must not take down its host program on a bug. The place defaults
+/// to the caller's (the builtins behind `std::source_location`, which clang 14 lacks).
+inline void check_invariant(bool holds, std::string_view what, const char* file = __builtin_FILE(),
+                            unsigned line = __builtin_LINE()) {
+  if (!holds) [[unlikely]]
+    invariant_failed(what, file, line);
 }
 
 }  // namespace isoforge

@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "isoforge/core/error.hpp"
-#include "io/detail/progress.hpp"
+#include "progress.hpp"
 
 namespace isoforge::io_detail {
 
@@ -290,6 +290,19 @@ class Scanner {
   Progress* progress_ = nullptr;
   std::uint64_t progress_base_ = 0;
 };
+
+/// The words of a line: the runs of characters between white space (Scanner::is_space).
+inline std::vector<std::string_view> split_words(std::string_view line) {
+  std::vector<std::string_view> words;
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && Scanner::is_space(line[i])) ++i;
+    const std::size_t start = i;
+    while (i < line.size() && !Scanner::is_space(line[i])) ++i;
+    if (i > start) words.push_back(line.substr(start, i - start));
+  }
+  return words;
+}
 
 /// Case-insensitive ASCII equality.
 inline bool iequals(std::string_view a, std::string_view b) {
