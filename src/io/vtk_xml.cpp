@@ -37,9 +37,11 @@
 #include <vector>
 
 #include "io/detail/scanner.hpp"
-#include "io/detail/vtk_xml_block.hpp"
 #include "isoforge/io/atomic_file.hpp"
 #include "isoforge/io/io.hpp"
+
+// This file implements it (relative to the module, as the layering check wants).
+#include "detail/vtk_xml_block.hpp"
 
 namespace isoforge {
 
