@@ -137,6 +137,7 @@ ImplicitFunction ImplicitFunction::plane(const Vec3& origin, const Vec3& normal)
   n->kind = Kind::Plane;
   put(n->p, 0, origin);
   put(n->p, 3, unit(normal, "plane", "normal"));
+  n->direction = normal;
   return ImplicitFunction(std::move(n));
 }
 
@@ -159,6 +160,7 @@ ImplicitFunction ImplicitFunction::cylinder(const Vec3& point, const Vec3& axis,
   n->kind = Kind::Cylinder;
   put(n->p, 0, point);
   put(n->p, 3, unit(axis, "cylinder", "axis"));
+  n->direction = axis;
   n->p[6] = radius;
   return ImplicitFunction(std::move(n));
 }
@@ -175,6 +177,7 @@ ImplicitFunction ImplicitFunction::cone(const Vec3& apex, const Vec3& axis,
   n->kind = Kind::Cone;
   put(n->p, 0, apex);
   put(n->p, 3, unit(axis, "cone", "axis"));
+  n->direction = axis;
   const double th = half_angle_degrees * std::numbers::pi / 180.0;
   n->p[6] = std::cos(th);
   n->p[7] = std::sin(th);
@@ -250,6 +253,7 @@ ImplicitFunction ImplicitFunction::torus(const Vec3& center, const Vec3& axis, d
   n->kind = Kind::Torus;
   put(n->p, 0, center);
   put(n->p, 3, unit(axis, "torus", "axis"));
+  n->direction = axis;
   n->p[6] = major;
   n->p[7] = minor;
   return ImplicitFunction(std::move(n));

@@ -17,6 +17,10 @@ struct ImplicitFunction::Node {
   Affine inverse;  ///< Transform: world → object, applied to points
   std::vector<ImplicitFunction> children;
   int depth = 1;  ///< 1 + the deepest child (<= kMaxFunctionDepth)
+  /// Plane normal, or cylinder, cone or torus axis, as given (p holds it normalized). Printed,
+  /// so that parsing the print normalizes the same vector again: normalizing a normalized vector
+  /// can change its last bits.
+  Vec3 direction{0, 0, 1};
 };
 
 namespace implicit_detail {

@@ -316,6 +316,7 @@ std::string vec_str(double a, double b, double c) {
 
 std::string print(const ImplicitFunction::Node& n) {
   const auto& p = n.p;
+  const Vec3& d = n.direction;  // as given: parsing normalizes it exactly as the first time
   auto children = [&](const char* name) {
     std::string s = std::string(name) + "(";
     for (std::size_t i = 0; i < n.children.size(); ++i) {
@@ -326,13 +327,13 @@ std::string print(const ImplicitFunction::Node& n) {
   };
   switch (n.kind) {
     case Kind::Plane:
-      return "plane(origin=" + vec_str(p[0], p[1], p[2]) + ", normal=" + vec_str(p[3], p[4], p[5]) + ")";
+      return "plane(origin=" + vec_str(p[0], p[1], p[2]) + ", normal=" + vec_str(d.x, d.y, d.z) + ")";
     case Kind::Sphere: return "sphere(center=" + vec_str(p[0], p[1], p[2]) + ", r=" + num_str(p[3]) + ")";
     case Kind::Cylinder:
-      return "cylinder(point=" + vec_str(p[0], p[1], p[2]) + ", axis=" + vec_str(p[3], p[4], p[5]) +
+      return "cylinder(point=" + vec_str(p[0], p[1], p[2]) + ", axis=" + vec_str(d.x, d.y, d.z) +
              ", r=" + num_str(p[6]) + ")";
     case Kind::Cone:
-      return "cone(apex=" + vec_str(p[0], p[1], p[2]) + ", axis=" + vec_str(p[3], p[4], p[5]) +
+      return "cone(apex=" + vec_str(p[0], p[1], p[2]) + ", axis=" + vec_str(d.x, d.y, d.z) +
              ", angle=" + num_str(p[8]) + ")";
     case Kind::Box: return "box(min=" + vec_str(p[0], p[1], p[2]) + ", max=" + vec_str(p[3], p[4], p[5]) + ")";
     case Kind::Quadric: {
@@ -344,7 +345,7 @@ std::string print(const ImplicitFunction::Node& n) {
       return "superquadric(center=" + vec_str(p[0], p[1], p[2]) + ", radii=" + vec_str(p[3], p[4], p[5]) +
              ", n=" + num_str(p[6]) + ", e=" + num_str(p[7]) + ")";
     case Kind::Torus:
-      return "torus(center=" + vec_str(p[0], p[1], p[2]) + ", axis=" + vec_str(p[3], p[4], p[5]) +
+      return "torus(center=" + vec_str(p[0], p[1], p[2]) + ", axis=" + vec_str(d.x, d.y, d.z) +
              ", R=" + num_str(p[6]) + ", r=" + num_str(p[7]) + ")";
     case Kind::Transform: {
       const auto& a = n.forward.a;

@@ -40,6 +40,9 @@
 #include "isoforge/io/atomic_file.hpp"
 #include "isoforge/io/io.hpp"
 
+// This file implements it (relative to the module, as the layering check wants).
+#include "detail/vtk_xml_block.hpp"
+
 namespace isoforge {
 
 namespace {
@@ -465,6 +468,9 @@ class Reader {
   }
 
   Dataset read();
+  /// One payload on its own (io/detail/vtk_xml_block.hpp): the whole input is the payload.
+  std::vector<std::byte> decode_block(const io_detail::VtkXmlBlockFormat& format,
+                                      std::optional<std::uint64_t> expected, std::size_t unit);
 
  private:
   [[nodiscard]] Where root_where(std::string path = "VTKFile") const {
@@ -691,6 +697,25 @@ void Reader::read_payload(ByteSource& src, const Where& w, std::optional<std::ui
     out += u;
     tick(src.file_pos());
   }
+}
+
+std::vector<std::byte> Reader::decode_block(const io_detail::VtkXmlBlockFormat& format,
+                                            std::optional<std::uint64_t> expected,
+                                            std::size_t unit) {
+  endian_ = format.big_endian ? Endian::Big : Endian::Little;
+  header64_ = format.header64;
+  compressed_ = format.compressed;
+  ByteSource src = format.base64
+                       ? ByteSource::base64(std::string_view(reinterpret_cast<const char*>(data_.data()),
+                                                             data_.size()),
+                                            0)
+                       : ByteSource::raw(data_, 0);
+  std::vector<std::byte> out;
+  read_payload(src, root_where("DataArray"), expected, unit, [&](std::uint64_t n) {
+    out.resize(static_cast<std::size_t>(n));
+    return out.data();
+  });
+  return out;
 }
 
 std::string_view element_text(pugi::xml_node el, std::string& storage, std::uint64_t& offset) {
@@ -1881,6 +1906,25 @@ Dataset read_vtk_xml(const std::filesystem::path& path, const ProgressCallback& 
       path, progress, [&](std::span<const std::byte> bytes, io_detail::Progress* p,
                           std::uint64_t base) { return read_xml(bytes, path.string(), p, base); });
 }
+
+namespace io_detail {
+
+std::vector<std::byte> decode_vtk_xml_block(std::span<const std::byte> data,
+                                            const VtkXmlBlockFormat& format,
+                                            std::optional<std::uint64_t> expected,
+                                            std::size_t unit, std::string_view name) {
+  if (unit == 0) throw Error(std::string(name) + ": decode_vtk_xml_block: unit is 0");
+  try {
+    Reader r(data, name);
+    return r.decode_block(format, expected, unit);
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw Error(std::string(name) + ": out of memory while decoding a data array");
+  }
+}
+
+}  // namespace io_detail
 
 std::string_view vtk_xml_extension(DatasetRef ds) {
   return ds.visit(Overloaded{[](const ImageData&) { return std::string_view(".vti"); },

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Runs every fuzz target for a bounded time on a seed corpus made from data/ (plus small files
-# the round-trip tests write). Usage: run.sh FUZZ_BUILD_DIR SECONDS
+# Runs every fuzz target for a bounded time. The readers' seed corpora are made from data/ (plus
+# small files the CLI writes); the function expression and VTK XML block decoder targets start
+# from the seeds committed in tests/fuzz/corpus/<target>/ (read-only: new inputs go to the
+# build's corpus). Usage: run.sh FUZZ_BUILD_DIR SECONDS; FUZZ_TARGETS="function ..." runs some.
 set -euo pipefail
 build=$1 seconds=${2:-20}
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -32,12 +34,19 @@ if [ -x "$cli" ]; then
 fi
 
 status=0
-for target in vtk_legacy vtk_xml ply off plot3d nrrd metaimage vdb; do
+targets=${FUZZ_TARGETS:-vtk_legacy vtk_xml ply off plot3d nrrd metaimage vdb function vtk_xml_block}
+for target in $targets; do
   echo "== fuzz_$target for ${seconds}s"
-  mkdir -p "$build/crashes/$target"
+  mkdir -p "$build/crashes/$target" "$corpus/$target"
+  extra=(-max_len=65536)
+  if [ "$target" = function ]; then
+    extra=(-max_len=4096 -dict="$root/tests/fuzz/function.dict")
+  fi
+  seeds=()
+  if [ -d "$root/tests/fuzz/corpus/$target" ]; then seeds=("$root/tests/fuzz/corpus/$target"); fi
   if ! "$bin/fuzz_$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
-      -max_len=65536 -print_final_stats=1 -artifact_prefix="$build/crashes/$target/" \
-      "$corpus/$target" 2>"$build/fuzz_$target.log"; then
+      "${extra[@]}" -print_final_stats=1 -artifact_prefix="$build/crashes/$target/" \
+      "$corpus/$target" "${seeds[@]}" 2>"$build/fuzz_$target.log"; then
     echo "fuzz_$target FAILED; log tail:"; tail -40 "$build/fuzz_$target.log"; status=1
   else
     grep -E "stat::number_of_executed_units|cov:" "$build/fuzz_$target.log" | tail -2
