@@ -705,11 +705,11 @@ std::vector<std::byte> Reader::decode_block(const io_detail::VtkXmlBlockFormat& 
   endian_ = format.big_endian ? Endian::Big : Endian::Little;
   header64_ = format.header64;
   compressed_ = format.compressed;
-  ByteSource src = format.base64
-                       ? ByteSource::base64(std::string_view(reinterpret_cast<const char*>(data_.data()),
-                                                             data_.size()),
-                                            0)
-                       : ByteSource::raw(data_, 0);
+  ByteSource src =
+      format.base64
+          ? ByteSource::base64(
+                std::string_view(reinterpret_cast<const char*>(data_.data()), data_.size()), 0)
+          : ByteSource::raw(data_, 0);
   std::vector<std::byte> out;
   read_payload(src, root_where("DataArray"), expected, unit, [&](std::uint64_t n) {
     out.resize(static_cast<std::size_t>(n));
@@ -941,8 +941,7 @@ Points Reader::read_points(pugi::xml_node piece, const Where& w, std::uint64_t n
   return pts;
 }
 
-Buffer<Index> Reader::read_index_array(pugi::xml_node el, const Where& w,
-                                       std::uint64_t count) {
+Buffer<Index> Reader::read_index_array(pugi::xml_node el, const Where& w, std::uint64_t count) {
   auto arr = read_array(el, w, ArrayRequest{count, 1, false});
   Buffer<Index> out;
   arr->visit([&](const auto& v) {
@@ -1591,7 +1590,8 @@ void append_number(std::string& out, T v) {
 class Writer {
  public:
   explicit Writer(const VtkXmlWriteOptions& o)
-      : enc_(o.encoding), compress_(o.encoding != VtkXmlEncoding::Ascii && o.compress),
+      : enc_(o.encoding),
+        compress_(o.encoding != VtkXmlEncoding::Ascii && o.compress),
         callback_(o.progress) {}
 
   // The document is built in memory (90% of the progress, by values encoded), then written out.
@@ -1600,9 +1600,9 @@ class Writer {
     x_ = "<?xml version=\"1.0\"?>\n<VTKFile type=\"";
     const char* type =
         ds.visit(Overloaded{[](const ImageData&) { return "ImageData"; },
-                              [](const StructuredGrid&) { return "StructuredGrid"; },
-                              [](const PolyData&) { return "PolyData"; },
-                              [](const UnstructuredGrid&) { return "UnstructuredGrid"; }});
+                            [](const StructuredGrid&) { return "StructuredGrid"; },
+                            [](const PolyData&) { return "PolyData"; },
+                            [](const UnstructuredGrid&) { return "UnstructuredGrid"; }});
     x_ += type;
     x_ += "\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\"";
     if (compress_) x_ += " compressor=\"vtkZLibDataCompressor\"";
@@ -1611,7 +1611,8 @@ class Writer {
     constexpr std::string_view kAppended = "  <AppendedData encoding=\"raw\">\n   _";
     constexpr std::string_view kAppendedEnd = "\n  </AppendedData>\n";
     const bool appended = enc_ == VtkXmlEncoding::Appended;
-    const std::size_t size = x_.size() + (appended ? kAppended.size() + app_.size() + kAppendedEnd.size() : 0);
+    const std::size_t size =
+        x_.size() + (appended ? kAppended.size() + app_.size() + kAppendedEnd.size() : 0);
     io_detail::Progress out(callback_, size, "writing", progress_.to(), 1);
     if (appended) {
       x_ += kAppended;
@@ -1868,8 +1869,8 @@ class Writer {
   bool compress_;
   const ProgressCallback& callback_;
   io_detail::Progress progress_;  // of building the document
-  std::string x_;    // XML text
-  std::string app_;  // raw appended data
+  std::string x_;                 // XML text
+  std::string app_;               // raw appended data
 };
 
 std::string lower(std::string s) {
@@ -1903,16 +1904,18 @@ Dataset read_vtk_xml(std::span<const std::byte> data, std::string_view name) {
 
 Dataset read_vtk_xml(const std::filesystem::path& path, const ProgressCallback& progress) {
   return io_detail::read_with_progress(
-      path, progress, [&](std::span<const std::byte> bytes, io_detail::Progress* p,
-                          std::uint64_t base) { return read_xml(bytes, path.string(), p, base); });
+      path, progress,
+      [&](std::span<const std::byte> bytes, io_detail::Progress* p, std::uint64_t base) {
+        return read_xml(bytes, path.string(), p, base);
+      });
 }
 
 namespace io_detail {
 
 std::vector<std::byte> decode_vtk_xml_block(std::span<const std::byte> data,
                                             const VtkXmlBlockFormat& format,
-                                            std::optional<std::uint64_t> expected,
-                                            std::size_t unit, std::string_view name) {
+                                            std::optional<std::uint64_t> expected, std::size_t unit,
+                                            std::string_view name) {
   if (unit == 0) throw Error(std::string(name) + ": decode_vtk_xml_block: unit is 0");
   try {
     Reader r(data, name);
@@ -1928,9 +1931,9 @@ std::vector<std::byte> decode_vtk_xml_block(std::span<const std::byte> data,
 
 std::string_view vtk_xml_extension(DatasetRef ds) {
   return ds.visit(Overloaded{[](const ImageData&) { return std::string_view(".vti"); },
-                               [](const StructuredGrid&) { return std::string_view(".vts"); },
-                               [](const PolyData&) { return std::string_view(".vtp"); },
-                               [](const UnstructuredGrid&) { return std::string_view(".vtu"); }});
+                             [](const StructuredGrid&) { return std::string_view(".vts"); },
+                             [](const PolyData&) { return std::string_view(".vtp"); },
+                             [](const UnstructuredGrid&) { return std::string_view(".vtu"); }});
 }
 
 void write_vtk_xml(DatasetRef ds, std::ostream& out, const VtkXmlWriteOptions& options) {
