@@ -118,19 +118,26 @@ TEST(MeshChecks, NonManifoldEdge) {
   EXPECT_FALSE(r.manifold);
 }
 
-TEST(MeshChecks, NonManifoldVertexWhereTwoTetrahedraTouch) {
-  PolyData a = tetra();
-  // A second tetrahedron sharing only point 3 (apex) with the first.
-  PolyData pd = a;
+namespace {
+
+/// `tetra()` and a second, outward-oriented tetrahedron (3, 4, 5, 6) above it that shares only
+/// point 3, its apex: closed, every edge manifold, one non-manifold vertex.
+PolyData two_tetrahedra_touching() {
+  PolyData pd = tetra();
   pd.points.push_back({0, 0, 2});
   pd.points.push_back({1, 0, 2});
   pd.points.push_back({0, 1, 2});
-  // Faces of tetra (3, 4, 5, 6) with 3 at its bottom... orientation outward.
   pd.polys.add({3, 4, 6});
   pd.polys.add({3, 5, 4});
   pd.polys.add({3, 6, 5});
   pd.polys.add({4, 5, 6});
-  const MeshReport r = check_mesh(pd);
+  return pd;
+}
+
+}  // namespace
+
+TEST(MeshChecks, NonManifoldVertexWhereTwoTetrahedraTouch) {
+  const MeshReport r = check_mesh(two_tetrahedra_touching());
   EXPECT_EQ(r.non_manifold_edges, 0u);
   EXPECT_EQ(r.non_manifold_vertices, 1u);
   EXPECT_FALSE(r.manifold);
@@ -280,15 +287,7 @@ TEST(MeshChecks, CoplanarPagesOnTheSameSideOfAnEdgeOverlap) {
 
 TEST(MeshChecks, TwoTetrahedraTouchingAtOneCornerDoNotIntersect) {
   // Non-manifold vertex: the faces around the shared apex meet only there.
-  PolyData pd = tetra();
-  pd.points.push_back({0, 0, 2});
-  pd.points.push_back({1, 0, 2});
-  pd.points.push_back({0, 1, 2});
-  pd.polys.add({3, 4, 6});
-  pd.polys.add({3, 5, 4});
-  pd.polys.add({3, 6, 5});
-  pd.polys.add({4, 5, 6});
-  const MeshReport r = check_mesh(pd);
+  const MeshReport r = check_mesh(two_tetrahedra_touching());
   EXPECT_EQ(r.non_manifold_vertices, 1u);
   EXPECT_TRUE(r.self_intersection_checked);
   EXPECT_EQ(r.self_intersections, 0u);
