@@ -296,11 +296,11 @@ TEST(MeshChecks, TwoTetrahedraTouchingAtOneCornerDoNotIntersect) {
 TEST(MeshChecks, FacesSharingOneCornerIntersectOnlyBeyondIt) {
   // Two triangles sharing corner 0: crossed like a bow tie out of plane (they meet only at the
   // corner), then with the second one piercing the first (the opposite edge 3-4 passes through).
-  const PolyData apart = triangles({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-1, 0, 1}, {-1, 1, 1}},
-                                   {{0, 1, 2}, {0, 3, 4}});
+  const PolyData apart =
+      triangles({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-1, 0, 1}, {-1, 1, 1}}, {{0, 1, 2}, {0, 3, 4}});
   EXPECT_EQ(check_mesh(apart).self_intersections, 0u);
-  const PolyData pierced = triangles({{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {1.5, 0.5, -1}, {1.5, 0.5, 1}},
-                                     {{0, 1, 2}, {0, 3, 4}});
+  const PolyData pierced = triangles(
+      {{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {1.5, 0.5, -1}, {1.5, 0.5, 1}}, {{0, 1, 2}, {0, 3, 4}});
   EXPECT_EQ(check_mesh(pierced).self_intersections, 1u);
 }
 
@@ -316,8 +316,9 @@ TEST(MeshChecks, RequirementsNameWhatFailed) {
   ASSERT_EQ(failed.size(), 1u);
   EXPECT_EQ(failed[0], "closed (3 border edges)");
 
-  const PolyData crossing = triangles(
-      {{0, 0, 0}, {2, 0, 0}, {1, 2, 0}, {1, 1, -1}, {1, 1, 1}, {1, 3, 0.5}}, {{0, 1, 2}, {3, 4, 5}});
+  const PolyData crossing =
+      triangles({{0, 0, 0}, {2, 0, 0}, {1, 2, 0}, {1, 1, -1}, {1, 1, 1}, {1, 3, 0.5}},
+                {{0, 1, 2}, {3, 4, 5}});
   const auto si = failed_requirements(check_mesh(crossing), {"no-self-intersections"});
   ASSERT_EQ(si.size(), 1u);
   EXPECT_EQ(si[0], "no-self-intersections (1 intersecting face pairs)");
