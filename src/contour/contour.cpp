@@ -12,13 +12,16 @@ using namespace contour_detail;
 
 namespace {
 
-ContourResult contour_structured_grid(const StructuredGrid& grid, const ContourOptions& options) {
-  grid.validate();
-  const DataArray& scalars = contour_scalars(grid.point_data, options, "contour");
+/// Image data and structured grids: marching cubes on 3D lattices, marching squares on 2D ones.
+template <class Lattice>
+ContourResult contour_lattice(const Lattice& input, const ContourOptions& options,
+                              const char* caller) {
+  input.validate();
+  const DataArray& scalars = contour_scalars(input.point_data, options, caller);
   ContourResult r;
-  r.output = structured_dimension(grid.dims) == 3
-                 ? marching_cubes_grid(grid, scalars, options, r.stats)
-                 : marching_squares_grid(grid, scalars, options, r.stats);
+  r.output = structured_dimension(input.dims) == 3
+                 ? marching_cubes(input, scalars, options, r.stats)
+                 : marching_squares(input, scalars, options, r.stats);
   return r;
 }
 
@@ -51,18 +54,13 @@ ContourResult contour_polydata(const PolyData& input, const ContourOptions& opti
 }  // namespace
 
 ContourResult contour_image(const ImageData& input, const ContourOptions& options) {
-  input.validate();
-  const DataArray& scalars = contour_scalars(input.point_data, options, "contour_image");
-  ContourResult r;
-  r.output = structured_dimension(input.dims) == 3
-                 ? marching_cubes_image(input, scalars, options, r.stats)
-                 : marching_squares_image(input, scalars, options, r.stats);
-  return r;
+  return contour_lattice(input, options, "contour_image");
 }
 
 ContourResult contour(DatasetRef input, const ContourOptions& options) {
   if (const auto* img = input.get_if<ImageData>()) return contour_image(*img, options);
-  if (const auto* sg = input.get_if<StructuredGrid>()) return contour_structured_grid(*sg, options);
+  if (const auto* sg = input.get_if<StructuredGrid>())
+    return contour_lattice(*sg, options, "contour");
   if (const auto* ug = input.get_if<UnstructuredGrid>())
     return contour_unstructured_grid(*ug, options);
   return contour_polydata(*input.get_if<PolyData>(), options);

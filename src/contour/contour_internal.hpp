@@ -13,20 +13,20 @@ namespace isoforge::contour_detail {
 
 /// Marching cubes on a 3D image: the lattice kernel (marching_cubes.hpp) with the regular
 /// grid's geometry (marching_cubes.cpp).
-[[nodiscard]] PolyData marching_cubes_image(const ImageData& image, const DataArray& scalars,
-                                            const ContourOptions& options, ContourStats& stats);
+[[nodiscard]] PolyData marching_cubes(const ImageData& image, const DataArray& scalars,
+                                      const ContourOptions& options, ContourStats& stats);
 /// Marching cubes on a structured grid with three dimensions > 1: the lattice kernel with the
 /// grid's own points (marching_cubes.cpp).
-[[nodiscard]] PolyData marching_cubes_grid(const StructuredGrid& grid, const DataArray& scalars,
-                                           const ContourOptions& options, ContourStats& stats);
+[[nodiscard]] PolyData marching_cubes(const StructuredGrid& grid, const DataArray& scalars,
+                                      const ContourOptions& options, ContourStats& stats);
 
 /// Marching squares on an image with at most two dimensions > 1: polylines (one dimension:
 /// vertices) (marching_squares.cpp).
-[[nodiscard]] PolyData marching_squares_image(const ImageData& image, const DataArray& scalars,
-                                              const ContourOptions& options, ContourStats& stats);
+[[nodiscard]] PolyData marching_squares(const ImageData& image, const DataArray& scalars,
+                                        const ContourOptions& options, ContourStats& stats);
 /// The same on a structured grid, with quads in the grid's own points (marching_squares.cpp).
-[[nodiscard]] PolyData marching_squares_grid(const StructuredGrid& grid, const DataArray& scalars,
-                                             const ContourOptions& options, ContourStats& stats);
+[[nodiscard]] PolyData marching_squares(const StructuredGrid& grid, const DataArray& scalars,
+                                        const ContourOptions& options, ContourStats& stats);
 
 /// A run of cells of an unstructured grid or polygonal data: `cells` with one type each
 /// (`types`) or all of kind `kind` (`types` null; Polygon means triangle/quad/polygon by size,

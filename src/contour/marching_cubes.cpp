@@ -46,14 +46,14 @@ PolyData lattice(const Geometry& geometry, const Dims& dims, const DataArray& sc
 
 }  // namespace
 
-PolyData marching_cubes_image(const ImageData& image, const DataArray& scalars,
-                              const ContourOptions& options, ContourStats& stats) {
+PolyData marching_cubes(const ImageData& image, const DataArray& scalars,
+                        const ContourOptions& options, ContourStats& stats) {
   return lattice(ImageGeometry(image), image.dims, scalars, image.point_data, image.cell_data,
                  options, stats);
 }
 
-PolyData marching_cubes_grid(const StructuredGrid& grid, const DataArray& scalars,
-                             const ContourOptions& options, ContourStats& stats) {
+PolyData marching_cubes(const StructuredGrid& grid, const DataArray& scalars,
+                        const ContourOptions& options, ContourStats& stats) {
   // Hexahedra read in voxel corner order: the lattice kernel with the grid's own points.
   return lattice(GridGeometry{grid}, grid.dims, scalars, grid.point_data, grid.cell_data, options,
                  stats);

@@ -159,7 +159,8 @@ class SquareContourer {
   void count(const ProgressCallback& progress) {
     rows_.assign(static_cast<std::size_t>(nv_), RowCounts{});
     parallel_for_range(
-        static_cast<std::size_t>(nv_), 64, [&](std::size_t begin, std::size_t end) {
+        static_cast<std::size_t>(nv_), 64,
+        [&](std::size_t begin, std::size_t end) {
           for (auto v = static_cast<Index>(begin); v != static_cast<Index>(end); ++v) {
             RowCounts& rc = rows_[static_cast<std::size_t>(v)];
             const Word* a = row_bits(v);
@@ -178,7 +179,8 @@ class SquareContourer {
               rc.ambiguous += std::popcount(saddle);
             }
           }
-        }, progress, "contour");
+        },
+        progress, "contour");
     point_offset_.assign(static_cast<std::size_t>(nv_) + 1, 0);
     segment_offset_.assign(static_cast<std::size_t>(nv_) + 1, 0);
     for (std::size_t v = 0; v < static_cast<std::size_t>(nv_); ++v) {
@@ -198,7 +200,8 @@ class SquareContourer {
   void generate_links(Index* succ, std::uint8_t* flags, Index* cell_out, Index* cell_in,
                       const ProgressCallback& progress) const {
     parallel_for_range(
-        static_cast<std::size_t>(nv_ - 1), 16, [&](std::size_t begin, std::size_t end) {
+        static_cast<std::size_t>(nv_ - 1), 16,
+        [&](std::size_t begin, std::size_t end) {
           // Crossing masks of the u-edges of rows v and v+1 and of the v-edges between them, with
           // their per-word prefix counts.
           std::vector<Word> masks(static_cast<std::size_t>(3 * words_));
@@ -261,7 +264,8 @@ class SquareContourer {
             }
             check_invariant(s == segment_offset_[vv + 1], "row segments = count");
           }
-        }, progress, "contour");
+        },
+        progress, "contour");
   }
 
   // Pass 4: the points of every row, with interpolated attributes and normals.
@@ -305,8 +309,9 @@ class SquareContourer {
     pts[3 * id] = static_cast<float>(x.x);
     pts[3 * id + 1] = static_cast<float>(x.y);
     pts[3 * id + 2] = static_cast<float>(x.z);
-    arrays.attributes.interpolate(static_cast<std::size_t>(id), static_cast<std::size_t>(u0 + nu_ * v0),
-                       static_cast<std::size_t>(u1 + nu_ * v1), t);
+    arrays.attributes.interpolate(static_cast<std::size_t>(id),
+                                  static_cast<std::size_t>(u0 + nu_ * v0),
+                                  static_cast<std::size_t>(u1 + nu_ * v1), t);
     if (arrays.normals) {
       const Vec3 ga = gradient(u0, v0), gb = gradient(u1, v1);
       store_normal(arrays.normals + 3 * id, ga + (gb - ga) * t, opt_.flip);
@@ -395,7 +400,8 @@ PolyData contour_squares(const Lattice& lat, const T* values, Index nu, Index nv
   c.generate_points(out.points.floats().data(), arrays);
   if (cells) {
     for (std::size_t l = 0; l < nl; ++l) {
-      arrays.attributes.copy_cell(l, static_cast<std::size_t>(cell_out[lines.first[l]]));  // its first point
+      arrays.attributes.copy_cell(
+          l, static_cast<std::size_t>(cell_out[lines.first[l]]));  // its first point
     }
   }
   out.lines = CellArray(std::move(lines.offsets), std::move(lines.connectivity));
@@ -433,7 +439,8 @@ PolyData contour_points(const Lattice& lat, const T* values, Index nu, double is
     pts[3 * k] = static_cast<float>(x.x);
     pts[3 * k + 1] = static_cast<float>(x.y);
     pts[3 * k + 2] = static_cast<float>(x.z);
-    arrays.attributes.interpolate(k, static_cast<std::size_t>(u), static_cast<std::size_t>(u + 1), t);
+    arrays.attributes.interpolate(k, static_cast<std::size_t>(u), static_cast<std::size_t>(u + 1),
+                                  t);
     if (arrays.cell_data) arrays.attributes.copy_cell(k, static_cast<std::size_t>(u));
     if (arrays.normals) {
       const Vec3 ga = c.gradient(u, 0), gb = c.gradient(u + 1, 0);
@@ -481,8 +488,8 @@ void lattice_axes(const Dims& dims, int axes[2], Index& nu, Index& nv) {
 
 }  // namespace
 
-PolyData marching_squares_image(const ImageData& input, const DataArray& scalars,
-                                const ContourOptions& options, ContourStats& stats) {
+PolyData marching_squares(const ImageData& input, const DataArray& scalars,
+                          const ContourOptions& options, ContourStats& stats) {
   int axes[2];
   Index nu, nv;
   lattice_axes(input.dims, axes, nu, nv);
@@ -493,8 +500,8 @@ PolyData marching_squares_image(const ImageData& input, const DataArray& scalars
   return lattice_lines(lat, nu, nv, input.point_data, input.cell_data, scalars, options, stats);
 }
 
-PolyData marching_squares_grid(const StructuredGrid& grid, const DataArray& scalars,
-                               const ContourOptions& options, ContourStats& stats) {
+PolyData marching_squares(const StructuredGrid& grid, const DataArray& scalars,
+                          const ContourOptions& options, ContourStats& stats) {
   int axes[2];
   Index nu, nv;
   lattice_axes(grid.dims, axes, nu, nv);
