@@ -163,49 +163,43 @@ class Engine {
     }
   }
 
-  [[nodiscard]] double scatter_estimate() const {
+  struct ReachEstimates {
+    double scatter = 0;  ///< Scatter's kernel calls: every primitive's own reach, overlaps counted
+    double samples = 0;  ///< samples within reach of some primitive (overlaps not counted)
+  };
+
+  // One pass over the primitives with reach R = max distance + radius. Scatter evaluates each
+  // primitive in its whole reach: a ball per point, plus the swept tube of a segment, plus the
+  // slab (2 R A), edge tubes and corner balls of a triangle. The samples within reach of some
+  // primitive are estimated without the overlaps (2 R A per triangle, pi R² L per segment, a ball
+  // per point), at most the samples of the grid within the primitives' bounds grown by the reach.
+  [[nodiscard]] ReachEstimates reach_estimates() const {
     const double hv = g_.spacing.x * g_.spacing.y * g_.spacing.z;
     constexpr double pi = std::numbers::pi;
-    double sum = 0;
+    ReachEstimates e;
     for (u32 id = 0; id < P_.size(); ++id) {
       const double R = maxd_ + P_.radius(id);
-      double v = 4.0 / 3.0 * pi * R * R * R;
+      const double ball = 4.0 / 3.0 * pi * R * R * R;
       if (id >= P_.triangle_begin()) {
         const auto& t = P_.triangles()[id - P_.triangle_begin()];
         const Vec3 a = P_.vertices()[t[0]], b = P_.vertices()[t[1]], c = P_.vertices()[t[2]];
         const double area = 0.5 * norm(cross(b - a, c - a));
         const double perim = norm(b - a) + norm(c - b) + norm(a - c);
-        v += 2 * area * R + 0.5 * pi * perim * R * R;
-      } else if (id >= P_.segment_begin()) {
-        const auto& s = P_.segments()[id - P_.segment_begin()];
-        v += pi * R * R * norm(P_.vertices()[s[1]] - P_.vertices()[s[0]]);
-      }
-      sum += v;
-    }
-    return sum / hv;
-  }
-
-  // Estimated samples within reach of some primitive: the band of the surfaces, tubes and balls
-  // without their overlaps (2 R A per triangle, pi R² L per segment, a ball per point), at most
-  // the samples of the grid within the primitives' bounds grown by the reach.
-  [[nodiscard]] double union_estimate() const {
-    const double hv = g_.spacing.x * g_.spacing.y * g_.spacing.z;
-    constexpr double pi = std::numbers::pi;
-    double sum = 0;
-    for (u32 id = 0; id < P_.size(); ++id) {
-      const double R = maxd_ + P_.radius(id);
-      if (id >= P_.triangle_begin()) {
-        const auto& t = P_.triangles()[id - P_.triangle_begin()];
-        const Vec3 a = P_.vertices()[t[0]], b = P_.vertices()[t[1]], c = P_.vertices()[t[2]];
-        sum += R * norm(cross(b - a, c - a));
+        e.scatter += ball + (2 * area * R + 0.5 * pi * perim * R * R);
+        e.samples += 2 * area * R;
       } else if (id >= P_.segment_begin()) {
         const auto& sg = P_.segments()[id - P_.segment_begin()];
-        sum += pi * R * R * norm(P_.vertices()[sg[1]] - P_.vertices()[sg[0]]);
+        const double tube = pi * R * R * norm(P_.vertices()[sg[1]] - P_.vertices()[sg[0]]);
+        e.scatter += ball + tube;
+        e.samples += tube;
       } else {
-        sum += 4.0 / 3.0 * pi * R * R * R;
+        e.scatter += ball;
+        e.samples += ball;
       }
     }
-    return std::min(sum / hv, reach_box_samples());
+    e.scatter /= hv;
+    e.samples = std::min(e.samples / hv, reach_box_samples());
+    return e;
   }
 
   // Samples of the grid within the primitives' bounds grown by the reach.
@@ -720,13 +714,14 @@ DistanceStrategy choose_strategy(const PrimitiveSet& P, const GridSpec& g, const
   stats.points = P.points().size();
   stats.segments = P.segments().size();
   stats.triangles = P.triangles().size();
-  stats.scatter_estimate = engine.scatter_estimate();
+  const auto estimates = engine.reach_estimates();
+  stats.scatter_estimate = estimates.scatter;
   DistanceStrategy s = o.strategy;
   if (s == DistanceStrategy::Gather && P.has_radii()) {
     throw Error("distance: the Gather strategy does not support radii (use Scatter or Auto)");
   }
   if (s == DistanceStrategy::Auto) {
-    s = P.has_radii() || stats.scatter_estimate <= gather_ratio * engine.union_estimate()
+    s = P.has_radii() || stats.scatter_estimate <= gather_ratio * estimates.samples
             ? DistanceStrategy::Scatter
             : DistanceStrategy::Gather;
   }
