@@ -24,6 +24,7 @@
 #include "isoforge/core/parallel.hpp"
 #include "isoforge/core/points.hpp"
 #include "isoforge/core/polylines.hpp"
+#include "isoforge/core/predicates.hpp"
 #include "isoforge/core/progress.hpp"
 #include "isoforge/core/result.hpp"
 #include "isoforge/core/subset.hpp"
