@@ -32,6 +32,7 @@
 #include "isoforge/core/vec.hpp"
 #include "isoforge/filters/shrink.hpp"
 #include "isoforge/fit/fit_primitive.hpp"
+#include "isoforge/fit/refine.hpp"
 #include "isoforge/implicit/function.hpp"
 #include "isoforge/implicit/parse.hpp"
 #include "isoforge/implicit/sample.hpp"
