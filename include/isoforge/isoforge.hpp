@@ -51,4 +51,5 @@
 #include "isoforge/spatial/cell_locator.hpp"
 #include "isoforge/spatial/primitive_locator.hpp"
 #include "isoforge/spatial/primitives.hpp"
+#include "isoforge/spatial/self_intersections.hpp"
 #include "isoforge/version.hpp"
