@@ -48,6 +48,7 @@
 #include "isoforge/model/distance.hpp"
 #include "isoforge/model/implicit_modeller.hpp"
 #include "isoforge/reduce/decimate.hpp"
+#include "isoforge/reduce/mesh_distance.hpp"
 #include "isoforge/spatial/cell_locator.hpp"
 #include "isoforge/spatial/primitive_locator.hpp"
 #include "isoforge/spatial/primitives.hpp"
