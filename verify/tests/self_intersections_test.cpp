@@ -88,8 +88,8 @@ TEST(self_intersections_vs_cgal, RandomSoupsWithSharedVertices) {
       const Vec3 p = m.points[std::size_t(a)];
       m.points.push_back(p + Vec3{d(rng), d(rng), d(rng)});
       const Index c = Index(m.points.size() - 1);
-      // A third of the triangles share an edge-length pair of pool vertices (so edges are
-      // shared too), the rest one pool vertex.
+      // A third of the triangles use two pool vertices (so edges get shared too), the rest
+      // one pool vertex and two new points near it.
       Index b;
       if (n % 3 == 0) {
         b = pool(rng);
@@ -102,6 +102,29 @@ TEST(self_intersections_vs_cgal, RandomSoupsWithSharedVertices) {
     }
     const std::size_t ours = self_intersections(m).size();
     EXPECT_GT(ours, 0u) << seed;
+    EXPECT_EQ(ours, cgal_count(m)) << "seed " << seed;
+  }
+}
+
+// Triangles on a 4 × 4 × 4 integer lattice: touching at corners, along edges and in shared
+// planes everywhere, collinear (skipped) faces, and distinct ids at equal positions (points 64
+// and up repeat the lattice) — the exact cases where a tolerance would decide.
+TEST(self_intersections_vs_cgal, LatticeSoups) {
+  for (unsigned seed = 1; seed <= 12; ++seed) {
+    std::mt19937 rng(seed);
+    PolyData m;
+    for (int copy = 0; copy < 2; ++copy) {
+      for (int k = 0; k < 4; ++k) {
+        for (int j = 0; j < 4; ++j) {
+          for (int i = 0; i < 4; ++i) m.points.push_back({double(i), double(j), double(k)});
+        }
+      }
+    }
+    const Index pool = seed % 2 ? 127 : 40;  // all points, or a few: more shared ids
+    std::uniform_int_distribution<Index> id(0, pool);
+    for (int n = 0; n < 150; ++n) m.polys.add({id(rng), id(rng), id(rng)});
+    const std::size_t ours = self_intersections(m).size();
+    EXPECT_GT(ours, 100u) << seed;
     EXPECT_EQ(ours, cgal_count(m)) << "seed " << seed;
   }
 }
