@@ -1,13 +1,16 @@
 // isoforge's exact self-intersection test (spatial/self_intersections.hpp, on core/predicates.hpp)
 // against the CGAL check of the verification suite (check_mesh): the same number of pairs on
-// the bunny, random triangle soups sharing vertices, and meshes with folds (coplanar and not).
+// the bunny, random triangle soups sharing vertices, and meshes with folds (coplanar and not);
+// and the predicates themselves against CGAL's on nearly degenerate inputs.
 
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <random>
 
 #include "isoforge/core/mesh_topology.hpp"
+#include "isoforge/core/predicates.hpp"
 #include "isoforge/io/ply.hpp"
 #include "isoforge/spatial/self_intersections.hpp"
 #include "mesh_checks.hpp"
@@ -162,4 +165,76 @@ TEST(self_intersections_vs_cgal, WavyGridWithFolds) {
     EXPECT_GT(ours, 10u) << seed;
     EXPECT_EQ(ours, cgal_count(m)) << "seed " << seed;
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The predicates themselves against CGAL's exact ones, on inputs where rounding decides.
+
+namespace {
+
+// Four points near one plane: kind 0 on a random plane, rounded to float (as stored data), then
+// moved by 0–2 ulps per coordinate; kind 1 the same near a line; kind 2 far from the origin;
+// kind 3 on the plane x + y + z = 1024 exactly (x, y multiples of 2^-10) with z moved by at
+// most one ulp, so that many quadruples are exactly coplanar.
+std::array<Vec3, 4> near_degenerate(std::mt19937& rng, int kind) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::uniform_int_distribution<int> ulps(-2, 2);
+  std::array<Vec3, 4> p;
+  if (kind == 3) {
+    std::uniform_int_distribution<int> k(0, 1 << 19);
+    for (auto& q : p) {
+      const double x = std::ldexp(k(rng), -10), y = std::ldexp(k(rng), -10);
+      q = {x, y, 1024 - x - y};
+      const int i = ulps(rng);
+      if (i == 1 || i == -1) q.z = std::nextafter(q.z, i > 0 ? 1e300 : -1e300);
+    }
+    return p;
+  }
+  const Vec3 o{u(rng), u(rng), u(rng)}, e1{u(rng), u(rng), u(rng)}, e2{u(rng), u(rng), u(rng)};
+  const double offset = kind == 2 ? 1e6 : 0;
+  for (auto& q : p) {
+    const double s = u(rng), t = kind == 1 ? 0 : u(rng);
+    q = o + e1 * s + e2 * t + Vec3{offset, offset, offset};
+    q = {float(q.x), float(q.y), float(q.z)};
+    for (int k = 0; k < 3; ++k) {
+      for (int i = ulps(rng); i != 0; i += i > 0 ? -1 : 1) {
+        q[k] = std::nextafter(q[k], i > 0 ? 1e300 : -1e300);
+      }
+    }
+  }
+  return p;
+}
+
+}  // namespace
+
+TEST(predicates_vs_cgal, Orient3dOnNearDegenerateInputs) {
+  std::mt19937 rng(17);
+  std::size_t zeros = 0;
+  for (int n = 0; n < 300000; ++n) {
+    const auto p = near_degenerate(rng, n % 4);
+    const int expected = verify::exact_orientation(p[0], p[1], p[2], p[3]);
+    ASSERT_EQ(orient3d(p[0], p[1], p[2], p[3]), expected) << n;
+    zeros += expected == 0;
+  }
+  EXPECT_GT(zeros, 5000u);
+}
+
+TEST(predicates_vs_cgal, TrianglesIntersectOnNearDegenerateInputs) {
+  std::mt19937 rng(19);
+  std::size_t hits = 0, tested = 0;
+  for (int n = 0; n < 100000; ++n) {
+    // Two triangles from points near one plane: coplanar and nearly coplanar contacts.
+    const int kind = n % 2 == 0 ? 0 : 3;
+    const auto a = near_degenerate(rng, kind), b = near_degenerate(rng, kind);
+    std::array<Vec3, 3> p{a[0], a[1], a[2]}, q{a[3], b[0], b[1]};
+    if (n % 2 == 1) q = {b[0], b[1], b[2]};
+    // CGAL's test needs non-degenerate triangles.
+    if (triangle_degenerate(q[0], q[1], q[2]) || triangle_degenerate(p[0], p[1], p[2])) continue;
+    ++tested;
+    const bool expected = verify::exact_triangles_intersect(p, q);
+    ASSERT_EQ(triangles_intersect(p, q), expected) << n;
+    hits += expected;
+  }
+  EXPECT_GT(tested, 90000u);
+  EXPECT_GT(hits, 3000u);
 }
