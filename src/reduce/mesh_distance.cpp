@@ -10,7 +10,7 @@
 // position is a pure function of (seed, mesh, k) — stratum k of the cumulated areas, jittered,
 // then a uniform point of the triangle holding it — so any slicing of the parallel loops gives
 // the same samples. Distances are exact closest-point distances (core/closest_point.hpp through
-// PrimitiveLocator); the sums are taken in sample order after the parallel loop.
+// PrimitiveLocator), summed in fixed chunks of samples whose sums are combined in order.
 
 #include "isoforge/reduce/mesh_distance.hpp"
 
@@ -33,7 +33,7 @@ namespace {
 constexpr std::size_t kMinAutoSamples = 100000;   // automatic count: at least this many ...
 constexpr std::size_t kSamplesPerTriangle = 10;   // ... or this many per triangle ...
 constexpr std::size_t kMaxAutoSamples = 4000000;  // ... but no more than this
-constexpr std::size_t kGrain = 1024;              // samples per parallel task (at least)
+constexpr std::size_t kChunk = 2048;  // samples summed together (fixed, so sums are reproducible)
 
 // A counter-based generator: a uniform double in [0, 1) from (seed, stream, index).
 double uniform(std::uint64_t seed, std::uint64_t stream, std::uint64_t index) {
@@ -124,28 +124,38 @@ OneSided one_sided(const Surface& from, std::size_t requested, const PrimitiveLo
   // Zero-area meshes get no area samples (there is no area to spread them over).
   const std::size_t area_samples = from.cumulated.back() > 0 ? requested : 0;
   const std::size_t n = from.vertices.size() + area_samples;
-  std::vector<double> d2(n);
+  // Fixed chunks of samples, each summed in order, the chunks then combined in order: the same
+  // sums for any thread count, in memory independent of the sample count.
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  std::vector<OneSided> partial(chunks);
   const PrimitiveSet& set = to.primitives();
   parallel_for_range(
-      n, kGrain,
+      chunks, 1,
       [&](std::size_t begin, std::size_t end) {
-        // Consecutive samples are close together: the previous answer bounds the next search.
-        ClosestPrimitive best;
-        for (std::size_t i = begin; i < end; ++i) {
-          const Vec3 p = sample(from, area_samples, seed, stream, i);
-          if (best.id != PrimitiveSet::kNone) best.dist2 = set.dist2(best.id, p);
-          to.nearest(p, std::numeric_limits<double>::infinity(), best);
-          d2[i] = best.dist2;
+        for (std::size_t c = begin; c < end; ++c) {
+          OneSided& part = partial[c];
+          // Consecutive samples are close together: the previous answer bounds the next search.
+          ClosestPrimitive best;
+          const std::size_t last = std::min(n, (c + 1) * kChunk);
+          for (std::size_t i = c * kChunk; i < last; ++i) {
+            const Vec3 p = sample(from, area_samples, seed, stream, i);
+            if (best.id != PrimitiveSet::kNone) best.dist2 = set.dist2(best.id, p);
+            to.nearest(p, std::numeric_limits<double>::infinity(), best);
+            const double d = std::sqrt(best.dist2);
+            part.max = std::max(part.max, d);
+            part.sum += d;
+            part.sum2 += best.dist2;
+          }
+          part.samples = last - c * kChunk;
         }
       },
       progress, "mesh_distance");
   OneSided r;
-  r.samples = n;
-  for (const double v : d2) {
-    const double d = std::sqrt(v);
-    r.max = std::max(r.max, d);
-    r.sum += d;
-    r.sum2 += v;
+  for (const OneSided& part : partial) {
+    r.max = std::max(r.max, part.max);
+    r.sum += part.sum;
+    r.sum2 += part.sum2;
+    r.samples += part.samples;
   }
   return r;
 }
