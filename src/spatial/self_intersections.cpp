@@ -66,8 +66,7 @@ TriangleGrid::TriangleGrid(const Bounds& bounds, double cell_size) {
                   " is too small for the bounds (more than 2^21 cells along an axis)");
     }
   }
-  keys_.assign(64, kEmpty);
-  lists_of_.assign(64, 0);
+  slots_.assign(64, Slot{});
   mask_ = 63;
   shift_ = 64 - 6;
 }
@@ -85,33 +84,28 @@ TriangleGrid::Box TriangleGrid::box_of(const Vec3& lo, const Vec3& hi) const {
 }
 
 void TriangleGrid::grow() {
-  std::vector<Key> old_keys = std::move(keys_);
-  std::vector<std::uint32_t> old_lists = std::move(lists_of_);
-  const std::size_t capacity = old_keys.size() * 2;
-  keys_.assign(capacity, kEmpty);
-  lists_of_.assign(capacity, 0);
-  mask_ = capacity - 1;
+  std::vector<Slot> old = std::move(slots_);
+  slots_.assign(old.size() * 2, Slot{});
+  mask_ = slots_.size() - 1;
   --shift_;
-  for (std::size_t s = 0; s < old_keys.size(); ++s) {
-    if (old_keys[s] == kEmpty) continue;
-    std::size_t t = slot_of(old_keys[s]);
-    while (keys_[t] != kEmpty) t = (t + 1) & mask_;
-    keys_[t] = old_keys[s];
-    lists_of_[t] = old_lists[s];
+  for (const Slot& slot : old) {
+    if (slot.key == kEmpty) continue;
+    std::size_t t = slot_of(slot.key);
+    while (slots_[t].key != kEmpty) t = (t + 1) & mask_;
+    slots_[t] = slot;
   }
 }
 
 std::vector<TriangleGrid::Entry>& TriangleGrid::find_or_add(Key key) {
   for (std::size_t s = slot_of(key);; s = (s + 1) & mask_) {
-    if (keys_[s] == key) return lists_[lists_of_[s]];
-    if (keys_[s] == kEmpty) {
+    if (slots_[s].key == key) return lists_[slots_[s].list];
+    if (slots_[s].key == kEmpty) {
       // Occupied cells stay in the table (their lists may empty and refill): no tombstones.
-      if (2 * (lists_.size() + 1) > keys_.size()) {
+      if (2 * (lists_.size() + 1) > slots_.size()) {
         grow();
         return find_or_add(key);
       }
-      keys_[s] = key;
-      lists_of_[s] = static_cast<std::uint32_t>(lists_.size());
+      slots_[s] = {key, static_cast<std::uint32_t>(lists_.size())};
       lists_.emplace_back();
       return lists_.back();
     }

@@ -102,8 +102,8 @@ class TriangleGrid {
   /// The list of a cell, or nullptr.
   [[nodiscard]] const std::vector<Entry>* find(Key key) const {
     for (std::size_t s = slot_of(key);; s = (s + 1) & mask_) {
-      if (keys_[s] == key) return &lists_[lists_of_[s]];
-      if (keys_[s] == kEmpty) return nullptr;
+      if (slots_[s].key == key) return &lists_[slots_[s].list];
+      if (slots_[s].key == kEmpty) return nullptr;
     }
   }
   std::vector<Entry>& find_or_add(Key key);
@@ -112,8 +112,11 @@ class TriangleGrid {
   double origin_[3] = {0, 0, 0};
   double cell_size_ = 1, inv_cell_ = 1;
   int dims_[3] = {1, 1, 1};
-  std::vector<Key> keys_;                  // open-addressing table of occupied cells
-  std::vector<std::uint32_t> lists_of_;    // slot -> index in lists_
+  struct Slot {
+    Key key = kEmpty;
+    std::uint32_t list = 0;  // index in lists_
+  };
+  std::vector<Slot> slots_;                // open-addressing table of occupied cells
   std::vector<std::vector<Entry>> lists_;  // faces per cell
   std::size_t mask_ = 0;
   int shift_ = 64;
@@ -133,10 +136,12 @@ void TriangleGrid::for_each_candidate(const Vec3& lo, const Vec3& hi, F&& f) con
               e.lo[2] > q.hi[2] || e.hi[2] < q.lo[2]) {
             continue;
           }
-          // Report from the cell holding the lower corner of the boxes' intersection only.
-          if (i != std::max(q.c0[0], cell_of(e.lo[0], 0)) ||
-              j != std::max(q.c0[1], cell_of(e.lo[1], 1)) ||
-              k != std::max(q.c0[2], cell_of(e.lo[2], 2))) {
+          // Report from the cell holding the lower corner of the boxes' intersection only: per
+          // axis max(query's first cell, face's first cell), where the face's first cell is at
+          // most this one.
+          if ((i != q.c0[0] && cell_of(e.lo[0], 0) != i) ||
+              (j != q.c0[1] && cell_of(e.lo[1], 1) != j) ||
+              (k != q.c0[2] && cell_of(e.lo[2], 2) != k)) {
             continue;
           }
           f(e.face);
