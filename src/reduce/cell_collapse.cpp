@@ -53,6 +53,7 @@ class CellCollapser {
   const Prepared& prepared_;
   const DecimateOptions& options_;
   std::vector<Quadric> quadric_;
+  std::vector<PointQuadric> point_;
   std::vector<double> area_;
   std::vector<std::uint32_t> stamp_;
   std::vector<Entry> heap_;
@@ -69,7 +70,8 @@ Candidate CellCollapser::evaluate(Fid f) const {
     }
   }
   if (locked > 1) return c;
-  const Quadric q = quadric_[t[0]] + quadric_[t[1]] + quadric_[t[2]];
+  const Quadric planes = quadric_[t[0]] + quadric_[t[1]] + quadric_[t[2]];
+  const Quadric q = (point_[t[0]] + point_[t[1]] + point_[t[2]]).added_to(planes);
   const Vec3 a = mesh_.position(t[0]), b = mesh_.position(t[1]), d = mesh_.position(t[2]);
   const int keep = locked == 1 ? lock_at : 0;
   c.group = {t[keep], t[(keep + 1) % 3], t[(keep + 2) % 3]};
@@ -87,9 +89,9 @@ Candidate CellCollapser::evaluate(Fid f) const {
       }
     }
   }
-  const double geometric = q(c.p);
+  const double geometric = planes(c.p);
   const double area = area_[t[0]] + area_[t[1]] + area_[t[2]];
-  c.cost = geometric;
+  c.cost = q(c.p);
   c.error = area > 0 ? std::sqrt(geometric / area) : 0;
   // Barycentric weights of p's projection on the triangle, clamped to it, for the arrays.
   const Vec3 p0 = mesh_.position(c.group[0]), p1 = mesh_.position(c.group[1]),
@@ -132,7 +134,7 @@ DecimateStats CellCollapser::run() {
   DecimateStats stats;
   stats.input_triangles = mesh_.live_faces();
   stats.locked_vertices = prepared_.locked_count;
-  vertex_quadrics(mesh_, options_, quadric_, area_, progress_range(options_.progress, 0, 0.05));
+  vertex_quadrics(mesh_, options_, quadric_, point_, area_, progress_range(options_.progress, 0, 0.05));
   stamp_.assign(mesh_.vertex_count(), 0);
   fill_heap();
   const std::size_t target = prepared_.target;
@@ -163,11 +165,13 @@ DecimateStats CellCollapser::run() {
         case Refusal::Intersection: ++stats.refused_intersection; continue;
       }
       const Quadric q = quadric_[c.group[0]] + quadric_[c.group[1]] + quadric_[c.group[2]];
+      const PointQuadric pq = point_[c.group[0]] + point_[c.group[1]] + point_[c.group[2]];
       const double area = area_[c.group[0]] + area_[c.group[1]] + area_[c.group[2]];
       mesh_.merge(c.group, c.p);
       const std::array<std::size_t, 3> from{c.group[0], c.group[1], c.group[2]};
       attributes_.blend(c.group[0], from, c.weights);
       quadric_[c.group[0]] = q;
+      point_[c.group[0]] = pq;
       area_[c.group[0]] = area;
       for (Vid v : c.group) ++stamp_[v];
       ++stats.operations;

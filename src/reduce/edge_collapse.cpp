@@ -14,10 +14,12 @@
 namespace isoforge::reduce {
 namespace {
 
+// 16 bytes, so four entries share a cache line. Stamps only grow, so the sum of the two
+// vertices' stamps changes whenever either does: one field tells a stale entry.
 struct Entry {
-  double cost;
+  float cost;
   Vid u, v;
-  std::uint32_t su, sv;
+  std::uint32_t stamps;
 };
 
 // Heap order: the smallest cost first, ties by vertex ids (deterministic).
@@ -61,6 +63,7 @@ class Collapser {
   const DecimateOptions& options_;
   double attribute_scale2_ = 0;
   std::vector<Quadric> quadric_;
+  std::vector<PointQuadric> point_;
   std::vector<double> area_;
   std::vector<std::uint32_t> stamp_;
   std::vector<Entry> heap_;
@@ -68,14 +71,15 @@ class Collapser {
 };
 
 void Collapser::build_quadrics() {
-  vertex_quadrics(mesh_, options_, quadric_, area_, progress_range(options_.progress, 0, 0.05));
+  vertex_quadrics(mesh_, options_, quadric_, point_, area_, progress_range(options_.progress, 0, 0.05));
 }
 
 Candidate Collapser::evaluate(Vid u, Vid v) const {
   Candidate c;
   const bool lu = mesh_.locked(u), lv = mesh_.locked(v);
   if (lu && lv) return c;
-  const Quadric q = quadric_[u] + quadric_[v];
+  const Quadric planes = quadric_[u] + quadric_[v];
+  const Quadric q = (point_[u] + point_[v]).added_to(planes);
   const Vec3& pu = mesh_.position(u);
   const Vec3& pv = mesh_.position(v);
   if (lu || lv) {
@@ -96,8 +100,8 @@ Candidate Collapser::evaluate(Vid u, Vid v) const {
       }
     }
   }
-  const double geometric = q(c.p);
-  c.cost = geometric;
+  const double geometric = planes(c.p);
+  c.cost = q(c.p);
   if (attribute_scale2_ > 0) {
     c.cost += attribute_scale2_ * attributes_.scaled_distance2(u, v) * (area_[u] + area_[v]);
   }
@@ -116,7 +120,7 @@ void Collapser::push_edges_of(Vid v) {
     const Vid a = std::min(v, w), b = std::max(v, w);
     const Candidate c = evaluate(a, b);
     if (!c.valid) continue;
-    heap_.push_back({c.cost, a, b, stamp_[a], stamp_[b]});
+    heap_.push_back({static_cast<float>(c.cost), a, b, stamp_[a] + stamp_[b]});
     std::push_heap(heap_.begin(), heap_.end(), Later{});
   }
 }
@@ -146,7 +150,7 @@ void Collapser::fill_heap() {
       for (Vid w : nb) {
         if (w <= v) continue;
         const Candidate c = evaluate(v, w);
-        entries[at] = {c.cost, v, w, stamp_[v], stamp_[w]};
+        entries[at] = {static_cast<float>(c.cost), v, w, stamp_[v] + stamp_[w]};
         ok[at] = c.valid ? 1 : 0;
         ++at;
       }
@@ -176,7 +180,7 @@ DecimateStats Collapser::run() {
       std::pop_heap(heap_.begin(), heap_.end(), Later{});
       const Entry e = heap_.back();
       heap_.pop_back();
-      if (stamp_[e.u] != e.su || stamp_[e.v] != e.sv) continue;
+      if (stamp_[e.u] + stamp_[e.v] != e.stamps) continue;
       const Candidate c = evaluate(e.u, e.v);
       if (!c.valid) continue;
       if (prepared_.max_error > 0 && c.error > prepared_.max_error) {
@@ -192,11 +196,13 @@ DecimateStats Collapser::run() {
         case Refusal::Intersection: ++stats.refused_intersection; continue;
       }
       const Quadric q = quadric_[c.keep] + quadric_[c.drop];
+      const PointQuadric pq = point_[c.keep] + point_[c.drop];
       mesh_.merge(group, c.p);
       const std::array<std::size_t, 2> from{c.keep, c.drop};
       const std::array<double, 2> weights{1 - c.t, c.t};
       attributes_.blend(c.keep, from, weights);
       quadric_[c.keep] = q;
+      point_[c.keep] = pq;
       area_[c.keep] += area_[c.drop];
       ++stamp_[c.keep];
       ++stamp_[c.drop];

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "isoforge/core/predicates.hpp"
@@ -17,6 +18,60 @@ bool boxes_overlap(const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3
 std::array<Index, 3> ids_of(const Tri& t) { return {t[0], t[1], t[2]}; }
 
 Vec3 face_normal(const std::array<Vec3, 3>& p) { return cross(p[1] - p[0], p[2] - p[0]); }
+
+// Whether a plane certainly separates triangles p and q except at the vertices they share
+// (equal ids: the same point), decided in double arithmetic with a margin (1e-12 relative,
+// about 10^3 times the rounding error of these few operations), so a "true" is never wrong;
+// "false" leaves the case to the exact predicates. The candidate planes are p's plane and the
+// planes through p's edges along p's normal. A shared vertex lies on such a plane when it is a
+// vertex of that plane's edge (or of p, for p's plane) and is then skipped: q meets the plane
+// only there, and p lies on the other side, so the faces meet only at shared vertices. In a
+// mesh, nearby faces — neighbours and coplanar ones included — are almost always told apart
+// here without the exact fallback.
+bool separated_by(const std::array<Vec3, 3>& p, const Tri& pid, const std::array<Vec3, 3>& q,
+                  const Tri& qid) {
+  constexpr double kRel = 1e-12;
+  const Vec3 n = cross(p[1] - p[0], p[2] - p[0]);
+  const double ln = norm(n);
+  if (!(ln > 0)) return false;
+  // Side of q's vertices (skipping those with ids in `on_plane`) relative to the plane
+  // through `origin` with normal m: +1 all strictly positive, -1 all strictly negative, 0 else.
+  auto side = [&](const Vec3& m, const Vec3& origin, Vid on0, Vid on1, Vid on2) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo, scale = 0;
+    bool any = false;
+    for (int k = 0; k < 3; ++k) {
+      if (qid[k] == on0 || qid[k] == on1 || qid[k] == on2) continue;
+      const Vec3 d = q[k] - origin;
+      const double v = dot(m, d);
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+      scale = std::max(scale, norm(d));
+      any = true;
+    }
+    if (!any) return 0;
+    const double bound = kRel * norm(m) * scale;
+    return lo > bound ? 1 : (hi < -bound ? -1 : 0);
+  };
+  if (side(n, p[0], pid[0], pid[1], pid[2]) != 0) return true;
+  constexpr Vid kNoVertex = ~Vid{0};
+  for (int k = 0; k < 3; ++k) {
+    const Vec3& a = p[k];
+    const Vec3& b = p[(k + 1) % 3];
+    const Vec3& r = p[(k + 2) % 3];
+    const Vec3 m = cross(b - a, n);
+    const double inner = dot(m, r - a);
+    const double bound = kRel * norm(m) * norm(r - a);
+    if (std::abs(inner) <= bound) continue;
+    const int s = side(m, a, pid[k], pid[(k + 1) % 3], kNoVertex);
+    if (s != 0 && (s > 0) != (inner > 0)) return true;
+  }
+  return false;
+}
+
+bool certainly_apart(const std::array<Vec3, 3>& p, const Tri& pid, const std::array<Vec3, 3>& q,
+                     const Tri& qid) {
+  return separated_by(p, pid, q, qid) || separated_by(q, qid, p, pid);
+}
 
 }  // namespace
 
@@ -39,21 +94,37 @@ EditMesh::EditMesh(std::vector<Vec3> positions, std::vector<Tri> triangles,
   for (Fid f = 0; f < faces_.size(); ++f) {
     for (Vid v : faces_[f]) vertex_faces_[v].push_back(f);
   }
+  border_.resize(positions_.size());
+  for (std::size_t v = 0; v < positions_.size(); ++v) {
+    border_[v] = on_border(static_cast<Vid>(v)) ? 1 : 0;
+  }
   use_grid_ = settings_.check_intersections && !faces_.empty();
   if (use_grid_) {
-    Bounds box;
-    double edges = 0;
-    for (const Tri& t : faces_) {
-      for (int k = 0; k < 3; ++k) {
-        box.extend(positions_[t[k]]);
-        edges += norm(positions_[t[(k + 1) % 3]] - positions_[t[k]]);
-      }
-    }
-    const double mean_edge = edges / (3.0 * static_cast<double>(faces_.size()));
-    grid_.emplace(box, triangle_grid_cell_size(box, faces_.size(), mean_edge));
-    for (Fid f = 0; f < faces_.size(); ++f) grid_insert(f);
+    build_grid();
   }
 }
+
+// The grid's cells follow the faces' size: as decimation makes faces larger, the grid is rebuilt
+// (each time the live faces halve) so a query keeps touching a few cells of a few faces each.
+void EditMesh::build_grid() {
+  Bounds box;
+  double edges = 0;
+  for (Fid f = 0; f < faces_.size(); ++f) {
+    if (!alive_[f]) continue;
+    const Tri& t = faces_[f];
+    for (int k = 0; k < 3; ++k) {
+      box.extend(positions_[t[k]]);
+      edges += norm(positions_[t[(k + 1) % 3]] - positions_[t[k]]);
+    }
+  }
+  const double mean_edge = edges / (3.0 * static_cast<double>(std::max<std::size_t>(live_faces_, 1)));
+  grid_.emplace(box, triangle_grid_cell_size(box, live_faces_, mean_edge));
+  for (Fid f = 0; f < faces_.size(); ++f) {
+    if (alive_[f]) grid_insert(f);
+  }
+  grid_faces_ = live_faces_;
+}
+
 
 EditMesh::Box EditMesh::face_box(const std::array<Vec3, 3>& p) const {
   Box b{p[0], p[0]};
@@ -151,6 +222,7 @@ bool EditMesh::intersects(std::span<const Tri> faces, std::span<const std::array
     for (std::size_t j = 0; j < i; ++j) {
       const Box c = face_box(pos[j]);
       if (boxes_overlap(b.lo, b.hi, c.lo, c.hi) &&
+          !certainly_apart(pos[i], faces[i], pos[j], faces[j]) &&
           faces_intersect(pos[i], ids, pos[j], ids_of(faces[j]))) {
         return true;
       }
@@ -159,7 +231,10 @@ bool EditMesh::intersects(std::span<const Tri> faces, std::span<const std::array
     bool hit = false;
     grid_->for_each_candidate(b.lo, b.hi, [&](std::uint32_t g) {
       if (hit || mark_[g] == stamp_) return;
-      if (faces_intersect(pos[i], ids, corners(faces_[g]), ids_of(faces_[g]))) hit = true;
+      const auto q = corners(faces_[g]);
+      if (!certainly_apart(pos[i], faces[i], q, faces_[g]) && faces_intersect(pos[i], ids, q, ids_of(faces_[g]))) {
+        hit = true;
+      }
     });
     if (hit) return true;
   }
@@ -174,7 +249,7 @@ Refusal EditMesh::check_merge(std::span<const Vid> group, const Vec3& p) {
     if (locked_[s] && positions_[s] != p) return Refusal::Locked;
   }
   if (settings_.preserve_topology) {
-    for (Vid s : group) border = border || on_border(s);
+    for (Vid s : group) border = border || border_[s] != 0;
   }
   ++stamp_;
   touched_.clear();
@@ -301,8 +376,18 @@ std::size_t EditMesh::merge(std::span<const Vid> group, const Vec3& p) {
   if (locked_[keep] == 0) {
     for (Vid s : group) locked_[keep] |= locked_[s];
   }
+  if (settings_.preserve_topology) {
+    // Borders stay borders and interiors interiors: the merged vertex is on one if a member was.
+    for (Vid s : group) border_[keep] |= border_[s];
+  } else {
+    border_[keep] = on_border(keep) ? 1 : 0;
+    for (Fid f : kept) {
+      for (Vid v : faces_[f]) border_[v] = on_border(v) ? 1 : 0;
+    }
+  }
   if (use_grid_) {
     for (Fid f : kept) grid_insert(f);
+    if (2 * live_faces_ < grid_faces_ && live_faces_ > 0) build_grid();
   }
   return removed;
 }
@@ -374,6 +459,10 @@ void EditMesh::replace(std::span<const Fid> old_faces, std::span<const Tri> new_
     for (Vid v : t) vertex_faces_[v].push_back(f);
     if (use_grid_) grid_insert(f);
   }
+  for (const Tri& t : new_faces) {
+    for (Vid v : t) border_[v] = on_border(v) ? 1 : 0;
+  }
+  if (use_grid_ && 2 * live_faces_ < grid_faces_ && live_faces_ > 0) build_grid();
 }
 
 }  // namespace isoforge::reduce

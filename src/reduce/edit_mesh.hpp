@@ -50,8 +50,10 @@ class EditMesh {
   void neighbours(Vid v, std::vector<Vid>& out) const;
   /// Number of live faces containing the edge (u, v).
   [[nodiscard]] int edge_faces(Vid u, Vid v) const;
-  /// Whether v has an edge with exactly one face.
+  /// Whether v has an edge with exactly one face (computed).
   [[nodiscard]] bool on_border(Vid v) const;
+  /// The same, kept up to date by the edits.
+  [[nodiscard]] bool border(Vid v) const { return border_[v] != 0; }
 
   /// Whether merging `group` (distinct vertices; group[0] survives) into one vertex at `p` keeps
   /// the mesh valid: the surviving faces around it form one fan (a cycle, or a path when a member
@@ -79,6 +81,7 @@ class EditMesh {
   [[nodiscard]] std::array<Vec3, 3> corners(const Tri& t) const {
     return {positions_[t[0]], positions_[t[1]], positions_[t[2]]};
   }
+  void build_grid();
   void grid_insert(Fid f);
   void grid_remove(Fid f);
   void detach(Fid f, Vid v);
@@ -92,12 +95,14 @@ class EditMesh {
   std::vector<Tri> faces_;
   std::vector<std::uint8_t> alive_;
   std::vector<std::uint8_t> locked_;
+  std::vector<std::uint8_t> border_;
   std::vector<std::vector<Fid>> vertex_faces_;
   std::size_t live_faces_ = 0;
   EditSettings settings_;
   double cos_turn_ = 0;
   bool use_grid_ = false;
   std::optional<TriangleGrid> grid_;
+  std::size_t grid_faces_ = 0;  // live faces when the grid was built (rebuilt at half)
   // Scratch (the edits run on one thread).
   std::vector<std::uint32_t> mark_;  // per face: == stamp_ when excluded from the current test
   std::uint32_t stamp_ = 0;

@@ -10,6 +10,28 @@
 namespace isoforge::reduce {
 
 Vec3 minimize(const Quadric& q, const Vec3& anchor, double relative_cutoff) {
+  // Well-conditioned systems (the common case on curved surfaces) by Cramer's rule: the
+  // smallest eigenvalue is det / (λmax λmid) ≥ det / I2 (I2 = the sum of the principal 2×2
+  // minors = λ1λ2 + λ1λ3 + λ2λ3) and λmax ≤ trace, so det > cutoff × trace × I2 means every
+  // eigenvalue is above cutoff × λmax and the pseudo-inverse below equals the inverse.
+  {
+    const double c00 = q.a11 * q.a22 - q.a12 * q.a12;
+    const double c01 = q.a02 * q.a12 - q.a01 * q.a22;
+    const double c02 = q.a01 * q.a12 - q.a02 * q.a11;
+    const double det = q.a00 * c00 + q.a01 * c01 + q.a02 * c02;
+    const double trace = q.a00 + q.a11 + q.a22;
+    const double c11 = q.a00 * q.a22 - q.a02 * q.a02;
+    const double c22 = q.a00 * q.a11 - q.a01 * q.a01;
+    const double minors = c00 + c11 + c22;
+    if (trace > 0 && minors > 0 && det > 2 * relative_cutoff * trace * minors) {
+      const double c12 = q.a01 * q.a02 - q.a00 * q.a12;
+      const double inv = 1 / det;
+      const Vec3 p{-(c00 * q.b0 + c01 * q.b1 + c02 * q.b2) * inv,
+                   -(c01 * q.b0 + c11 * q.b1 + c12 * q.b2) * inv,
+                   -(c02 * q.b0 + c12 * q.b1 + c22 * q.b2) * inv};
+      if (is_finite(p)) return p;
+    }
+  }
   Eigen::Matrix3d a;
   a << q.a00, q.a01, q.a02, q.a01, q.a11, q.a12, q.a02, q.a12, q.a22;
   const double scale = a.cwiseAbs().maxCoeff();
@@ -34,11 +56,12 @@ Vec3 minimize(const Quadric& q, const Vec3& anchor, double relative_cutoff) {
 }
 
 void vertex_quadrics(const EditMesh& mesh, const DecimateOptions& options,
-                     std::vector<Quadric>& quadrics, std::vector<double>& areas,
-                     const ProgressCallback& progress) {
+                     std::vector<Quadric>& quadrics, std::vector<PointQuadric>& points,
+                     std::vector<double>& areas, const ProgressCallback& progress) {
   const std::size_t nv = mesh.vertex_count();
   quadrics.assign(nv, Quadric{});
   areas.assign(nv, 0.0);
+  points.assign(nv, PointQuadric{});
   const bool border = options.preserve_boundary && options.boundary_weight > 0;
   const bool features = options.feature_angle < 180;
   const double cos_feature = std::cos(options.feature_angle * std::numbers::pi / 180);
@@ -93,6 +116,7 @@ void vertex_quadrics(const EditMesh& mesh, const DecimateOptions& options,
             }
           }
           quadrics[v] = q;
+          points[v] = PointQuadric::at(pv, kPointQuadricWeight * area);
           areas[v] = area;
         }
       },

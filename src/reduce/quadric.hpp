@@ -55,18 +55,50 @@ struct Quadric {
   }
 };
 
+/// Σ w_i |p − x_i|²: point quadrics, kept apart from the planes so errors stay distances to
+/// planes. Pulls placements toward the merged vertices.
+struct PointQuadric {
+  double w = 0, x = 0, y = 0, z = 0, xx = 0;  // Σ w, Σ w x, Σ w |x|²
+
+  static PointQuadric at(const Vec3& p, double w) {
+    return {w, w * p.x, w * p.y, w * p.z, w * dot(p, p)};
+  }
+  PointQuadric& operator+=(const PointQuadric& o) {
+    w += o.w; x += o.x; y += o.y; z += o.z; xx += o.xx;
+    return *this;
+  }
+  friend PointQuadric operator+(PointQuadric a, const PointQuadric& b) { return a += b; }
+  [[nodiscard]] double operator()(const Vec3& p) const {
+    const double v = w * dot(p, p) - 2 * (x * p.x + y * p.y + z * p.z) + xx;
+    return v > 0 ? v : 0;
+  }
+  /// q + this as one quadric (for the placement).
+  [[nodiscard]] Quadric added_to(Quadric q) const {
+    q.a00 += w; q.a11 += w; q.a22 += w;
+    q.b0 -= x; q.b1 -= y; q.b2 -= z;
+    q.c += xx;
+    return q;
+  }
+};
+
 /// The minimiser of q closest to `anchor` (the edge midpoint): q's Hessian is pseudo-inverted
 /// with eigenvalues below `relative_cutoff` × the largest treated as zero, so a flat or
 /// cylindrical neighbourhood (singular or nearly singular system) places the vertex on the
 /// minimising set next to the anchor instead of far away along it.
 Vec3 minimize(const Quadric& q, const Vec3& anchor, double relative_cutoff = 1e-3);
 
-/// The quadric of every vertex: its faces' planes weighted by area, plus (with
+/// Weight of the point quadric each vertex gets (× its faces' area): small enough not to move
+/// placements measurably, large enough to order collapses on flat regions (where every plane
+/// error is zero) by edge length, so fans stay small instead of sweeping through the mesh.
+inline constexpr double kPointQuadricWeight = 1e-5;
+
+/// The quadric of every vertex: its faces' planes weighted by area, a point quadric at the
+/// vertex in `points` (kPointQuadricWeight), plus (with
 /// `preserve_boundary`) planes through border edges perpendicular to their face and (with a
 /// feature angle below 180) the same planes along feature edges, weighted by
 /// `boundary_weight` × the squared edge length. `areas` gets each vertex's face area. Parallel.
 void vertex_quadrics(const EditMesh& mesh, const DecimateOptions& options,
-                     std::vector<Quadric>& quadrics, std::vector<double>& areas,
-                     const ProgressCallback& progress);
+                     std::vector<Quadric>& quadrics, std::vector<PointQuadric>& points,
+                     std::vector<double>& areas, const ProgressCallback& progress);
 
 }  // namespace isoforge::reduce
