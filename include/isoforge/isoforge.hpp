@@ -31,6 +31,8 @@
 #include "isoforge/core/union_find.hpp"
 #include "isoforge/core/vec.hpp"
 #include "isoforge/filters/shrink.hpp"
+#include "isoforge/fit/fit_primitive.hpp"
+#include "isoforge/fit/refine.hpp"
 #include "isoforge/implicit/function.hpp"
 #include "isoforge/implicit/parse.hpp"
 #include "isoforge/implicit/sample.hpp"
