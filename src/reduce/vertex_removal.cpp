@@ -71,6 +71,7 @@ class Remover {
   const DecimateOptions& options_;
   double cos_feature_;
   std::vector<std::uint32_t> stamp_;
+  std::vector<double> accumulated_;  // error inherited from removed neighbours
   std::vector<Entry> heap_;
 };
 
@@ -240,7 +241,7 @@ bool Remover::triangulate(const std::vector<Vid>& poly, const Vec3& normal,
 void Remover::push(Vid v) {
   const Plan plan = classify(v);
   if (plan.kind == Kind::Keep) return;
-  heap_.push_back({plan.error, v, stamp_[v]});
+  heap_.push_back({plan.error + accumulated_[v], v, stamp_[v]});
   std::push_heap(heap_.begin(), heap_.end(), Later{});
 }
 
@@ -250,6 +251,7 @@ DecimateStats Remover::run() {
   stats.locked_vertices = prepared_.locked_count;
   const std::size_t nv = mesh_.vertex_count();
   stamp_.assign(nv, 0);
+  accumulated_.assign(nv, 0.0);
   std::vector<Entry> entries(nv);
   std::vector<std::uint8_t> ok(nv, 0);
   parallel_for_range(
@@ -279,7 +281,8 @@ DecimateStats Remover::run() {
       if (stamp_[e.v] != e.stamp) continue;
       const Plan plan = classify(e.v);
       if (plan.kind == Kind::Keep) continue;
-      if (prepared_.max_error > 0 && plan.error > prepared_.max_error) {
+      const double error = plan.error + accumulated_[e.v];
+      if (prepared_.max_error > 0 && error > prepared_.max_error) {
         ++skipped_error;
         continue;
       }
@@ -316,7 +319,10 @@ DecimateStats Remover::run() {
       ++stamp_[e.v];
       ++stats.operations;
       ++since_fill;
-      stats.max_error = std::max(stats.max_error, plan.error);
+      stats.max_error = std::max(stats.max_error, error);
+      // The surface near the hole has moved by up to `error`: its vertices inherit it, so
+      // errors add up where removals pile up (vtkDecimatePro's accumulated error).
+      for (Vid x : plan.loop) accumulated_[x] = std::max(accumulated_[x], error);
       for (Vid x : plan.loop) {
         ++stamp_[x];
         push(x);
