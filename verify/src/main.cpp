@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "accuracy.hpp"
+#include "bench_commands.hpp"
 #include "catalogue.hpp"
 #include "isoforge/implicit/parse.hpp"
 #include "isoforge/io/io.hpp"
@@ -109,12 +110,41 @@ int main(int argc, char** argv) {
                        "distance for sphere, torus, plane, box, ...; see docs/implicit.md)");
   mesh_cmd->add_option("--spacing", spacing,
                        "Sample spacing for --compare/--implicit (default: 1/4 of the mean edge)");
+  auto* distance_cmd = app.add_subcommand(
+      "distance",
+      "Distance of meshes to a reference (approximate Hausdorff and RMS, absolute and relative "
+      "to the reference's diagonal): one JSON line per mesh");
+  DistanceCommand distance;
+  distance_cmd
+      ->add_option("reference", distance.reference,
+                   "The reference mesh (e.g. the input of a decimation)")
+      ->required();
+  distance_cmd->add_option("meshes", distance.meshes, "Meshes to measure against it")->required();
+  distance_cmd->add_option("--spacing", distance.spacing,
+                           "Sample spacing (default: 1/2 of the reference's mean edge)");
+  distance_cmd->add_flag("--check", distance.check,
+                         "Also the exact mesh checks of each mesh (self-intersections, manifold, "
+                         "borders, genus)");
+  auto* decimate_cmd = app.add_subcommand(
+      "decimate",
+      "CGAL's edge-collapse simplification to a face count (the benchmark's CGAL peer): one "
+      "JSON line");
+  DecimateCommand decimate;
+  decimate_cmd->add_option("input", decimate.input, "Mesh file")->required();
+  decimate_cmd->add_option("-o,--output", decimate.output, "Output mesh file")->required();
+  decimate_cmd->add_option("--target", decimate.target, "Target triangle count")->required();
+  decimate_cmd
+      ->add_option("--policy", decimate.policy,
+                   "gh: Garland-Heckbert plane quadrics; lt: Lindstrom-Turk")
+      ->check(CLI::IsMember({"gh", "lt"}));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;  // --help, --version; else a usage error
   }
   try {
+    if (*distance_cmd) return run_distance(distance);
+    if (*decimate_cmd) return run_cgal_decimate(decimate);
     if (*mesh_cmd) {
       const Dataset ds = read(mesh_file);
       const auto* pd = std::get_if<PolyData>(&ds);
