@@ -16,6 +16,7 @@
 
 #include "accuracy.hpp"
 #include "cgal_decimate.hpp"
+#include "decimate_inputs.hpp"
 #include "isoforge/io/io.hpp"
 #include "mesh_checks.hpp"
 #include "mesh_distance.hpp"
@@ -124,6 +125,13 @@ int run_cgal_decimate(const DecimateCommand& command) {
       r.collapse_seconds,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
       r.convert_seconds, r.removed_edges, r.split_non_manifold);
+  return 0;
+}
+
+int run_make_mesh(const std::string& kind, const std::string& output) {
+  const PolyData mesh = decimation_input(kind);
+  write(mesh, output);
+  fmt::print("wrote {}: {} points, {} triangles\n", output, mesh.points.size(), mesh.polys.size());
   return 0;
 }
 

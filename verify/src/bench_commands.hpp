@@ -28,4 +28,8 @@ struct DecimateCommand {
 /// JSON line. Returns the exit status.
 int run_cgal_decimate(const DecimateCommand& command);
 
+/// `isoforge-verify make-mesh KIND OUT`: writes one of the decimation inputs
+/// (`decimation_input`). Returns the exit status.
+int run_make_mesh(const std::string& kind, const std::string& output);
+
 }  // namespace isoforge::verify

@@ -10,6 +10,7 @@
 #include "accuracy.hpp"
 #include "bench_commands.hpp"
 #include "catalogue.hpp"
+#include "decimate_inputs.hpp"
 #include "isoforge/implicit/parse.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/version.hpp"
@@ -76,6 +77,9 @@ int main(int argc, char** argv) {
   add_select_cases(catalogue);
   add_io_cases(catalogue);
   add_model_cases(catalogue);
+#ifdef ISOFORGE_VERIFY_DECIMATE
+  add_decimate_cases(catalogue);
+#endif
 
   app.set_version_flag("--version", std::string(kVersion));
   bool list = false, all = false, quick = false, verbose = false;
@@ -137,6 +141,14 @@ int main(int argc, char** argv) {
       ->add_option("--policy", decimate.policy,
                    "gh: Garland-Heckbert plane quadrics; lt: Lindstrom-Turk")
       ->check(CLI::IsMember({"gh", "lt"}));
+  auto* make_mesh_cmd = app.add_subcommand("make-mesh",
+                                           "Write an input of the decimation cases (bunny, headsq, "
+                                           "noisy-sphere, open-bunny, glued-spheres)");
+  std::string make_mesh_kind, make_mesh_out;
+  make_mesh_cmd->add_option("kind", make_mesh_kind, "What to build")
+      ->required()
+      ->check(CLI::IsMember(decimation_input_kinds()));
+  make_mesh_cmd->add_option("output", make_mesh_out, "Output mesh file")->required();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -145,14 +157,15 @@ int main(int argc, char** argv) {
   try {
     if (*distance_cmd) return run_distance(distance);
     if (*decimate_cmd) return run_cgal_decimate(decimate);
+    if (*make_mesh_cmd) return run_make_mesh(make_mesh_kind, make_mesh_out);
     if (*mesh_cmd) {
       const Dataset ds = read(mesh_file);
       const auto* pd = std::get_if<PolyData>(&ds);
       if (!pd)
         throw Error(mesh_file + ": is " + std::string(dataset_type_name(ds)) +
                     ", not a polygonal mesh");
-      if (no_si && std::find(required.begin(), required.end(), "no-self-intersections") !=
-                       required.end()) {
+      if (no_si &&
+          std::find(required.begin(), required.end(), "no-self-intersections") != required.end()) {
         throw Error("--require no-self-intersections contradicts --no-self-intersections");
       }
       MeshCheckOptions o;
