@@ -8,10 +8,11 @@
 namespace isoforge::verify {
 
 struct DistanceCommand {
-  std::string reference;            ///< the input of the decimation
-  std::vector<std::string> meshes;  ///< the outputs to measure against it
-  double spacing = 0;               ///< sample spacing; 0 = half the reference's mean edge
-  bool check = false;               ///< also the exact mesh checks of each output
+  std::string reference;                ///< the input of the decimation
+  std::vector<std::string> meshes;      ///< the outputs to measure against it
+  double spacing = 0;                   ///< sample spacing; 0 = half the reference's mean edge
+  std::size_t max_samples = 2'000'000;  ///< about, per mesh (see bench_commands.cpp)
+  bool check = false;                   ///< also the exact mesh checks of each output
 };
 
 /// `isoforge-verify distance REF MESH...`: one JSON line per mesh (see docs/verification.md).

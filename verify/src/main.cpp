@@ -126,6 +126,8 @@ int main(int argc, char** argv) {
   distance_cmd->add_option("meshes", distance.meshes, "Meshes to measure against it")->required();
   distance_cmd->add_option("--spacing", distance.spacing,
                            "Sample spacing (default: 1/2 of the reference's mean edge)");
+  distance_cmd->add_option("--max-samples", distance.max_samples,
+                           "About this many samples per mesh at most (default 2e6)");
   distance_cmd->add_flag("--check", distance.check,
                          "Also the exact mesh checks of each mesh (self-intersections, manifold, "
                          "borders, genus)");
