@@ -37,7 +37,7 @@ ALLOWED = {
     "model": {"core", "spatial", "sparse", "implicit", "contour"},
     "filters": {"core", "spatial", "sparse", "implicit", "contour"},
     "reduce": {"core", "spatial", "contour"},
-    "fit": {"core", "spatial", "reduce"},
+    "fit": {"core", "spatial", "implicit", "reduce"},
     "io": {"core", "sparse"},
 }
 STD_HEADERS = set("""algorithm any array atomic barrier bit bitset cassert cctype cerrno cfloat

@@ -212,6 +212,15 @@ MeshReport check_mesh(const PolyData& mesh, const MeshCheckOptions& options) {
   return r;
 }
 
+int exact_orientation(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  return static_cast<int>(CGAL::orientation(to_point(a), to_point(b), to_point(c), to_point(d)));
+}
+
+bool exact_triangles_intersect(const std::array<Vec3, 3>& p, const std::array<Vec3, 3>& q) {
+  return CGAL::do_intersect(Kernel::Triangle_3(to_point(p[0]), to_point(p[1]), to_point(p[2])),
+                            Kernel::Triangle_3(to_point(q[0]), to_point(q[1]), to_point(q[2])));
+}
+
 std::string format_report(const MeshReport& r) {
   std::string s;
   s += fmt::format("vertices {}  faces {} (triangles)  edges {}\n", r.vertices, r.faces, r.edges);

@@ -3,6 +3,7 @@
 // ones (degenerate faces, self-intersections, orientation) use CGAL's exact predicates on the
 // stored float coordinates, so a verdict never disagrees with the data.
 
+#include <array>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -27,9 +28,9 @@ struct MeshReport {
   /// Pairs of faces that intersect beyond the corner or edge they share (exact; manifold or not).
   std::size_t self_intersections = 0;
   bool self_intersection_checked = false;  ///< the test ran (MeshCheckOptions::self_intersections)
-  bool closed = false;                       ///< no border edges
-  bool manifold = false;                     ///< no non-manifold edges or vertices
-  bool oriented = false;                     ///< no inconsistent edges
+  bool closed = false;                     ///< no border edges
+  bool manifold = false;                   ///< no non-manifold edges or vertices
+  bool oriented = false;                   ///< no inconsistent edges
   /// Closed, manifold, oriented, no degenerate faces, and every component faces away from the
   /// volume it bounds (exact: CGAL's is_outward_oriented per component and exact nesting; a
   /// component inside another one bounds a cavity and must face inward).
@@ -65,5 +66,13 @@ struct MeshCheckOptions {
 /// did not run. \throw Error naming an unknown requirement.
 [[nodiscard]] std::vector<std::string> failed_requirements(const MeshReport& r,
                                                            const std::vector<std::string>& names);
+
+/// CGAL's exact orientation of four points (sign of det[b − a, c − a, d − a]: +1, 0, −1), the
+/// oracle of the library's own predicates (core/predicates.hpp) in the verification tests.
+[[nodiscard]] int exact_orientation(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+/// CGAL's exact closed-triangle intersection test (triangles must not be degenerate).
+[[nodiscard]] bool exact_triangles_intersect(const std::array<Vec3, 3>& p,
+                                             const std::array<Vec3, 3>& q);
 
 }  // namespace isoforge::verify

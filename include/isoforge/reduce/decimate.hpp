@@ -52,9 +52,11 @@ struct DecimateOptions {
   bool check_self_intersections = true;  ///< exact test of every new face (the guarantee above)
   /// Point array (one component, any type) whose non-zero entries lock a vertex; "" = none.
   std::string lock_array;
-  /// Weight of point-array values in the quadrics (quadric method; 0 = geometry only): arrays are
-  /// scaled to the bounding-box diagonal times this before they enter the quadrics.
-  double attribute_weight = 0.01;
+  /// Weight of point-array differences in the collapse cost (quadric method; 0 =
+  /// geometry only, as vtkQuadricDecimation's default): each array is scaled by its range, and a
+  /// full-range difference across an edge costs like moving its faces by this fraction of the
+  /// bounding-box diagonal. Arrays are carried either way.
+  double attribute_weight = 0;
   ProgressCallback progress;  ///< fraction done; false cancels
 };
 

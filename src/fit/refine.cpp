@@ -1,0 +1,679 @@
+// Mesh refinement: the vertex-position optimisation of
+//   H. Hoppe, T. DeRose, T. Duchamp, J. McDonald, W. Stuetzle, "Mesh optimization",
+//   SIGGRAPH 1993 —
+// with the connectivity fixed. Each outer iteration fixes, for every sample x of the original,
+// its closest point on the current mesh (a triangle and barycentric coordinates b), and for
+// samples y of the current mesh their closest point on the original (a point and the normal of
+// its triangle); the energy
+//   Σ |x − Σ b_k v_k|² + Σ (n · (Σ b_k v_k − y'))² + κ Σ_edges |v_i − v_j|²
+// is then linear least squares in the vertex positions, solved by Ceres with a sparse Cholesky
+// factorization of the normal equations. The second term (point to plane, as in
+//   Y. Chen, G. Medioni, "Object modelling by registration of multiple range images", 1992)
+// pulls the parts of the mesh that no sample of the original reaches, so the Hausdorff distance
+// falls too. After each solve, moves that turn a face by more than 90° or make two faces
+// intersect (exact predicates, core/predicates.hpp) are undone vertex by vertex until the
+// neighbourhood is clean, and a step that raises the RMS or Hausdorff error is halved, then
+// dropped.
+
+#include "isoforge/fit/refine.hpp"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <numeric>
+#include <vector>
+
+#include "isoforge/core/closest_point.hpp"
+#include "isoforge/core/mesh_topology.hpp"
+#include "isoforge/core/parallel.hpp"
+#include "isoforge/core/predicates.hpp"
+#include "isoforge/spatial/primitive_locator.hpp"
+#include "isoforge/spatial/self_intersections.hpp"
+
+namespace isoforge {
+namespace {
+
+using Id = std::uint32_t;
+using Tri = std::array<Id, 3>;
+using Clock = std::chrono::steady_clock;
+
+constexpr double kMadToSigma = 1.4826;
+constexpr double kHuberK = 1.345;
+constexpr double kCauchyK = 2.385;
+constexpr int kAutoSamplesPerTriangle = 10;
+// Barycentric coordinates of the samples of each simplified triangle (the reverse term).
+constexpr double kReverseBary[4][3] = {{1.0 / 3, 1.0 / 3, 1.0 / 3},
+                                       {2.0 / 3, 1.0 / 6, 1.0 / 6},
+                                       {1.0 / 6, 2.0 / 3, 1.0 / 6},
+                                       {1.0 / 6, 1.0 / 6, 2.0 / 3}};
+constexpr double kStepScales[3] = {1, 0.5, 0.25};  // a worse step is retried shorter
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// ---- inputs ----
+
+std::vector<Vec3> finite_points(const PolyData& pd, const char* what) {
+  std::vector<Vec3> v(pd.points.size());
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    v[i] = pd.points[i];
+    if (!is_finite(v[i]))
+      throw Error(std::string("refine_mesh: ") + what + ": point " + std::to_string(i) +
+                  " is not finite");
+  }
+  return v;
+}
+
+std::vector<Tri> original_triangles(const PolyData& pd) {
+  pd.validate();
+  std::vector<Tri> out;
+  for (const auto& t : triangulate_faces(pd)) {
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;  // no area, nothing to sample
+    out.push_back({Id(t[0]), Id(t[1]), Id(t[2])});
+  }
+  if (out.empty()) throw Error("refine_mesh: original: has no triangles");
+  return out;
+}
+
+std::vector<Tri> simplified_triangles(const PolyData& pd) {
+  pd.validate();
+  if (pd.strips.size() != 0)
+    throw Error("refine_mesh: simplified: has triangle strips; only triangles are refined");
+  if (pd.points.size() >= std::size_t(UINT32_MAX))
+    throw Error("refine_mesh: simplified: too many points");
+  std::vector<Tri> out;
+  const Index first = Index(pd.verts.size() + pd.lines.size());
+  for (std::size_t c = 0; c < pd.polys.size(); ++c) {
+    const auto ids = pd.polys.cell(c);
+    if (ids.size() != 3) {
+      throw Error("refine_mesh: simplified: cell " + std::to_string(first + Index(c)) + " has " +
+                  std::to_string(ids.size()) + " points; only triangles are refined");
+    }
+    if (ids[0] == ids[1] || ids[1] == ids[2] || ids[0] == ids[2]) {
+      throw Error("refine_mesh: simplified: triangle " + std::to_string(first + Index(c)) +
+                  " repeats a point");
+    }
+    out.push_back({Id(ids[0]), Id(ids[1]), Id(ids[2])});
+  }
+  if (out.empty()) throw Error("refine_mesh: simplified: has no triangles");
+  return out;
+}
+
+// Vertices that never move: locked by the mask, on the border (keep_boundary), on a non-manifold
+// edge. Only vertices of triangles take part at all.
+std::vector<char> fixed_vertices(const PolyData& s, const std::vector<Tri>& tris,
+                                 const RefineOptions& o) {
+  std::vector<char> fixed(s.points.size(), 0);
+  if (!o.lock_array.empty()) {
+    const DataArray* a = s.point_data.find(o.lock_array);
+    if (!a) throw Error("refine_mesh: lock_array '" + o.lock_array + "' is not a point array");
+    if (a->components() != 1)
+      throw Error("refine_mesh: lock_array '" + o.lock_array + "' has " +
+                  std::to_string(a->components()) + " components; it needs 1");
+    for (std::size_t i = 0; i < fixed.size(); ++i) fixed[i] = a->get(i) != 0;
+  }
+  if (o.keep_boundary) {
+    std::vector<std::pair<std::uint64_t, int>> edges;  // (key, count) after sorting
+    std::vector<std::uint64_t> keys;
+    keys.reserve(3 * tris.size());
+    for (const Tri& t : tris)
+      for (int k = 0; k < 3; ++k) {
+        const Id a = std::min(t[k], t[(k + 1) % 3]), b = std::max(t[k], t[(k + 1) % 3]);
+        keys.push_back((std::uint64_t(a) << 32) | b);
+      }
+    std::sort(keys.begin(), keys.end());
+    for (std::size_t i = 0; i < keys.size();) {
+      std::size_t j = i;
+      while (j < keys.size() && keys[j] == keys[i]) ++j;
+      if (j - i != 2) {  // a border (1 face) or a non-manifold edge (3 or more)
+        fixed[keys[i] >> 32] = 1;
+        fixed[keys[i] & 0xffffffffu] = 1;
+      }
+      i = j;
+    }
+  }
+  return fixed;
+}
+
+// ---- samples ----
+
+// `count` points spread over the triangles by area (systematic sampling of the cumulative
+// area; inside a triangle, the points of the R2 low-discrepancy sequence folded into it).
+void area_samples(const std::vector<Vec3>& v, const std::vector<Tri>& tris, std::size_t count,
+                  std::vector<Vec3>& out) {
+  if (count == 0) return;
+  std::vector<double> cum(tris.size());
+  double total = 0;
+  for (std::size_t t = 0; t < tris.size(); ++t) {
+    const Vec3 &a = v[tris[t][0]], &b = v[tris[t][1]], &c = v[tris[t][2]];
+    total += 0.5 * norm(cross(b - a, c - a));
+    cum[t] = total;
+  }
+  if (!(total > 0)) return;
+  constexpr double kG = 1.32471795724474602596;  // the plastic number: R2 sequence
+  const double a1 = 1 / kG, a2 = 1 / (kG * kG);
+  const double step = total / double(count);
+  std::size_t t = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const double at = (double(i) + 0.5) * step;
+    while (t + 1 < tris.size() && cum[t] < at) ++t;
+    double u = std::fmod(0.5 + a1 * double(i + 1), 1.0),
+           w = std::fmod(0.5 + a2 * double(i + 1), 1.0);
+    if (u + w > 1) {
+      u = 1 - u;
+      w = 1 - w;
+    }
+    const Vec3 &a = v[tris[t][0]], &b = v[tris[t][1]], &c = v[tris[t][2]];
+    out.push_back(a + u * (b - a) + w * (c - a));
+  }
+}
+
+// ---- correspondences and the error they measure ----
+
+struct Forward {  // a sample of the original and its closest point on the current mesh
+  Id tri = 0;
+  double b[3] = {1, 0, 0};
+  double dist2 = 0;
+};
+struct Reverse {  // a sample of the current mesh and its closest point on the original
+  Vec3 target;
+  Vec3 normal;
+  double dist2 = 0;
+  Id tri = 0;  // the original's triangle
+};
+struct Measure {
+  std::vector<Forward> fwd;
+  std::vector<Reverse> rev;
+  double rms = 0, hausdorff = 0;
+};
+
+struct Original {
+  PrimitiveSet set;
+  std::unique_ptr<PrimitiveLocator> locator;
+  std::vector<Vec3> normals;  // unit normal of each triangle (0 if degenerate)
+};
+
+// The correspondences and errors for positions `pos`. With `prev` (the correspondences of
+// nearby positions), each query starts from its previous answer, which prunes most of the tree.
+Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
+                const std::vector<Vec3>& samples, const Original& orig,
+                const Measure* prev = nullptr) {
+  Measure m;
+  std::vector<std::array<PrimitiveSet::Id, 3>> t(tris.begin(), tris.end());
+  const PrimitiveSet set(pos, {}, {}, std::move(t));
+  const PrimitiveLocator loc(set);
+  m.fwd.resize(samples.size());
+  parallel_for_range(samples.size(), 1024, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      ClosestPrimitive c;
+      if (prev) {
+        c.id = set.triangle_begin() + prev->fwd[i].tri;
+        c.dist2 = set.dist2(c.id, samples[i]);
+        loc.nearest(samples[i], c.dist2, c);
+      } else {
+        c = loc.closest(samples[i]);
+      }
+      const Id f = c.id - set.triangle_begin();
+      const Tri& tr = tris[f];
+      const TriangleClosest q = closest_on_triangle(samples[i], pos[tr[0]], pos[tr[1]], pos[tr[2]]);
+      m.fwd[i] = {f, {1 - q.s - q.t, q.s, q.t}, q.dist2};
+    }
+  });
+  m.rev.resize(4 * tris.size());
+  const std::size_t tb = orig.set.triangle_begin();
+  parallel_for_range(tris.size(), 256, [&](std::size_t b, std::size_t e) {
+    for (std::size_t f = b; f < e; ++f) {
+      for (int k = 0; k < 4; ++k) {
+        const double* w = kReverseBary[k];
+        const Vec3 y = w[0] * pos[tris[f][0]] + w[1] * pos[tris[f][1]] + w[2] * pos[tris[f][2]];
+        ClosestPrimitive c;
+        if (prev) {
+          c.id = PrimitiveSet::Id(tb + prev->rev[4 * f + k].tri);
+          c.dist2 = orig.set.dist2(c.id, y);
+          orig.locator->nearest(y, c.dist2, c);
+        } else {
+          c = orig.locator->closest(y);
+        }
+        const auto& ot = orig.set.triangles()[c.id - tb];
+        const auto& ov = orig.set.vertices();
+        const TriangleClosest q = closest_on_triangle(y, ov[ot[0]], ov[ot[1]], ov[ot[2]]);
+        m.rev[4 * f + k] = {q.point, orig.normals[c.id - tb], q.dist2, Id(c.id - tb)};
+      }
+    }
+  });
+  double sum = 0, mx = 0;
+  for (const Forward& f : m.fwd) {
+    sum += f.dist2;
+    mx = std::max(mx, f.dist2);
+  }
+  for (const Reverse& r : m.rev) {
+    sum += r.dist2;
+    mx = std::max(mx, r.dist2);
+  }
+  m.rms = std::sqrt(sum / double(m.fwd.size() + m.rev.size()));
+  m.hausdorff = std::sqrt(mx);
+  return m;
+}
+
+// ---- the linear least-squares terms (analytic derivatives) ----
+//
+// The energy is quadratic, so the sample terms of one triangle are gathered into one residual
+// block before Ceres sees them: for the samples x_s with barycentric coordinates b_s (weights
+// w_s), per coordinate c,  Σ w_s (b_sᵀ v_c − x_sc)² = v_cᵀ M v_c − 2 g_cᵀ v_c + const  with
+// M = Σ w_s b_s b_sᵀ and g_c = Σ w_s b_s x_sc. With M = Q Λ Qᵀ, the rows
+// √λ_k q_kᵀ v_c − q_kᵀ g_c / √λ_k (λ_k > 0) have the same squared sum up to a constant, so a
+// triangle's ~10 samples become 9 residuals and the solve costs the same whatever the sampling
+// density. The point-to-plane terms of a triangle (4 samples) form one block of 4 residuals.
+
+struct Gathered {  // the samples of one triangle, gathered
+  double m[3][3] = {};
+  double g[3][3] = {};  // g[c][k]
+  bool any = false;
+};
+
+// √λ_k q_kᵀ v_c − q_kᵀ g_c / √λ_k over the eigenpairs k with λ_k > 0 and coordinates c.
+class GatheredCost final : public ceres::SizedCostFunction<9, 3, 3, 3> {
+ public:
+  explicit GatheredCost(const Gathered& s) {
+    Eigen::Matrix3d m;
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) m(a, b) = s.m[a][b];
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> e(m);
+    const double top = std::max(e.eigenvalues()(2), 0.0);
+    for (int k = 0; k < 3; ++k) {
+      const double lam = e.eigenvalues()(k);
+      if (!(lam > 1e-14 * top)) continue;  // no sample constrains this combination
+      const double sq = std::sqrt(lam);
+      for (int j = 0; j < 3; ++j) row_[k][j] = sq * e.eigenvectors()(j, k);
+      for (int c = 0; c < 3; ++c) {
+        double qg = 0;
+        for (int j = 0; j < 3; ++j) qg += e.eigenvectors()(j, k) * s.g[c][j];
+        rhs_[k][c] = qg / sq;
+      }
+    }
+  }
+  bool Evaluate(double const* const* v, double* r, double** jac) const override {
+    for (int k = 0; k < 3; ++k)
+      for (int c = 0; c < 3; ++c)
+        r[3 * k + c] =
+            row_[k][0] * v[0][c] + row_[k][1] * v[1][c] + row_[k][2] * v[2][c] - rhs_[k][c];
+    if (jac) {
+      for (int j = 0; j < 3; ++j) {
+        if (!jac[j]) continue;
+        std::fill(jac[j], jac[j] + 27, 0.0);  // 9 rows x 3 columns, row-major
+        for (int k = 0; k < 3; ++k)
+          for (int c = 0; c < 3; ++c) jac[j][3 * (3 * k + c) + c] = row_[k][j];
+      }
+    }
+    return true;
+  }
+
+ private:
+  double row_[3][3] = {};
+  double rhs_[3][3] = {};
+};
+
+// √w_k n_k · (Σ_j b_kj v_j − y_k) for the 4 samples k of a triangle.
+class PlaneCost final : public ceres::SizedCostFunction<4, 3, 3, 3> {
+ public:
+  PlaneCost(const Reverse* r, const double* w) {
+    for (int k = 0; k < 4; ++k) {
+      const double sw = std::sqrt(w[k]);
+      n_[k] = sw * r[k].normal;
+      c_[k] = dot(n_[k], r[k].target);
+    }
+  }
+  bool Evaluate(double const* const* v, double* r, double** jac) const override {
+    for (int k = 0; k < 4; ++k) {
+      double s = -c_[k];
+      for (int j = 0; j < 3; ++j)
+        s += kReverseBary[k][j] * (n_[k].x * v[j][0] + n_[k].y * v[j][1] + n_[k].z * v[j][2]);
+      r[k] = s;
+    }
+    if (jac) {
+      for (int j = 0; j < 3; ++j) {
+        if (!jac[j]) continue;
+        for (int k = 0; k < 4; ++k)
+          for (int c = 0; c < 3; ++c) jac[j][3 * k + c] = kReverseBary[k][j] * n_[k][c];
+      }
+    }
+    return true;
+  }
+
+ private:
+  Vec3 n_[4];
+  double c_[4];
+};
+
+// w (v_i − v_j)
+class SpringCost final : public ceres::SizedCostFunction<3, 3, 3> {
+ public:
+  explicit SpringCost(double w) : w_(w) {}
+  bool Evaluate(double const* const* v, double* r, double** jac) const override {
+    for (int c = 0; c < 3; ++c) r[c] = w_ * (v[0][c] - v[1][c]);
+    if (jac) {
+      for (int k = 0; k < 2; ++k) {
+        if (!jac[k]) continue;
+        std::fill(jac[k], jac[k] + 9, 0.0);
+        for (int c = 0; c < 3; ++c) jac[k][4 * c] = k == 0 ? w_ : -w_;
+      }
+    }
+    return true;
+  }
+
+ private:
+  double w_;
+};
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  const auto mid = v.begin() + std::ptrdiff_t(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+// Weights of residuals of size sqrt(dist2) under the robust loss (iteratively reweighted least
+// squares: w = ρ'(r²) with the scale from the median |r| of all sample residuals), 1 without.
+struct Weights {
+  RobustLoss loss = RobustLoss::None;
+  double a2 = 0;  // squared scale
+  [[nodiscard]] double operator()(double dist2) const {
+    if (loss == RobustLoss::None || a2 == 0) return 1;
+    if (loss == RobustLoss::Huber) return dist2 <= a2 ? 1 : std::sqrt(a2 / dist2);
+    return 1 / (1 + dist2 / a2);  // Cauchy
+  }
+};
+
+Weights weights_for(const Measure& m, RobustLoss loss) {
+  Weights w;
+  w.loss = loss;
+  if (loss == RobustLoss::None) return w;
+  std::vector<double> d;
+  d.reserve(m.fwd.size() + m.rev.size());
+  for (const Forward& f : m.fwd) d.push_back(std::sqrt(f.dist2));
+  for (const Reverse& r : m.rev) d.push_back(std::sqrt(r.dist2));
+  const double a = (loss == RobustLoss::Huber ? kHuberK : kCauchyK) * kMadToSigma * median(d);
+  w.a2 = a * a;
+  return w;
+}
+
+// One solve of the energy for fixed correspondences; returns the new positions.
+std::vector<Vec3> solve(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
+                        const std::vector<std::array<Id, 2>>& edges,
+                        const std::vector<Vec3>& samples, const Measure& m,
+                        const std::vector<char>& fixed, const RefineOptions& o) {
+  std::vector<double> x(3 * pos.size());
+  for (std::size_t i = 0; i < pos.size(); ++i)
+    for (int c = 0; c < 3; ++c) x[3 * i + c] = pos[i][c];
+  const Weights weight = weights_for(m, o.loss);
+  std::vector<Gathered> gathered(tris.size());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const Forward& f = m.fwd[i];
+    const double w = weight(f.dist2);
+    Gathered& gt = gathered[f.tri];
+    gt.any = true;
+    for (int a = 0; a < 3; ++a) {
+      for (int b = 0; b < 3; ++b) gt.m[a][b] += w * f.b[a] * f.b[b];
+      for (int c = 0; c < 3; ++c) gt.g[c][a] += w * f.b[a] * samples[i][c];
+    }
+  }
+  ceres::Problem::Options po;
+  po.enable_fast_removal = false;
+  ceres::Problem problem(po);
+  const auto block = [&](Id v) { return &x[3 * std::size_t(v)]; };
+  for (std::size_t f = 0; f < tris.size(); ++f) {
+    const Tri& t = tris[f];
+    if (gathered[f].any)
+      problem.AddResidualBlock(new GatheredCost(gathered[f]), nullptr, block(t[0]), block(t[1]),
+                               block(t[2]));
+    double w[4];
+    for (int k = 0; k < 4; ++k) w[k] = weight(m.rev[4 * f + k].dist2);
+    problem.AddResidualBlock(new PlaneCost(&m.rev[4 * f], w), nullptr, block(t[0]), block(t[1]),
+                             block(t[2]));
+  }
+  const double spring_w =
+      std::sqrt(o.spring * double(samples.size() + m.rev.size()) / double(edges.size()));
+  if (spring_w > 0)
+    for (const auto& e : edges)
+      problem.AddResidualBlock(new SpringCost(spring_w), nullptr, block(e[0]), block(e[1]));
+  for (std::size_t i = 0; i < pos.size(); ++i)
+    if (fixed[i] && problem.HasParameterBlock(block(Id(i))))
+      problem.SetParameterBlockConstant(block(Id(i)));
+
+  ceres::Solver::Options so;
+  // Conjugate gradients on the normal equations with a block-Jacobi preconditioner: the start
+  // (the current positions) is close to the solution and the springs keep the system well
+  // conditioned, so a few dozen iterations reach the cost a sparse Cholesky factorization
+  // (SPARSE_NORMAL_CHOLESKY with SuiteSparse or Eigen) reaches, in a tenth of its time
+  // (docs/algorithms/fitting.md).
+  so.linear_solver_type = ceres::CGNR;
+  so.preconditioner_type = ceres::JACOBI;
+  so.max_linear_solver_iterations = 500;
+  // The energy is quadratic (the weights are fixed for the solve): Levenberg-Marquardt with a
+  // huge trust region takes Gauss-Newton steps; a few suffice (the inner solve is inexact).
+  so.initial_trust_region_radius = 1e12;
+  so.max_num_iterations = 4;
+  so.num_threads = 1;
+  so.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  std::vector<Vec3> out(pos.size());
+  for (std::size_t i = 0; i < pos.size(); ++i) out[i] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
+  return out;
+}
+
+// ---- rejection of flips and self-intersections ----
+
+struct Rejector {
+  const std::vector<Tri>& tris;
+  const std::vector<std::vector<Id>>& faces_of;  // faces around each vertex
+
+  std::array<Vec3, 3> corners(const std::vector<Vec3>& p, Id f) const {
+    return {p[tris[f][0]], p[tris[f][1]], p[tris[f][2]]};
+  }
+  static Vec3 face_normal(const std::array<Vec3, 3>& c) { return cross(c[1] - c[0], c[2] - c[0]); }
+  static void box(const std::array<Vec3, 3>& c, Vec3& lo, Vec3& hi) {
+    lo = hi = c[0];
+    for (int k = 1; k < 3; ++k)
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::min(lo[a], c[k][a]);
+        hi[a] = std::max(hi[a], c[k][a]);
+      }
+  }
+  std::array<Index, 3> ids(Id f) const { return {tris[f][0], tris[f][1], tris[f][2]}; }
+
+  // Undoes moves of `pos` (relative to `old`) until no face turns by more than 90° and no face
+  // pair intersects that did not before. Returns the number of vertex moves undone.
+  std::size_t run(const std::vector<Vec3>& old, std::vector<Vec3>& pos) const {
+    const std::size_t nv = pos.size();
+    std::vector<char> moved(nv, 0);
+    for (std::size_t i = 0; i < nv; ++i) moved[i] = !(pos[i] == old[i]);
+    Bounds b;
+    for (std::size_t i = 0; i < nv; ++i) {
+      b.extend(old[i]);
+      b.extend(pos[i]);
+    }
+    double edge_sum = 0;
+    for (const Tri& t : tris) edge_sum += norm(pos[t[1]] - pos[t[0]]);
+    TriangleGrid grid(b, triangle_grid_cell_size(b, tris.size(), edge_sum / double(tris.size())));
+    std::vector<std::array<Vec3, 2>> boxes(tris.size());
+    for (std::size_t f = 0; f < tris.size(); ++f) {
+      box(corners(pos, Id(f)), boxes[f][0], boxes[f][1]);
+      grid.insert(Id(f), boxes[f][0], boxes[f][1]);
+    }
+    std::vector<Id> dirty;
+    for (std::size_t f = 0; f < tris.size(); ++f)
+      for (Id v : tris[f])
+        if (moved[v]) {
+          dirty.push_back(Id(f));
+          break;
+        }
+    std::size_t undone = 0;
+    std::vector<char> revert(nv, 0);
+    while (!dirty.empty()) {
+      std::vector<Id> to_revert;
+      const auto mark = [&](Id f) {
+        for (Id v : tris[f])
+          if (moved[v] && !revert[v]) {
+            revert[v] = 1;
+            to_revert.push_back(v);
+          }
+      };
+      for (Id f : dirty) {
+        const auto cn = corners(pos, f), co = corners(old, f);
+        const Vec3 nn = face_normal(cn), no = face_normal(co);
+        if (dot(nn, no) <= 0 && norm2(no) > 0) {  // turned by 90° or more, or collapsed
+          mark(f);
+          continue;
+        }
+        const auto fid = ids(f);
+        grid.for_each_candidate(boxes[f][0], boxes[f][1], [&](std::uint32_t g) {
+          if (g == f) return;
+          const auto gid = ids(Id(g));
+          if (faces_intersect(cn, fid, corners(pos, Id(g)), gid) &&
+              !faces_intersect(co, fid, corners(old, Id(g)), gid)) {
+            mark(f);
+            mark(Id(g));
+          }
+        });
+      }
+      if (to_revert.empty()) break;
+      std::sort(to_revert.begin(), to_revert.end());
+      dirty.clear();
+      for (Id v : to_revert) {
+        pos[v] = old[v];
+        moved[v] = 0;
+        revert[v] = 0;
+        ++undone;
+        for (Id f : faces_of[v]) dirty.push_back(f);
+      }
+      std::sort(dirty.begin(), dirty.end());
+      dirty.erase(std::unique(dirty.begin(), dirty.end()), dirty.end());
+      for (Id f : dirty) {
+        grid.remove(f, boxes[f][0], boxes[f][1]);
+        box(corners(pos, f), boxes[f][0], boxes[f][1]);
+        grid.insert(f, boxes[f][0], boxes[f][1]);
+      }
+    }
+    return undone;
+  }
+};
+
+}  // namespace
+
+RefineResult refine_mesh(const PolyData& original, const PolyData& simplified,
+                         const RefineOptions& options) {
+  const auto t_start = Clock::now();
+  const RefineOptions& o = options;
+  if (o.outer_iterations < 1)
+    throw Error("refine_mesh: outer_iterations must be >= 1, got " +
+                std::to_string(o.outer_iterations));
+  if (!std::isfinite(o.spring) || o.spring < 0)
+    throw Error("refine_mesh: spring must be a finite number >= 0, got " +
+                std::to_string(o.spring));
+  if (static_cast<unsigned>(o.loss) > static_cast<unsigned>(RobustLoss::Cauchy))
+    throw Error("refine_mesh: unknown robust loss");
+
+  const std::vector<Tri> otris = original_triangles(original);
+  const std::vector<Vec3> overts = finite_points(original, "original");
+  const std::vector<Tri> tris = simplified_triangles(simplified);
+  std::vector<Vec3> pos = finite_points(simplified, "simplified");
+  const std::vector<char> fixed = fixed_vertices(simplified, tris, o);
+  const bool single = simplified.points.type() == ScalarType::Float32;
+  report_progress(o.progress, 0, "refine_mesh");
+
+  // The original: locator, triangle normals, samples.
+  Original orig;
+  {
+    std::vector<std::array<PrimitiveSet::Id, 3>> t(otris.begin(), otris.end());
+    orig.set = PrimitiveSet(overts, {}, {}, std::move(t));
+    orig.locator = std::make_unique<PrimitiveLocator>(orig.set);
+    orig.normals.resize(otris.size());
+    for (std::size_t f = 0; f < otris.size(); ++f) {
+      const Vec3 n = cross(overts[otris[f][1]] - overts[otris[f][0]],
+                           overts[otris[f][2]] - overts[otris[f][0]]);
+      const double len = norm(n);
+      orig.normals[f] = len > 0 ? n / len : Vec3{};
+    }
+  }
+  std::vector<Vec3> samples;
+  if (o.samples == 0) {
+    std::vector<char> used(overts.size(), 0);
+    for (const Tri& t : otris)
+      for (Id v : t) used[v] = 1;
+    for (std::size_t i = 0; i < overts.size(); ++i)
+      if (used[i]) samples.push_back(overts[i]);
+    const std::size_t want = kAutoSamplesPerTriangle * tris.size();
+    area_samples(overts, otris, want > samples.size() ? want - samples.size() : 0, samples);
+  } else {
+    area_samples(overts, otris, o.samples, samples);
+  }
+
+  // Topology of the simplified mesh: faces around each vertex, unique edges.
+  std::vector<std::vector<Id>> faces_of(pos.size());
+  std::vector<std::array<Id, 2>> edges;
+  for (std::size_t f = 0; f < tris.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      faces_of[tris[f][k]].push_back(Id(f));
+      const Id a = tris[f][k], b = tris[f][(k + 1) % 3];
+      edges.push_back({std::min(a, b), std::max(a, b)});
+    }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  const Rejector rejector{tris, faces_of};
+
+  RefineStats stats;
+  Measure current = measure(pos, tris, samples, orig);
+  stats.rms_before = current.rms;
+  stats.hausdorff_before = current.hausdorff;
+  const std::vector<Vec3> input = pos;
+  for (int it = 0; it < o.outer_iterations; ++it) {
+    report_progress(o.progress, double(it) / o.outer_iterations, "refine_mesh");
+    const auto t0 = Clock::now();
+    const std::vector<Vec3> solved = solve(pos, tris, edges, samples, current, fixed, o);
+    stats.seconds += seconds_since(t0);
+    ++stats.solves;
+    bool accepted = false;
+    for (const double scale : kStepScales) {
+      std::vector<Vec3> trial(pos.size());
+      for (std::size_t i = 0; i < pos.size(); ++i) {
+        Vec3 p = fixed[i] ? pos[i] : pos[i] + scale * (solved[i] - pos[i]);
+        if (single) p = {double(float(p.x)), double(float(p.y)), double(float(p.z))};
+        trial[i] = is_finite(p) ? p : pos[i];
+      }
+      stats.rejected_moves += rejector.run(pos, trial);
+      Measure m = measure(trial, tris, samples, orig, &current);
+      // A step is taken if the RMS error does not grow and the Hausdorff distance stays within
+      // the input's: least squares lowers the RMS and may trade a little of the maximum for it,
+      // never beyond where it started.
+      if (m.rms <= current.rms && m.hausdorff <= stats.hausdorff_before) {
+        pos = std::move(trial);
+        current = std::move(m);
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted) break;  // no shorter step helps either: the fit has converged
+  }
+  stats.rms_after = current.rms;
+  stats.hausdorff_after = current.hausdorff;
+  PolyData out = simplified;
+  for (std::size_t i = 0; i < pos.size(); ++i) {
+    if (pos[i] == input[i]) continue;
+    ++stats.moved_vertices;
+    out.points.set(i, pos[i]);
+  }
+  report_progress(o.progress, 1, "refine_mesh");
+  stats.total_seconds = seconds_since(t_start);
+  return {std::move(out), stats};
+}
+
+}  // namespace isoforge
