@@ -7,9 +7,9 @@
 # not part of ctest. See docs/verification.md, "Decimation".
 #
 # Usage: decimate.sh BUILD OUT [CASE...]
-#   BUILD: a build with -DISOFORGE_BUILD_BENCH=ON (isoforge, isoforge-verify, meshopt_decimate;
-#          isoforge_decimate when the library has decimate); OUT: a directory for inputs, outputs
-#          and OUT/decimate.md. CASE: big bunny headsq noisy-sphere (default: all).
+#   BUILD: a build with -DISOFORGE_BUILD_BENCH=ON (isoforge, isoforge-verify, meshopt_decimate);
+#   OUT: a directory for inputs, outputs and OUT/decimate.md.
+#   CASE: big bunny headsq noisy-sphere (default: all).
 # Environment: DECIMATE_TIMEOUT (seconds per command, default 300).
 set -euo pipefail
 build=$(cd "$1" && pwd) out=$2; shift 2
@@ -22,36 +22,22 @@ out=$(cd "$out" && pwd)
 iso=$build/src/isoforge
 verify=$build/verify/isoforge-verify
 meshopt=$build/verify/bench/meshopt_decimate
-isolib=$build/verify/bench/isoforge_decimate
 python=/usr/bin/python3
 runs=$out/runs.jsonl metrics=$out/metrics.jsonl
 : > "$runs"
 : > "$metrics"
 
 have_cli=0; "$iso" --help | grep -q "^  decimate " && have_cli=1
-have_lib=0; [ -x "$isolib" ] && have_lib=1
 have_vtk=0; $python -c "import vtk" 2> /dev/null && have_vtk=1
 [ $have_cli = 1 ] || echo "isoforge decimate is not in this build: its rows are left out"
 [ $have_vtk = 1 ] || echo "python3-vtk9 is missing: the VTK rows are left out"
 
-# run CASE PEER OUTPUT TARGET COMMAND...: runs the command under the timeout, measures its wall
-# time, and appends one JSON line to runs.jsonl: the peer's own line (which times the decimation
-# alone) when it printed one, else a line with the wall time only.
+# run CASE PEER OUTPUT TARGET COMMAND...: one record in runs.jsonl (decimate_run.py).
 run() {
   local case=$1 peer=$2 output=$3 target=$4; shift 4
-  local t0 t1 line status=0
-  t0=$(date +%s.%N)
-  line=$(timeout "$timeout_s" "$@" 2> "$out/outputs/$peer-$case-$target.err" | grep '^{' | tail -1) || status=$?
-  t1=$(date +%s.%N)
-  $python - "$case" "$peer" "$output" "$target" "$t0" "$t1" "$status" "$line" >> "$runs" << 'PY'
-import json, sys
-case, peer, output, target, t0, t1, status, line = sys.argv[1:9]
-rec = json.loads(line) if line else {}
-rec.update({"case": case, "peer": peer, "output": output, "target": int(target),
-            "command_seconds": float(t1) - float(t0), "status": int(status)})
-print(json.dumps(rec))
-PY
-  if [ "$status" != 0 ]; then echo "  $peer: failed (status $status, see $out/outputs/$peer-$case-$target.err)"; fi
+  local err=$out/outputs/$peer-$case-$target.err
+  $python "$here/decimate_run.py" "$case" "$peer" "$output" "$target" "$timeout_s" "$err" -- "$@" \
+    | tee -a "$runs" | grep '"status": 0' > /dev/null || echo "  $peer: failed (see $err)"
 }
 
 # The inputs (made by isoforge itself where possible).
@@ -94,11 +80,13 @@ for c in $cases; do
     o=$out/outputs/$c-$p
     outputs=()
     step() { local peer=$1; shift; echo "  $peer"; rm -f "$o-$peer.ply"; run "$c" "$peer" "$o-$peer.ply" "$target" "$@"; [ -f "$o-$peer.ply" ] && outputs+=("$o-$peer.ply"); true; }
-    if [ $have_lib = 1 ]; then step isoforge-lib "$isolib" "$in" "$o-isoforge-lib.ply" "$target"; fi
     if [ $have_cli = 1 ]; then
       for t in 1 2; do
-        step "isoforge-t$t" "$iso" decimate "$in" -o "$o-isoforge-t$t.ply" --target-triangles "$target" --threads "$t"
-        step "isoforge-refine-t$t" "$iso" decimate "$in" -o "$o-isoforge-refine-t$t.ply" --target-triangles "$target" --threads "$t" --refine
+        # --no-measure: the command would otherwise also measure its distance to the input.
+        step "isoforge-t$t" "$iso" --threads "$t" decimate "$in" -o "$o-isoforge-t$t.ply" \
+          --target-triangles "$target" --no-measure
+        step "isoforge-refine-t$t" "$iso" --threads "$t" decimate "$in" \
+          -o "$o-isoforge-refine-t$t.ply" --target-triangles "$target" --refine --no-measure
       done
     fi
     step meshopt "$meshopt" "$in" "$o-meshopt.ply" "$target"

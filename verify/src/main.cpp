@@ -77,9 +77,7 @@ int main(int argc, char** argv) {
   add_select_cases(catalogue);
   add_io_cases(catalogue);
   add_model_cases(catalogue);
-#ifdef ISOFORGE_VERIFY_DECIMATE
   add_decimate_cases(catalogue);
-#endif
 
   app.set_version_flag("--version", std::string(kVersion));
   bool list = false, all = false, quick = false, verbose = false;
