@@ -18,6 +18,9 @@
 namespace isoforge::reduce {
 namespace {
 
+// Rounds over every candidate after the queue runs dry (refusals may have been lifted).
+constexpr int kMaxRounds = 8;
+
 struct Entry {
   double error;
   Vid v;
@@ -271,7 +274,7 @@ DecimateStats Remover::run() {
   std::make_heap(heap_.begin(), heap_.end(), Later{});
   const std::size_t target = prepared_.target;
   const std::size_t to_remove = stats.input_triangles > target ? stats.input_triangles - target : 0;
-  std::size_t skipped_error = 0, since_fill = 0;
+  std::size_t skipped_error = 0, since_fill = 0, refused_since_fill = 0, rounds = 0;
   std::vector<Tri> triangles;
   for (;;) {
     while (mesh_.live_faces() > target && !heap_.empty()) {
@@ -306,14 +309,15 @@ DecimateStats Remover::run() {
       }
       if (!made) {
         ++stats.refused_topology;
+        ++refused_since_fill;
         continue;
       }
       switch (mesh_.check_replace(plan.fan, triangles, plan.normal)) {
         case Refusal::None: break;
         case Refusal::Locked:
-        case Refusal::Topology: ++stats.refused_topology; continue;
-        case Refusal::Flip: ++stats.refused_flip; continue;
-        case Refusal::Intersection: ++stats.refused_intersection; continue;
+        case Refusal::Topology: ++stats.refused_topology; ++refused_since_fill; continue;
+        case Refusal::Flip: ++stats.refused_flip; ++refused_since_fill; continue;
+        case Refusal::Intersection: ++stats.refused_intersection; ++refused_since_fill; continue;
       }
       mesh_.replace(plan.fan, triangles);
       ++stamp_[e.v];
@@ -333,7 +337,13 @@ DecimateStats Remover::run() {
         report_progress(options_.progress, 0.1 + 0.85 * std::min(done, 1.0), "decimate");
       }
     }
-    if (mesh_.live_faces() <= target || since_fill == 0) break;
+    // Refused candidates may have become possible as their neighbourhoods changed: another
+    // round over every edge, while rounds still collapse something (at most kMaxRounds).
+    if (mesh_.live_faces() <= target || since_fill == 0 || refused_since_fill == 0 ||
+        ++rounds > kMaxRounds) {
+      break;
+    }
+    refused_since_fill = 0;
     since_fill = 0;
     skipped_error = 0;
     heap_.clear();
