@@ -19,13 +19,6 @@ namespace isoforge::cli {
 
 namespace {
 
-PolyData read_polydata(const std::string& path, const char* command, ProgressBar& bar) {
-  Dataset ds = read_input(path, bar);
-  if (auto* pd = std::get_if<PolyData>(&ds)) return std::move(*pd);
-  throw Error(std::string(command) + ": " + path + " is " + std::string(dataset_type_name(ds)) +
-              "; distances are measured from polygonal data (points, lines, polygons)");
-}
-
 DistanceStrategy parse_strategy(const std::string& s) {
   if (s == "scatter") return DistanceStrategy::Scatter;
   if (s == "gather") return DistanceStrategy::Gather;
@@ -148,7 +141,7 @@ void add_distance_command(CLI::App& app, Context& ctx) {
                              : std::optional<Bounds>(parse_bounds(args->bounds, "--bounds"));
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
     bar.stage("reading");
-    const PolyData in = read_polydata(args->in, "distance", bar);
+    const PolyData in = read_polydata(args->in, bar, "distance: distances are measured from polygonal data (points, lines, polygons)");
     const Bounds ib = in.bounds();
     if (ib.empty()) throw Error("distance: " + args->in + " has no points");
     DistanceOptions o;

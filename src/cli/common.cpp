@@ -164,6 +164,14 @@ Dataset read_input(const std::string& path, ProgressBar& bar, ReadOptions option
   return read(path, options);
 }
 
+PolyData read_polydata(const std::string& path, ProgressBar& bar, std::string_view why) {
+  Dataset ds = read_input(path, bar);
+  if (auto* pd = std::get_if<PolyData>(&ds)) return std::move(*pd);
+  const auto colon = why.find(": ");
+  throw Error(fmt::format("{}: {} is {}; {}", why.substr(0, colon), path, dataset_type_name(ds),
+                          colon == std::string_view::npos ? why : why.substr(colon + 2)));
+}
+
 void write_output(DatasetRef ds, const std::filesystem::path& path, ProgressBar& bar,
                   WriteOptions options) {
   bar.stage("writing");

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs every benchmark and its peers in the same run and writes ratio tables to OUT_DIR/*.md.
-# Usage: run.sh BENCH_BUILD_DIR OUT_DIR [SECTION...]   (sections: io implicit; default all)
+# Usage: run.sh BENCH_BUILD_DIR OUT_DIR [SECTION...]
+#   (sections: io implicit contour model decimate; default io implicit contour)
 set -euo pipefail
 build=$1 out=$2; shift 2
 sections=${*:-io implicit contour}
@@ -48,6 +49,11 @@ for s in $sections; do
           --benchmark_format=json > "$out/model_nb_${nb/\//_}.json"
       done
       if [ $have_vtk = 1 ]; then /usr/bin/python3 "$here/peers/vtk_model.py" "$root/data" "$out/model_fields" > "$out/model_vtk.json"; else echo '{}' > "$out/model_vtk.json"; fi
+      ;;
+    decimate)
+      # Its own driver and table (decimate.sh, about 10 minutes): OUT_DIR/decimate/decimate.md.
+      "$here/decimate.sh" "$build" "$out/decimate"
+      continue
       ;;
     *) echo "unknown section $s"; exit 2 ;;
   esac

@@ -70,9 +70,10 @@ struct Case {
 
 /// Registration functions, one per group of cases.
 void add_io_cases(std::vector<Case>& cases);
-void add_shape_cases(std::vector<Case>& cases);   ///< shape/, convergence/, dense-vs-sparse/
-void add_volume_cases(std::vector<Case>& cases);  ///< random/, real/
-void add_select_cases(std::vector<Case>& cases);  ///< select/, side/
-void add_model_cases(std::vector<Case>& cases);   ///< model/ (distance fields, figures 1.25-1.28)
+void add_shape_cases(std::vector<Case>& cases);     ///< shape/, convergence/, dense-vs-sparse/
+void add_volume_cases(std::vector<Case>& cases);    ///< random/, real/
+void add_select_cases(std::vector<Case>& cases);    ///< select/, side/
+void add_model_cases(std::vector<Case>& cases);     ///< model/ (distance fields, figures 1.25-1.28)
+void add_decimate_cases(std::vector<Case>& cases);  ///< decimate/ (certified, compared with CGAL)
 
 }  // namespace isoforge::verify

@@ -8,7 +8,9 @@
 #include <cmath>
 
 #include "accuracy.hpp"
+#include "bench_commands.hpp"
 #include "catalogue.hpp"
+#include "decimate_inputs.hpp"
 #include "isoforge/implicit/parse.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/version.hpp"
@@ -75,6 +77,7 @@ int main(int argc, char** argv) {
   add_select_cases(catalogue);
   add_io_cases(catalogue);
   add_model_cases(catalogue);
+  add_decimate_cases(catalogue);
 
   app.set_version_flag("--version", std::string(kVersion));
   bool list = false, all = false, quick = false, verbose = false;
@@ -109,20 +112,60 @@ int main(int argc, char** argv) {
                        "distance for sphere, torus, plane, box, ...; see docs/implicit.md)");
   mesh_cmd->add_option("--spacing", spacing,
                        "Sample spacing for --compare/--implicit (default: 1/4 of the mean edge)");
+  auto* distance_cmd = app.add_subcommand(
+      "distance",
+      "Distance of meshes to a reference (approximate Hausdorff and RMS, absolute and relative "
+      "to the reference's diagonal): one JSON line per mesh");
+  DistanceCommand distance;
+  distance_cmd
+      ->add_option("reference", distance.reference,
+                   "The reference mesh (e.g. the input of a decimation)")
+      ->required();
+  distance_cmd->add_option("meshes", distance.meshes, "Meshes to measure against it")->required();
+  distance_cmd->add_option("--spacing", distance.spacing,
+                           "Sample spacing (default: 1/2 of the reference's mean edge)");
+  distance_cmd->add_option("--max-samples", distance.max_samples,
+                           "About this many samples per mesh at most (default 2e6)");
+  distance_cmd->add_flag("--check", distance.check,
+                         "Also the exact mesh checks of each mesh (self-intersections, manifold, "
+                         "borders, genus)");
+  auto* decimate_cmd = app.add_subcommand(
+      "decimate",
+      "CGAL's edge-collapse simplification to a face count (the benchmark's CGAL peer): one "
+      "JSON line");
+  DecimateCommand decimate;
+  decimate_cmd->add_option("input", decimate.input, "Mesh file")->required();
+  decimate_cmd->add_option("-o,--output", decimate.output, "Output mesh file")->required();
+  decimate_cmd->add_option("--target", decimate.target, "Target triangle count")->required();
+  decimate_cmd
+      ->add_option("--policy", decimate.policy,
+                   "gh: Garland-Heckbert plane quadrics; lt: Lindstrom-Turk")
+      ->check(CLI::IsMember({"gh", "lt"}));
+  auto* make_mesh_cmd = app.add_subcommand("make-mesh",
+                                           "Write an input of the decimation cases (bunny, headsq, "
+                                           "noisy-sphere, open-bunny, glued-spheres)");
+  std::string make_mesh_kind, make_mesh_out;
+  make_mesh_cmd->add_option("kind", make_mesh_kind, "What to build")
+      ->required()
+      ->check(CLI::IsMember(decimation_input_kinds()));
+  make_mesh_cmd->add_option("output", make_mesh_out, "Output mesh file")->required();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;  // --help, --version; else a usage error
   }
   try {
+    if (*distance_cmd) return run_distance(distance);
+    if (*decimate_cmd) return run_cgal_decimate(decimate);
+    if (*make_mesh_cmd) return run_make_mesh(make_mesh_kind, make_mesh_out);
     if (*mesh_cmd) {
       const Dataset ds = read(mesh_file);
       const auto* pd = std::get_if<PolyData>(&ds);
       if (!pd)
         throw Error(mesh_file + ": is " + std::string(dataset_type_name(ds)) +
                     ", not a polygonal mesh");
-      if (no_si && std::find(required.begin(), required.end(), "no-self-intersections") !=
-                       required.end()) {
+      if (no_si &&
+          std::find(required.begin(), required.end(), "no-self-intersections") != required.end()) {
         throw Error("--require no-self-intersections contradicts --no-self-intersections");
       }
       MeshCheckOptions o;

@@ -33,8 +33,10 @@ enum class DecimateMethod {
 
 struct DecimateOptions {
   DecimateMethod method = DecimateMethod::Quadric;
-  /// Stop at this many triangles (0 = not set). Hit exactly by the quadric method on closed
-  /// manifold input unless a guarantee or `max_error` stops it first (reported in the stats).
+  /// Stop at this many triangles or just below (0 = not set): an edge collapse removes two
+  /// faces (one on a border), so an even target is hit exactly on closed manifold input and an
+  /// odd one ends one below; a cell collapse removes up to four, a vertex removal two. A
+  /// guarantee or `max_error` may stop earlier (reported in the stats).
   std::size_t target_triangles = 0;
   /// Or stop after removing this fraction of the triangles, in [0, 1) (0 = not set).
   double target_reduction = 0;
@@ -52,9 +54,11 @@ struct DecimateOptions {
   bool check_self_intersections = true;  ///< exact test of every new face (the guarantee above)
   /// Point array (one component, any type) whose non-zero entries lock a vertex; "" = none.
   std::string lock_array;
-  /// Weight of point-array values in the quadrics (quadric method; 0 = geometry only): arrays are
-  /// scaled to the bounding-box diagonal times this before they enter the quadrics.
-  double attribute_weight = 0.01;
+  /// Weight of point-array differences in the collapse cost (quadric method; 0 =
+  /// geometry only, as vtkQuadricDecimation's default): each array is scaled by its range, and a
+  /// full-range difference across an edge costs like moving its faces by this fraction of the
+  /// bounding-box diagonal. Arrays are carried either way.
+  double attribute_weight = 0;
   ProgressCallback progress;  ///< fraction done; false cancels
 };
 

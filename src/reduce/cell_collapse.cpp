@@ -1,0 +1,232 @@
+// Cell collapse (the chapter's "cell deletion"): a triangle is removed by merging its three
+// vertices into one, placed where the sum of their quadrics is smallest; the triangle and its
+// (up to three) edge neighbours disappear. Triangles are taken in order of that quadric error.
+
+#include <algorithm>
+#include <cmath>
+
+#include "isoforge/core/parallel.hpp"
+#include "reduce/decimate_internal.hpp"
+#include "reduce/quadric.hpp"
+
+namespace isoforge::reduce {
+namespace {
+
+// Rounds over every candidate after the queue runs dry (refusals may have been lifted).
+constexpr int kMaxRounds = 8;
+
+struct Entry {
+  double cost;
+  Fid f;
+  std::array<std::uint32_t, 3> stamps;
+};
+
+struct Later {
+  bool operator()(const Entry& a, const Entry& b) const {
+    if (a.cost != b.cost) return a.cost > b.cost;
+    return a.f > b.f;
+  }
+};
+
+struct Candidate {
+  bool valid = false;
+  std::array<Vid, 3> group{};  // group[0] survives
+  Vec3 p;
+  double cost = 0, error = 0;
+  std::array<double, 3> weights{};  // barycentric weights of p (point arrays)
+};
+
+class CellCollapser {
+ public:
+  CellCollapser(EditMesh& mesh, CarriedAttributes& attributes, const Prepared& prepared,
+                const DecimateOptions& options)
+      : mesh_(mesh), attributes_(attributes), prepared_(prepared), options_(options) {}
+  DecimateStats run();
+
+ private:
+  [[nodiscard]] Candidate evaluate(Fid f) const;
+  [[nodiscard]] Entry entry(Fid f, const Candidate& c) const {
+    const Tri& t = mesh_.face(f);
+    return {c.cost, f, {stamp_[t[0]], stamp_[t[1]], stamp_[t[2]]}};
+  }
+  void fill_heap();
+
+  EditMesh& mesh_;
+  CarriedAttributes& attributes_;
+  const Prepared& prepared_;
+  const DecimateOptions& options_;
+  std::vector<Quadric> quadric_;
+  std::vector<PointQuadric> point_;
+  std::vector<double> area_;
+  std::vector<std::uint32_t> stamp_;
+  std::vector<Entry> heap_;
+};
+
+Candidate CellCollapser::evaluate(Fid f) const {
+  Candidate c;
+  const Tri& t = mesh_.face(f);
+  int locked = 0, lock_at = 0;
+  for (int k = 0; k < 3; ++k) {
+    if (mesh_.locked(t[k])) {
+      ++locked;
+      lock_at = k;
+    }
+  }
+  if (locked > 1) return c;
+  const Quadric planes = quadric_[t[0]] + quadric_[t[1]] + quadric_[t[2]];
+  const Quadric q = (point_[t[0]] + point_[t[1]] + point_[t[2]]).added_to(planes);
+  const Vec3 a = mesh_.position(t[0]), b = mesh_.position(t[1]), d = mesh_.position(t[2]);
+  const int keep = locked == 1 ? lock_at : 0;
+  c.group = {t[keep], t[(keep + 1) % 3], t[(keep + 2) % 3]};
+  if (locked == 1) {
+    c.p = mesh_.position(t[keep]);
+  } else {
+    const Vec3 centroid = (a + b + d) / 3.0;
+    c.p = minimize(q, centroid);
+    double best = q(c.p);
+    for (const Vec3& x : {a, b, d, centroid}) {
+      const double e = q(x);
+      if (e < best) {
+        best = e;
+        c.p = x;
+      }
+    }
+  }
+  const double geometric = planes(c.p);
+  const double area = area_[t[0]] + area_[t[1]] + area_[t[2]];
+  c.cost = q(c.p);
+  c.error = area > 0 ? std::sqrt(geometric / area) : 0;
+  // Barycentric weights of p's projection on the triangle, clamped to it, for the arrays.
+  const Vec3 p0 = mesh_.position(c.group[0]), p1 = mesh_.position(c.group[1]),
+             p2 = mesh_.position(c.group[2]);
+  const Vec3 e1 = p1 - p0, e2 = p2 - p0, r = c.p - p0;
+  const double d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2);
+  const double det = d11 * d22 - d12 * d12;
+  double w1 = 1.0 / 3, w2 = 1.0 / 3;
+  if (det > 0) {
+    w1 = std::clamp((d22 * dot(r, e1) - d12 * dot(r, e2)) / det, 0.0, 1.0);
+    w2 = std::clamp((d11 * dot(r, e2) - d12 * dot(r, e1)) / det, 0.0, 1.0 - w1);
+  }
+  c.weights = {1 - w1 - w2, w1, w2};
+  c.valid = std::isfinite(c.cost);
+  return c;
+}
+
+void CellCollapser::fill_heap() {
+  const std::size_t nf = mesh_.face_count();
+  std::vector<Entry> entries(nf);
+  std::vector<std::uint8_t> ok(nf, 0);
+  parallel_for_range(nf, 1024, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const Fid f = static_cast<Fid>(i);
+      if (!mesh_.face_alive(f)) continue;
+      const Candidate c = evaluate(f);
+      if (!c.valid) continue;
+      entries[i] = entry(f, c);
+      ok[i] = 1;
+    }
+  });
+  heap_.clear();
+  for (std::size_t i = 0; i < nf; ++i) {
+    if (ok[i]) heap_.push_back(entries[i]);
+  }
+  std::make_heap(heap_.begin(), heap_.end(), Later{});
+}
+
+DecimateStats CellCollapser::run() {
+  DecimateStats stats;
+  stats.input_triangles = mesh_.live_faces();
+  stats.locked_vertices = prepared_.locked_count;
+  vertex_quadrics(mesh_, options_, quadric_, point_, area_, progress_range(options_.progress, 0, 0.05));
+  stamp_.assign(mesh_.vertex_count(), 0);
+  fill_heap();
+  const std::size_t target = prepared_.target;
+  const std::size_t to_remove = stats.input_triangles > target ? stats.input_triangles - target : 0;
+  std::size_t skipped_error = 0, since_fill = 0, refused_since_fill = 0, rounds = 0;
+  for (;;) {
+    while (mesh_.live_faces() > target && !heap_.empty()) {
+      std::pop_heap(heap_.begin(), heap_.end(), Later{});
+      const Entry e = heap_.back();
+      heap_.pop_back();
+      if (!mesh_.face_alive(e.f)) continue;
+      const Tri& t = mesh_.face(e.f);
+      if (stamp_[t[0]] != e.stamps[0] || stamp_[t[1]] != e.stamps[1] ||
+          stamp_[t[2]] != e.stamps[2]) {
+        continue;
+      }
+      const Candidate c = evaluate(e.f);
+      if (!c.valid) continue;
+      if (prepared_.max_error > 0 && c.error > prepared_.max_error) {
+        ++skipped_error;
+        continue;
+      }
+      switch (mesh_.check_merge(c.group, c.p)) {
+        case Refusal::None: break;
+        case Refusal::Locked:
+        case Refusal::Topology: ++stats.refused_topology; ++refused_since_fill; continue;
+        case Refusal::Flip: ++stats.refused_flip; ++refused_since_fill; continue;
+        case Refusal::Intersection: ++stats.refused_intersection; ++refused_since_fill; continue;
+      }
+      const Quadric q = quadric_[c.group[0]] + quadric_[c.group[1]] + quadric_[c.group[2]];
+      const PointQuadric pq = point_[c.group[0]] + point_[c.group[1]] + point_[c.group[2]];
+      const double area = area_[c.group[0]] + area_[c.group[1]] + area_[c.group[2]];
+      mesh_.merge(c.group, c.p);
+      const std::array<std::size_t, 3> from{c.group[0], c.group[1], c.group[2]};
+      attributes_.blend(c.group[0], from, c.weights);
+      quadric_[c.group[0]] = q;
+      point_[c.group[0]] = pq;
+      area_[c.group[0]] = area;
+      for (Vid v : c.group) ++stamp_[v];
+      ++stats.operations;
+      ++since_fill;
+      stats.max_error = std::max(stats.max_error, c.error);
+      for (Fid g : mesh_.faces_of(c.group[0])) {
+        const Candidate n = evaluate(g);
+        if (!n.valid) continue;
+        heap_.push_back(entry(g, n));
+        std::push_heap(heap_.begin(), heap_.end(), Later{});
+      }
+      if ((stats.operations & 2047) == 0 && to_remove > 0) {
+        const double done = static_cast<double>(stats.input_triangles - mesh_.live_faces()) /
+                            static_cast<double>(to_remove);
+        report_progress(options_.progress, 0.1 + 0.85 * std::min(done, 1.0), "decimate");
+      }
+    }
+    // Refused candidates may have become possible as their neighbourhoods changed: another
+    // round over every edge, while rounds still collapse something (at most kMaxRounds).
+    if (mesh_.live_faces() <= target || since_fill == 0 || refused_since_fill == 0 ||
+        ++rounds > kMaxRounds) {
+      break;
+    }
+    refused_since_fill = 0;
+    since_fill = 0;
+    skipped_error = 0;
+    fill_heap();
+  }
+  stats.stop = mesh_.live_faces() <= target ? DecimateStop::Target
+               : skipped_error > 0          ? DecimateStop::MaxError
+                                            : DecimateStop::Exhausted;
+  return stats;
+}
+
+}  // namespace
+
+DecimateResult decimate_cell_collapse(const PolyData& input, Prepared prepared,
+                                      const DecimateOptions& options) {
+  EditSettings settings;
+  settings.preserve_topology = options.preserve_topology;
+  settings.max_normal_turn = options.max_normal_turn;
+  settings.check_intersections = options.check_self_intersections;
+  EditMesh mesh(std::move(prepared.positions), std::move(prepared.triangles),
+                std::move(prepared.locked), settings);
+  CarriedAttributes attributes(input.point_data);
+  CellCollapser collapser(mesh, attributes, prepared, options);
+  DecimateStats stats = collapser.run();
+  PolyData output = assemble(mesh, attributes, input.points.type());
+  stats.output_triangles = mesh.live_faces();
+  stats.output_points = output.num_points();
+  report_progress(options.progress, 1.0, "decimate");
+  return {std::move(output), stats};
+}
+
+}  // namespace isoforge::reduce

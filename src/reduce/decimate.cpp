@@ -1,0 +1,295 @@
+#include "isoforge/reduce/decimate.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "isoforge/core/mesh_topology.hpp"
+#include "isoforge/core/subset.hpp"
+#include "reduce/decimate_internal.hpp"
+
+namespace isoforge {
+namespace reduce {
+namespace {
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw Error("decimate: " + what);
+}
+
+// Locks the vertices of edges with more than two faces and the vertices whose faces form more
+// than one fan: decimation leaves them (and so the non-manifold parts of the input) as they are.
+void lock_non_manifold(const std::vector<Tri>& tris, std::vector<std::uint8_t>& locked) {
+  const std::size_t nv = locked.size();
+  // Edges (min, max, face), sorted: runs of equal edges give the face count.
+  std::vector<std::array<Vid, 3>> edges;
+  edges.reserve(3 * tris.size());
+  for (Fid f = 0; f < tris.size(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      Vid a = tris[f][k], b = tris[f][(k + 1) % 3];
+      if (a > b) std::swap(a, b);
+      edges.push_back({a, b, f});
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j][0] == edges[i][0] && edges[j][1] == edges[i][1]) ++j;
+    if (j - i > 2) locked[edges[i][0]] = locked[edges[i][1]] = 1;
+    i = j;
+  }
+  // Fans: faces around v joined through shared edges at v.
+  std::vector<std::uint32_t> start(nv + 1, 0);
+  for (const Tri& t : tris) {
+    for (Vid v : t) ++start[v + 1];
+  }
+  for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<Fid> around(start[nv]);
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  for (Fid f = 0; f < tris.size(); ++f) {
+    for (Vid v : tris[f]) around[fill[v]++] = f;
+  }
+  std::vector<std::uint32_t> parent;
+  for (std::size_t v = 0; v < nv; ++v) {
+    const std::uint32_t b = start[v], e = start[v + 1];
+    if (e - b < 2 || locked[v]) continue;
+    parent.resize(e - b);
+    for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+    auto find = [&](std::uint32_t x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    std::size_t fans = e - b;
+    for (std::uint32_t i = b; i < e; ++i) {
+      for (std::uint32_t j = b; j < i; ++j) {
+        // Faces i and j share an edge at v if they share a vertex other than v.
+        bool shared = false;
+        for (Vid x : tris[around[i]]) {
+          if (x == v) continue;
+          for (Vid y : tris[around[j]]) shared = shared || x == y;
+        }
+        if (!shared) continue;
+        const std::uint32_t ri = find(i - b), rj = find(j - b);
+        if (ri != rj) {
+          parent[ri] = rj;
+          --fans;
+        }
+      }
+    }
+    if (fans > 1) locked[v] = 1;
+  }
+}
+
+}  // namespace
+
+Prepared prepare(const PolyData& input, const DecimateOptions& o) {
+  const bool by_count = o.target_triangles > 0;
+  const bool by_ratio = o.target_reduction != 0;
+  const bool by_error = o.max_error != 0;
+  require(std::isfinite(o.target_reduction) && o.target_reduction >= 0 && o.target_reduction < 1,
+          fmt::format("target reduction {} is not in [0, 1)", o.target_reduction));
+  require(std::isfinite(o.max_error) && o.max_error >= 0,
+          fmt::format("maximum error {} is not a finite value >= 0", o.max_error));
+  require(!(by_count && by_ratio), "a target triangle count and a target reduction contradict");
+  require(by_count || by_ratio || by_error,
+          "no stop is set (a target triangle count, a target reduction or a maximum error)");
+  require(std::isfinite(o.boundary_weight) && o.boundary_weight >= 0,
+          fmt::format("boundary weight {} is not a finite value >= 0", o.boundary_weight));
+  require(std::isfinite(o.feature_angle) && o.feature_angle > 0 && o.feature_angle <= 180,
+          fmt::format("feature angle {} is not in (0, 180] degrees", o.feature_angle));
+  require(std::isfinite(o.max_normal_turn) && o.max_normal_turn > 0 && o.max_normal_turn <= 180,
+          fmt::format("maximum normal turn {} is not in (0, 180] degrees", o.max_normal_turn));
+  require(std::isfinite(o.attribute_weight) && o.attribute_weight >= 0,
+          fmt::format("attribute weight {} is not a finite value >= 0", o.attribute_weight));
+  input.validate();
+  require(input.num_points() < std::numeric_limits<Vid>::max(),
+          fmt::format("{} points is more than decimation supports", input.num_points()));
+
+  Prepared p;
+  const auto faces = triangulate_faces(input);
+  p.triangles.reserve(faces.size());
+  for (const auto& t : faces) {
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;  // degenerate by ids
+    p.triangles.push_back({static_cast<Vid>(t[0]), static_cast<Vid>(t[1]), static_cast<Vid>(t[2])});
+  }
+  require(!p.triangles.empty(), "the input has no triangle (polygons or strips)");
+  require(p.triangles.size() < std::numeric_limits<Fid>::max() / 2,
+          fmt::format("{} triangles is more than decimation supports", p.triangles.size()));
+  const std::size_t n = input.num_points();
+  p.positions.resize(n);
+  Bounds box;
+  std::vector<std::uint8_t> used(n, 0);
+  for (const Tri& t : p.triangles) {
+    for (Vid v : t) used[v] = 1;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    p.positions[i] = input.points[i];
+    if (!used[i]) continue;
+    require(is_finite(p.positions[i]), fmt::format("point {} is not finite", i));
+    box.extend(p.positions[i]);
+  }
+  p.diagonal = norm(box.max - box.min);
+  p.locked.assign(n, 0);
+  if (!o.lock_array.empty()) {
+    const DataArray* mask = input.point_data.find(o.lock_array);
+    require(mask != nullptr, fmt::format("lock array '{}' is not a point array of the input",
+                                         o.lock_array));
+    require(mask->components() == 1,
+            fmt::format("lock array '{}' has {} components, not 1", o.lock_array,
+                        mask->components()));
+    for (std::size_t i = 0; i < n; ++i) p.locked[i] = mask->get(i) != 0 ? 1 : 0;
+  }
+  lock_non_manifold(p.triangles, p.locked);
+  for (std::size_t i = 0; i < n; ++i) p.locked_count += (p.locked[i] && used[i]) ? 1 : 0;
+  const std::size_t count = p.triangles.size();
+  if (by_count) p.target = std::min(o.target_triangles, count);
+  if (by_ratio) {
+    p.target = static_cast<std::size_t>(std::llround(static_cast<double>(count) *
+                                                     (1 - o.target_reduction)));
+  }
+  p.max_error = o.max_error_relative ? o.max_error * p.diagonal : o.max_error;
+  return p;
+}
+
+CarriedAttributes::CarriedAttributes(const Attributes& point_data) : source_(&point_data) {
+  for (const DataArray& a : point_data) width_ += static_cast<std::size_t>(a.components());
+  if (width_ == 0) return;
+  const std::size_t n = point_data[0].tuples();
+  values_.resize(n * width_);
+  changed_.assign(n, 0);
+  std::size_t column = 0;
+  for (const DataArray& a : point_data) {
+    for (int c = 0; c < a.components(); ++c, ++column) {
+      const auto [lo, hi] = a.range(c);
+      const double span = hi - lo;
+      inverse_range2_.push_back(std::isfinite(span) && span > 0 ? 1 / (span * span) : 0.0);
+      for (std::size_t i = 0; i < n; ++i) values_[i * width_ + column] = a.get(i, c);
+    }
+  }
+}
+
+double CarriedAttributes::scaled_distance2(std::size_t a, std::size_t b) const {
+  const double* x = row(a);
+  const double* y = row(b);
+  double s = 0;
+  for (std::size_t c = 0; c < width_; ++c) {
+    const double d = x[c] - y[c];
+    if (std::isfinite(d)) s += d * d * inverse_range2_[c];
+  }
+  return s;
+}
+
+void CarriedAttributes::blend(std::size_t into, std::span<const std::size_t> from,
+                              std::span<const double> weights) {
+  if (width_ == 0) return;
+  double sum[64];
+  std::vector<double> big;
+  double* out = sum;
+  if (width_ > 64) {
+    big.resize(width_);
+    out = big.data();
+  }
+  for (std::size_t c = 0; c < width_; ++c) {
+    double s = 0;
+    for (std::size_t i = 0; i < from.size(); ++i) s += weights[i] * row(from[i])[c];
+    out[c] = s;
+  }
+  std::copy(out, out + width_, values_.data() + into * width_);
+  changed_[into] = 1;
+}
+
+Attributes CarriedAttributes::output(const std::vector<Vid>& kept) const {
+  Attributes out = empty_like(*source_, kept.size());
+  if (width_ == 0) return out;
+  const std::string& normals = source_->active_name(AttributeRole::Normals);
+  for (std::size_t i = 0; i < kept.size(); ++i) {
+    const Vid v = kept[i];
+    if (!changed_[v]) {
+      copy_tuple(*source_, v, out, i);
+      continue;
+    }
+    std::size_t column = 0;
+    for (std::size_t k = 0; k < source_->size(); ++k) {
+      const DataArray& in = (*source_)[k];
+      DataArray& a = out[k];
+      const int nc = in.components();
+      const double* r = row(v) + column;
+      double scale = 1;
+      if (nc == 3 && in.name() == normals) {
+        const double l = std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+        scale = l > 0 ? 1 / l : 1;
+      }
+      const bool integral = !is_floating(in.type());
+      for (int c = 0; c < nc; ++c) {
+        const double x = r[c] * scale;
+        a.set(i, c, integral ? std::nearbyint(x) : x);
+      }
+      column += static_cast<std::size_t>(nc);
+    }
+  }
+  return out;
+}
+
+PolyData assemble(const EditMesh& mesh, const CarriedAttributes& attributes,
+                  ScalarType point_type) {
+  const std::size_t nv = mesh.vertex_count();
+  std::vector<Vid> kept;
+  std::vector<Vid> map(nv, std::numeric_limits<Vid>::max());
+  for (Vid v = 0; v < nv; ++v) {
+    if (!mesh.faces_of(v).empty()) {
+      map[v] = static_cast<Vid>(kept.size());
+      kept.push_back(v);
+    }
+  }
+  PolyData out;
+  out.points = Points(kept.size(), point_type);
+  for (std::size_t i = 0; i < kept.size(); ++i) out.points.set(i, mesh.position(kept[i]));
+  Buffer<Index> offsets, connectivity;
+  offsets.reserve(mesh.live_faces() + 1);
+  connectivity.reserve(3 * mesh.live_faces());
+  offsets.push_back(0);
+  for (Fid f = 0; f < mesh.face_count(); ++f) {
+    if (!mesh.face_alive(f)) continue;
+    for (Vid v : mesh.face(f)) connectivity.push_back(map[v]);
+    offsets.push_back(static_cast<Index>(connectivity.size()));
+  }
+  out.polys = CellArray(std::move(offsets), std::move(connectivity));
+  out.point_data = attributes.output(kept);
+  return out;
+}
+
+}  // namespace reduce
+
+DecimateResult decimate(const PolyData& input, const DecimateOptions& options) {
+  reduce::Prepared prepared = reduce::prepare(input, options);
+  switch (options.method) {
+    case DecimateMethod::Quadric:
+      return reduce::decimate_quadric(input, std::move(prepared), options);
+    case DecimateMethod::VertexRemoval:
+      return reduce::decimate_vertex_removal(input, std::move(prepared), options);
+    case DecimateMethod::CellCollapse:
+      return reduce::decimate_cell_collapse(input, std::move(prepared), options);
+  }
+  throw Error("decimate: unknown method");
+}
+
+const char* to_string(DecimateMethod method) {
+  switch (method) {
+    case DecimateMethod::Quadric: return "quadric";
+    case DecimateMethod::VertexRemoval: return "vertex-removal";
+    case DecimateMethod::CellCollapse: return "cell-collapse";
+  }
+  return "unknown";
+}
+
+const char* to_string(DecimateStop stop) {
+  switch (stop) {
+    case DecimateStop::Target: return "target reached";
+    case DecimateStop::MaxError: return "maximum error reached";
+    case DecimateStop::Exhausted: return "no further operation is allowed";
+  }
+  return "unknown";
+}
+
+}  // namespace isoforge

@@ -1,0 +1,64 @@
+#pragma once
+// What the three decimation methods share: the prepared input (triangles, double positions,
+// locks, the stop), the point arrays carried as doubles while vertices merge, and the output.
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "isoforge/reduce/decimate.hpp"
+#include "reduce/edit_mesh.hpp"
+
+namespace isoforge::reduce {
+
+struct Prepared {
+  std::vector<Vec3> positions;
+  std::vector<Tri> triangles;
+  std::vector<std::uint8_t> locked;  ///< by mask or on a non-manifold edge/vertex
+  std::size_t locked_count = 0;
+  double diagonal = 0;
+  std::size_t target = 0;   ///< stop at or below this many triangles (0: only the error stops)
+  double max_error = 0;     ///< absolute; 0 = none
+};
+
+/// Validates `options`, triangulates `input`, locks vertices (mask, non-manifold) and turns the
+/// stops into a triangle count and an absolute error. \throw Error as `decimate`.
+[[nodiscard]] Prepared prepare(const PolyData& input, const DecimateOptions& options);
+
+/// The point arrays of the input as doubles, one row per vertex, merged as vertices merge.
+class CarriedAttributes {
+ public:
+  explicit CarriedAttributes(const Attributes& point_data);
+  [[nodiscard]] bool empty() const { return width_ == 0; }
+  [[nodiscard]] std::size_t width() const { return width_; }
+  [[nodiscard]] const double* row(std::size_t v) const { return values_.data() + v * width_; }
+  /// Squared difference of two rows, each array scaled by its range (arrays of constant value
+  /// count nothing).
+  [[nodiscard]] double scaled_distance2(std::size_t a, std::size_t b) const;
+  /// Row `into` = Σ w_i row(from_i); marks `into` as changed.
+  void blend(std::size_t into, std::span<const std::size_t> from, std::span<const double> weights);
+  /// The output point data: rows of `kept` (old ids in output order); unchanged rows are copied
+  /// exactly, changed ones converted (integers rounded, unit normals renormalised).
+  [[nodiscard]] Attributes output(const std::vector<Vid>& kept) const;
+
+ private:
+  const Attributes* source_ = nullptr;
+  std::size_t width_ = 0;
+  std::vector<double> values_;
+  std::vector<double> inverse_range2_;  ///< per column
+  std::vector<std::uint8_t> changed_;
+};
+
+/// The live faces of `mesh` as polygonal data with compacted points (in old-id order) and the
+/// carried point arrays.
+[[nodiscard]] PolyData assemble(const EditMesh& mesh, const CarriedAttributes& attributes,
+                                ScalarType point_type);
+
+DecimateResult decimate_quadric(const PolyData& input, Prepared prepared,
+                                const DecimateOptions& options);
+DecimateResult decimate_vertex_removal(const PolyData& input, Prepared prepared,
+                                       const DecimateOptions& options);
+DecimateResult decimate_cell_collapse(const PolyData& input, Prepared prepared,
+                                      const DecimateOptions& options);
+
+}  // namespace isoforge::reduce

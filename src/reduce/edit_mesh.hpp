@@ -1,0 +1,131 @@
+#pragma once
+// A triangle mesh under local edits, shared by the three decimation methods: vertex-face
+// adjacency, the validity test of an edit (topology, normal turn, exact self-intersection) and
+// its application. One kind of edit covers edge and cell collapse: merging a set of vertices
+// into one placed at a given point. Vertex removal replaces a vertex's faces by a triangulation
+// of its link.
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "isoforge/core/vec.hpp"
+#include "isoforge/spatial/self_intersections.hpp"
+
+namespace isoforge::reduce {
+
+using Vid = std::uint32_t;
+using Fid = std::uint32_t;
+using Tri = std::array<Vid, 3>;
+
+/// A face's own plane and the planes through its edges along its normal (outward), for the
+/// separating-plane filter in front of the exact face test (edit_mesh.cpp).
+struct FacePlanes {
+  std::array<Vec3, 3> p;
+  Tri id{};
+  Vec3 n;
+  std::array<Vec3, 3> m;
+  std::array<bool, 3> usable{};
+  bool valid = false;
+};
+
+/// Why an edit was refused.
+enum class Refusal : std::uint8_t { None, Locked, Topology, Flip, Intersection };
+
+struct EditSettings {
+  bool preserve_topology = true;
+  double max_normal_turn = 90;  ///< degrees
+  bool check_intersections = true;
+};
+
+class EditMesh {
+ public:
+  /// Takes the mesh (triangles with three distinct ids < positions.size()). `locked` has one
+  /// entry per vertex (non-zero = never moved or removed).
+  EditMesh(std::vector<Vec3> positions, std::vector<Tri> triangles, std::vector<std::uint8_t> locked,
+           const EditSettings& settings);
+
+  [[nodiscard]] std::size_t vertex_count() const { return positions_.size(); }
+  [[nodiscard]] std::size_t face_count() const { return faces_.size(); }
+  [[nodiscard]] std::size_t live_faces() const { return live_faces_; }
+  [[nodiscard]] const Vec3& position(Vid v) const { return positions_[v]; }
+  [[nodiscard]] const Tri& face(Fid f) const { return faces_[f]; }
+  [[nodiscard]] bool face_alive(Fid f) const { return alive_[f] != 0; }
+  [[nodiscard]] bool locked(Vid v) const { return locked_[v] != 0; }
+  [[nodiscard]] std::span<const Fid> faces_of(Vid v) const { return vertex_faces_[v]; }
+  [[nodiscard]] const std::vector<Vec3>& positions() const { return positions_; }
+
+  /// The distinct neighbours of v (vertices sharing a face), appended to `out` after clearing it.
+  void neighbours(Vid v, std::vector<Vid>& out) const;
+  /// Number of live faces containing the edge (u, v).
+  [[nodiscard]] int edge_faces(Vid u, Vid v) const;
+  /// Whether v has an edge with exactly one face (computed).
+  [[nodiscard]] bool on_border(Vid v) const;
+  /// The same, kept up to date by the edits.
+  [[nodiscard]] bool border(Vid v) const { return border_[v] != 0; }
+
+  /// Whether merging `group` (distinct vertices; group[0] survives) into one vertex at `p` keeps
+  /// the mesh valid: the surviving faces around it form one fan (a cycle, or a path when a member
+  /// was on the border) with preserve_topology, no duplicate face or edge of three faces, no face
+  /// normal turned by more than the limit or made zero, and no new face intersecting another one
+  /// (exact). Locked members must all sit at `p`.
+  [[nodiscard]] Refusal check_merge(std::span<const Vid> group, const Vec3& p);
+  /// Applies a merge that `check_merge` accepted; returns the number of faces removed.
+  std::size_t merge(std::span<const Vid> group, const Vec3& p);
+
+  /// Whether replacing the live faces `old_faces` by `new_faces` (over existing vertices; the
+  /// vertices only in old faces disappear) keeps the mesh valid: no new face duplicates a
+  /// remaining one or gives an edge three faces, no new face is degenerate or turned by more
+  /// than the limit from `reference_normal`, and none intersects another face (exact).
+  [[nodiscard]] Refusal check_replace(std::span<const Fid> old_faces, std::span<const Tri> new_faces,
+                                      const Vec3& reference_normal);
+  /// Applies a replacement that `check_replace` accepted.
+  void replace(std::span<const Fid> old_faces, std::span<const Tri> new_faces);
+
+ private:
+  struct Box {
+    Vec3 lo, hi;
+  };
+  [[nodiscard]] Box face_box(const std::array<Vec3, 3>& p) const;
+  [[nodiscard]] std::array<Vec3, 3> corners(const Tri& t) const {
+    return {positions_[t[0]], positions_[t[1]], positions_[t[2]]};
+  }
+  void build_grid();
+  void grid_insert(Fid f);
+  void grid_remove(Fid f);
+  void detach(Fid f, Vid v);
+  /// Whether any of `faces` (with positions `pos`) intersects another of them or a live face
+  /// outside `excluded` (faces being removed or rewritten, marked with `mark_`).
+  [[nodiscard]] bool intersects(std::span<const Tri> faces, std::span<const std::array<Vec3, 3>> pos);
+  /// Whether the undirected edges (a, b) form one cycle (`cycle`) or one path.
+  [[nodiscard]] bool single_chain(bool cycle);
+
+  std::vector<Vec3> positions_;
+  std::vector<Tri> faces_;
+  std::vector<std::uint8_t> alive_;
+  std::vector<std::uint8_t> locked_;
+  std::vector<std::uint8_t> border_;
+  std::vector<std::vector<Fid>> vertex_faces_;
+  std::size_t live_faces_ = 0;
+  EditSettings settings_;
+  double cos_turn_ = 0;
+  bool use_grid_ = false;
+  std::optional<TriangleGrid> grid_;
+  std::size_t grid_faces_ = 0;  // live faces when the grid was built (rebuilt at half)
+  // Scratch (the edits run on one thread).
+  std::vector<std::uint32_t> mark_;  // per face: == stamp_ when excluded from the current test
+  std::uint32_t stamp_ = 0;
+  std::vector<Fid> touched_;
+  std::vector<Tri> new_faces_;
+  std::vector<std::array<Vec3, 3>> new_pos_;
+  std::vector<std::array<Vid, 2>> chain_;
+  std::vector<Vid> chain_nodes_;
+  std::vector<std::uint32_t> walk_parent_;
+  std::vector<FacePlanes> new_planes_;
+  std::vector<Box> new_boxes_;
+  std::vector<std::array<Vid, 2>> sorted_chain_;
+};
+
+}  // namespace isoforge::reduce

@@ -1,0 +1,104 @@
+#pragma once
+// Garland–Heckbert error quadrics: Q(p) = pᵀ A p + 2 bᵀ p + c, the sum of weighted squared
+// distances from p to a set of planes; and the placement that minimises it robustly.
+
+#include <algorithm>
+#include <cmath>
+
+#include <vector>
+
+#include "isoforge/core/progress.hpp"
+#include "isoforge/core/vec.hpp"
+#include "isoforge/reduce/decimate.hpp"
+#include "reduce/edit_mesh.hpp"
+
+namespace isoforge::reduce {
+
+struct Quadric {
+  // Symmetric A (xx, xy, xz, yy, yz, zz), b, c, and the total weight of the planes.
+  double a00 = 0, a01 = 0, a02 = 0, a11 = 0, a12 = 0, a22 = 0;
+  double b0 = 0, b1 = 0, b2 = 0;
+  double c = 0;
+  double weight = 0;
+
+  /// The plane n·p + d = 0 (n of unit length) with weight w.
+  static Quadric plane(const Vec3& n, double d, double w) {
+    Quadric q;
+    q.a00 = w * n.x * n.x;
+    q.a01 = w * n.x * n.y;
+    q.a02 = w * n.x * n.z;
+    q.a11 = w * n.y * n.y;
+    q.a12 = w * n.y * n.z;
+    q.a22 = w * n.z * n.z;
+    q.b0 = w * n.x * d;
+    q.b1 = w * n.y * d;
+    q.b2 = w * n.z * d;
+    q.c = w * d * d;
+    q.weight = w;
+    return q;
+  }
+
+  Quadric& operator+=(const Quadric& o) {
+    a00 += o.a00; a01 += o.a01; a02 += o.a02; a11 += o.a11; a12 += o.a12; a22 += o.a22;
+    b0 += o.b0; b1 += o.b1; b2 += o.b2; c += o.c; weight += o.weight;
+    return *this;
+  }
+  friend Quadric operator+(Quadric a, const Quadric& b) { return a += b; }
+
+  /// Q(p), clamped at 0 (rounding can make it slightly negative).
+  [[nodiscard]] double operator()(const Vec3& p) const {
+    const double ax = a00 * p.x + a01 * p.y + a02 * p.z;
+    const double ay = a01 * p.x + a11 * p.y + a12 * p.z;
+    const double az = a02 * p.x + a12 * p.y + a22 * p.z;
+    const double v = p.x * ax + p.y * ay + p.z * az + 2 * (b0 * p.x + b1 * p.y + b2 * p.z) + c;
+    return v > 0 ? v : 0;
+  }
+};
+
+/// Σ w_i |p − x_i|²: point quadrics, kept apart from the planes so errors stay distances to
+/// planes. Pulls placements toward the merged vertices.
+struct PointQuadric {
+  double w = 0, x = 0, y = 0, z = 0, xx = 0;  // Σ w, Σ w x, Σ w |x|²
+
+  static PointQuadric at(const Vec3& p, double w) {
+    return {w, w * p.x, w * p.y, w * p.z, w * dot(p, p)};
+  }
+  PointQuadric& operator+=(const PointQuadric& o) {
+    w += o.w; x += o.x; y += o.y; z += o.z; xx += o.xx;
+    return *this;
+  }
+  friend PointQuadric operator+(PointQuadric a, const PointQuadric& b) { return a += b; }
+  [[nodiscard]] double operator()(const Vec3& p) const {
+    const double v = w * dot(p, p) - 2 * (x * p.x + y * p.y + z * p.z) + xx;
+    return v > 0 ? v : 0;
+  }
+  /// q + this as one quadric (for the placement).
+  [[nodiscard]] Quadric added_to(Quadric q) const {
+    q.a00 += w; q.a11 += w; q.a22 += w;
+    q.b0 -= x; q.b1 -= y; q.b2 -= z;
+    q.c += xx;
+    return q;
+  }
+};
+
+/// The minimiser of q closest to `anchor` (the edge midpoint): q's Hessian is pseudo-inverted
+/// with eigenvalues below `relative_cutoff` × the largest treated as zero, so a flat or
+/// cylindrical neighbourhood (singular or nearly singular system) places the vertex on the
+/// minimising set next to the anchor instead of far away along it.
+Vec3 minimize(const Quadric& q, const Vec3& anchor, double relative_cutoff = 1e-3);
+
+/// Weight of the point quadric each vertex gets (× its faces' area): small enough not to move
+/// placements measurably, large enough to order collapses on flat regions (where every plane
+/// error is zero) by edge length, so fans stay small instead of sweeping through the mesh.
+inline constexpr double kPointQuadricWeight = 1e-5;
+
+/// The quadric of every vertex: its faces' planes weighted by area, a point quadric at the
+/// vertex in `points` (kPointQuadricWeight), plus (with
+/// `preserve_boundary`) planes through border edges perpendicular to their face and (with a
+/// feature angle below 180) the same planes along feature edges, weighted by
+/// `boundary_weight` × the squared edge length. `areas` gets each vertex's face area. Parallel.
+void vertex_quadrics(const EditMesh& mesh, const DecimateOptions& options,
+                     std::vector<Quadric>& quadrics, std::vector<PointQuadric>& points,
+                     std::vector<double>& areas, const ProgressCallback& progress);
+
+}  // namespace isoforge::reduce
