@@ -90,6 +90,10 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
       throw UsageError("give a stop: --target-triangles N, --reduction R or --max-error E");
     }
     require_meaningful(relative_opt, error_opt->count() > 0, "applies to --max-error only");
+    if (args->reduction >= 1) {
+      throw UsageError("--reduction: must be below 1 (1 would remove every triangle), got " +
+                       fmt::format("{}", args->reduction));
+    }
     DecimateOptions o;
     o.method = args->method == "vertex-removal" ? DecimateMethod::VertexRemoval
                : args->method == "cell-collapse" ? DecimateMethod::CellCollapse

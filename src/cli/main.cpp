@@ -123,6 +123,7 @@ int main(int argc, char** argv) {
   add_csg_command(app, ctx);
   add_attractor_command(app, ctx);
   add_decimate_command(app, ctx);
+  add_fit_command(app, ctx);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {  // --help, --version

@@ -283,10 +283,10 @@ bool segments_meet(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   return collinear_segments_overlap(a, b, c, d);  // all four on one line
 }
 
-// Whether the closed segment [a, b] meets the closed triangle t (either may be degenerate).
+// Whether the closed segment [a, b] meets the closed triangle t (either may be degenerate);
+// `drop` is triangle_projection(t0, t1, t2), computed once by the caller.
 bool segment_meets_triangle(const Vec3& a, const Vec3& b, const Vec3& t0, const Vec3& t1,
-                            const Vec3& t2) {
-  const int drop = triangle_projection(t0, t1, t2);
+                            const Vec3& t2, int drop) {
   if (drop < 0) {  // the triangle is the union of its edges
     return segments_meet(a, b, t0, t1) || segments_meet(a, b, t1, t2) ||
            segments_meet(a, b, t2, t0);
@@ -327,13 +327,14 @@ bool strictly_one_side(const std::array<Vec3, 3>& p, const std::array<Vec3, 3>& 
 }
 
 // Shared vertex: whether the open ray piece (v, w] meets the closed triangle t, where t's
-// corner j is at v.
-bool ray_piece_meets(const Vec3& v, const Vec3& w, const std::array<Vec3, 3>& t, int j) {
+// corner j is at v (t_drop: its triangle_projection).
+bool ray_piece_meets(const Vec3& v, const Vec3& w, const std::array<Vec3, 3>& t, int j,
+                     int t_drop) {
   const Vec3& t1 = t[static_cast<std::size_t>((j + 1) % 3)];
   const Vec3& t2 = t[static_cast<std::size_t>((j + 2) % 3)];
-  if (!collinear(t[0], t[1], t[2])) {
+  if (t_drop >= 0) {
     // [v, w] ∩ t is a segment [v, y]: y = w inside t, or y on the edge opposite v.
-    return segment_meets_triangle(w, w, t[0], t[1], t[2]) || segments_meet(v, w, t1, t2);
+    return segment_meets_triangle(w, w, t[0], t[1], t[2], t_drop) || segments_meet(v, w, t1, t2);
   }
   // t is a segment through v: the pieces meet off v iff they leave v the same way.
   for (const Vec3* z : {&t1, &t2}) {
@@ -346,21 +347,23 @@ bool ray_piece_meets(const Vec3& v, const Vec3& w, const std::array<Vec3, 3>& t,
 // intersection is convex and holds v; if it holds another point, the ray from v through it
 // leaves a or b through the part of that face away from v (the edge opposite v when the face is
 // a proper triangle), and that exit point lies in both faces.
-bool meet_off_vertex(const std::array<Vec3, 3>& a, int i, const std::array<Vec3, 3>& b, int j) {
+bool meet_off_vertex(const std::array<Vec3, 3>& a, int i, int a_drop, const std::array<Vec3, 3>& b,
+                     int j, int b_drop) {
   const Vec3& v = a[static_cast<std::size_t>(i)];
-  const auto pieces_meet = [&v](const std::array<Vec3, 3>& s, int si, const std::array<Vec3, 3>& t,
-                                int ti) {
+  const auto pieces_meet = [&v](const std::array<Vec3, 3>& s, int si, int s_drop,
+                                const std::array<Vec3, 3>& t, int ti, int t_drop) {
     const Vec3& s1 = s[static_cast<std::size_t>((si + 1) % 3)];
     const Vec3& s2 = s[static_cast<std::size_t>((si + 2) % 3)];
-    bool far_edge = !collinear(s[0], s[1], s[2]);
+    bool far_edge = s_drop >= 0;
     if (!far_edge) {  // a segment: is v off the edge opposite it (then v ends the segment)?
       far_edge = !collinear_segments_overlap(v, v, s1, s2);
     }
-    if (far_edge) return segment_meets_triangle(s1, s2, t[0], t[1], t[2]);
+    if (far_edge) return segment_meets_triangle(s1, s2, t[0], t[1], t[2], t_drop);
     // v lies on the opposite edge: s minus v is the two pieces (v, s1] and (v, s2].
-    return (s1 != v && ray_piece_meets(v, s1, t, ti)) || (s2 != v && ray_piece_meets(v, s2, t, ti));
+    return (s1 != v && ray_piece_meets(v, s1, t, ti, t_drop)) ||
+           (s2 != v && ray_piece_meets(v, s2, t, ti, t_drop));
   };
-  return pieces_meet(a, i, b, j) || pieces_meet(b, j, a, i);
+  return pieces_meet(a, i, a_drop, b, j, b_drop) || pieces_meet(b, j, b_drop, a, i, a_drop);
 }
 
 // Shared edge (u, v), third corners ra and rb: whether the faces overlap off the edge.
@@ -421,20 +424,20 @@ bool triangle_degenerate(const Vec3& a, const Vec3& b, const Vec3& c) {
 
 bool triangles_intersect(const std::array<Vec3, 3>& p, const std::array<Vec3, 3>& q) {
   if (boxes_disjoint(p, q)) return false;
-  const bool p_flat = collinear(p[0], p[1], p[2]);
-  const bool q_flat = collinear(q[0], q[1], q[2]);
-  if (!p_flat && strictly_one_side(p, q)) return false;
-  if (!q_flat && strictly_one_side(q, p)) return false;
+  const int p_drop = triangle_projection(p[0], p[1], p[2]);
+  const int q_drop = triangle_projection(q[0], q[1], q[2]);
+  if (p_drop >= 0 && strictly_one_side(p, q)) return false;
+  if (q_drop >= 0 && strictly_one_side(q, p)) return false;
   // Two closed triangles meet iff an edge of one meets the other: if they are not coplanar their
   // intersection is an interval of the common line whose ends lie on edges; if they are, a
   // triangle meeting the other without an edge crossing it lies inside it, edges included.
   for (int e = 0; e < 3; ++e) {
     const auto s = static_cast<std::size_t>(e), t = static_cast<std::size_t>((e + 1) % 3);
-    if (segment_meets_triangle(p[s], p[t], q[0], q[1], q[2])) return true;
+    if (segment_meets_triangle(p[s], p[t], q[0], q[1], q[2], q_drop)) return true;
   }
   for (int e = 0; e < 3; ++e) {
     const auto s = static_cast<std::size_t>(e), t = static_cast<std::size_t>((e + 1) % 3);
-    if (segment_meets_triangle(q[s], q[t], p[0], p[1], p[2])) return true;
+    if (segment_meets_triangle(q[s], q[t], p[0], p[1], p[2], p_drop)) return true;
   }
   return false;
 }
@@ -462,7 +465,18 @@ bool faces_intersect(const std::array<Vec3, 3>& p, const std::array<Index, 3>& p
   if (shared >= 3) return true;  // the same corners: the faces coincide
   if (shared == 1) {
     if (boxes_disjoint(p, q)) return false;
-    return meet_off_vertex(p, in_p[0], q, in_q[0]);
+    const int p_drop = triangle_projection(p[0], p[1], p[2]);
+    const int q_drop = triangle_projection(q[0], q[1], q[2]);
+    // If the corners of one face other than v lie strictly on one side of the other face's
+    // plane, the first face meets that plane only at v (the common case of neighbours).
+    const auto far_off_plane = [](const std::array<Vec3, 3>& s, int si,
+                                  const std::array<Vec3, 3>& t) {
+      const int o1 = orient3d(t[0], t[1], t[2], s[static_cast<std::size_t>((si + 1) % 3)]);
+      return o1 != 0 && o1 == orient3d(t[0], t[1], t[2], s[static_cast<std::size_t>((si + 2) % 3)]);
+    };
+    if (q_drop >= 0 && far_off_plane(p, in_p[0], q)) return false;
+    if (p_drop >= 0 && far_off_plane(q, in_q[0], p)) return false;
+    return meet_off_vertex(p, in_p[0], p_drop, q, in_q[0], q_drop);
   }
   // A shared edge. The third corners: a corner whose id is not shared (a face made of the two
   // shared ids only lies in the edge and cannot overlap).

@@ -12,6 +12,9 @@
 namespace isoforge::reduce {
 namespace {
 
+// Rounds over every candidate after the queue runs dry (refusals may have been lifted).
+constexpr int kMaxRounds = 8;
+
 struct Entry {
   double cost;
   Fid f;
@@ -139,7 +142,7 @@ DecimateStats CellCollapser::run() {
   fill_heap();
   const std::size_t target = prepared_.target;
   const std::size_t to_remove = stats.input_triangles > target ? stats.input_triangles - target : 0;
-  std::size_t skipped_error = 0, since_fill = 0;
+  std::size_t skipped_error = 0, since_fill = 0, refused_since_fill = 0, rounds = 0;
   for (;;) {
     while (mesh_.live_faces() > target && !heap_.empty()) {
       std::pop_heap(heap_.begin(), heap_.end(), Later{});
@@ -160,9 +163,9 @@ DecimateStats CellCollapser::run() {
       switch (mesh_.check_merge(c.group, c.p)) {
         case Refusal::None: break;
         case Refusal::Locked:
-        case Refusal::Topology: ++stats.refused_topology; continue;
-        case Refusal::Flip: ++stats.refused_flip; continue;
-        case Refusal::Intersection: ++stats.refused_intersection; continue;
+        case Refusal::Topology: ++stats.refused_topology; ++refused_since_fill; continue;
+        case Refusal::Flip: ++stats.refused_flip; ++refused_since_fill; continue;
+        case Refusal::Intersection: ++stats.refused_intersection; ++refused_since_fill; continue;
       }
       const Quadric q = quadric_[c.group[0]] + quadric_[c.group[1]] + quadric_[c.group[2]];
       const PointQuadric pq = point_[c.group[0]] + point_[c.group[1]] + point_[c.group[2]];
@@ -189,7 +192,13 @@ DecimateStats CellCollapser::run() {
         report_progress(options_.progress, 0.1 + 0.85 * std::min(done, 1.0), "decimate");
       }
     }
-    if (mesh_.live_faces() <= target || since_fill == 0) break;
+    // Refused candidates may have become possible as their neighbourhoods changed: another
+    // round over every edge, while rounds still collapse something (at most kMaxRounds).
+    if (mesh_.live_faces() <= target || since_fill == 0 || refused_since_fill == 0 ||
+        ++rounds > kMaxRounds) {
+      break;
+    }
+    refused_since_fill = 0;
     since_fill = 0;
     skipped_error = 0;
     fill_heap();

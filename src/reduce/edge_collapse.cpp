@@ -14,6 +14,9 @@
 namespace isoforge::reduce {
 namespace {
 
+// Rounds over every candidate after the queue runs dry (refusals may have been lifted).
+constexpr int kMaxRounds = 8;
+
 // 16 bytes, so four entries share a cache line. Stamps only grow, so the sum of the two
 // vertices' stamps changes whenever either does: one field tells a stale entry.
 struct Entry {
@@ -174,7 +177,7 @@ DecimateStats Collapser::run() {
   report_progress(options_.progress, 0.1, "decimate");
   const std::size_t target = prepared_.target;
   const std::size_t to_remove = stats.input_triangles > target ? stats.input_triangles - target : 0;
-  std::size_t skipped_error = 0, since_fill = 0;
+  std::size_t skipped_error = 0, since_fill = 0, refused_since_fill = 0, rounds = 0;
   for (;;) {
     while (mesh_.live_faces() > target && !heap_.empty()) {
       std::pop_heap(heap_.begin(), heap_.end(), Later{});
@@ -191,9 +194,9 @@ DecimateStats Collapser::run() {
       switch (mesh_.check_merge(group, c.p)) {
         case Refusal::None: break;
         case Refusal::Locked:
-        case Refusal::Topology: ++stats.refused_topology; continue;
-        case Refusal::Flip: ++stats.refused_flip; continue;
-        case Refusal::Intersection: ++stats.refused_intersection; continue;
+        case Refusal::Topology: ++stats.refused_topology; ++refused_since_fill; continue;
+        case Refusal::Flip: ++stats.refused_flip; ++refused_since_fill; continue;
+        case Refusal::Intersection: ++stats.refused_intersection; ++refused_since_fill; continue;
       }
       const Quadric q = quadric_[c.keep] + quadric_[c.drop];
       const PointQuadric pq = point_[c.keep] + point_[c.drop];
@@ -216,8 +219,13 @@ DecimateStats Collapser::run() {
         report_progress(options_.progress, 0.1 + 0.85 * std::min(done, 1.0), "decimate");
       }
     }
-    if (mesh_.live_faces() <= target || since_fill == 0) break;
-    // Refused edges may have become possible as their neighbourhoods changed: one more round.
+    // Refused candidates may have become possible as their neighbourhoods changed: another
+    // round over every edge, while rounds still collapse something (at most kMaxRounds).
+    if (mesh_.live_faces() <= target || since_fill == 0 || refused_since_fill == 0 ||
+        ++rounds > kMaxRounds) {
+      break;
+    }
+    refused_since_fill = 0;
     since_fill = 0;
     skipped_error = 0;
     fill_heap();

@@ -19,58 +19,71 @@ std::array<Index, 3> ids_of(const Tri& t) { return {t[0], t[1], t[2]}; }
 
 Vec3 face_normal(const std::array<Vec3, 3>& p) { return cross(p[1] - p[0], p[2] - p[0]); }
 
-// Whether a plane certainly separates triangles p and q except at the vertices they share
-// (equal ids: the same point), decided in double arithmetic with a margin (1e-12 relative,
-// about 10^3 times the rounding error of these few operations), so a "true" is never wrong;
-// "false" leaves the case to the exact predicates. The candidate planes are p's plane and the
-// planes through p's edges along p's normal. A shared vertex lies on such a plane when it is a
-// vertex of that plane's edge (or of p, for p's plane) and is then skipped: q meets the plane
-// only there, and p lies on the other side, so the faces meet only at shared vertices. In a
+// The separating-plane filter. Whether a plane certainly separates two faces except at the
+// vertices they share (equal ids: the same point) is decided in double arithmetic with a margin
+// (1e-12 relative, about 10^3 times the rounding error of these few operations, with L1 norms,
+// which bound the Euclidean ones from above), so a "separated" is never wrong; anything else
+// goes to the exact predicates. The candidate planes of a face are its own plane and the planes
+// through its edges along its normal, computed once per face (FacePlanes) and tried against
+// every face near it. A shared vertex lies on such a plane when it is a vertex of that plane's
+// edge (or of the face, for its own plane) and is then skipped: the other face meets the plane
+// only there and this face lies on the other side, so they meet only at shared vertices. In a
 // mesh, nearby faces — neighbours and coplanar ones included — are almost always told apart
 // here without the exact fallback.
-bool separated_by(const std::array<Vec3, 3>& p, const Tri& pid, const std::array<Vec3, 3>& q,
-                  const Tri& qid) {
-  constexpr double kRel = 1e-12;
-  const Vec3 n = cross(p[1] - p[0], p[2] - p[0]);
-  const double ln = norm(n);
-  if (!(ln > 0)) return false;
-  // Side of q's vertices (skipping those with ids in `on_plane`) relative to the plane
-  // through `origin` with normal m: +1 all strictly positive, -1 all strictly negative, 0 else.
-  auto side = [&](const Vec3& m, const Vec3& origin, Vid on0, Vid on1, Vid on2) {
-    double lo = std::numeric_limits<double>::infinity(), hi = -lo, scale = 0;
-    bool any = false;
-    for (int k = 0; k < 3; ++k) {
-      if (qid[k] == on0 || qid[k] == on1 || qid[k] == on2) continue;
-      const Vec3 d = q[k] - origin;
-      const double v = dot(m, d);
-      lo = std::min(lo, v);
-      hi = std::max(hi, v);
-      scale = std::max(scale, norm(d));
-      any = true;
-    }
-    if (!any) return 0;
-    const double bound = kRel * norm(m) * scale;
-    return lo > bound ? 1 : (hi < -bound ? -1 : 0);
-  };
-  if (side(n, p[0], pid[0], pid[1], pid[2]) != 0) return true;
-  constexpr Vid kNoVertex = ~Vid{0};
+constexpr double kSeparationMargin = 1e-12;
+
+double norm1(const Vec3& v) { return std::abs(v.x) + std::abs(v.y) + std::abs(v.z); }
+
+FacePlanes planes_of(const std::array<Vec3, 3>& p, const Tri& id) {
+  FacePlanes f;
+  f.p = p;
+  f.id = id;
+  f.n = cross(p[1] - p[0], p[2] - p[0]);
+  if (!(norm1(f.n) > 0)) return f;
+  f.valid = true;
   for (int k = 0; k < 3; ++k) {
     const Vec3& a = p[k];
-    const Vec3& b = p[(k + 1) % 3];
-    const Vec3& r = p[(k + 2) % 3];
-    const Vec3 m = cross(b - a, n);
-    const double inner = dot(m, r - a);
-    const double bound = kRel * norm(m) * norm(r - a);
-    if (std::abs(inner) <= bound) continue;
-    const int s = side(m, a, pid[k], pid[(k + 1) % 3], kNoVertex);
-    if (s != 0 && (s > 0) != (inner > 0)) return true;
+    const Vec3 r = p[(k + 2) % 3] - a;
+    Vec3 m = cross(p[(k + 1) % 3] - a, f.n);
+    const double inner = dot(m, r);
+    const double bound = kSeparationMargin * norm1(m) * norm1(r);
+    f.usable[k] = std::abs(inner) > bound;
+    f.m[k] = inner > 0 ? -m : m;  // outward
   }
-  return false;
+  return f;
 }
 
-bool certainly_apart(const std::array<Vec3, 3>& p, const Tri& pid, const std::array<Vec3, 3>& q,
-                     const Tri& qid) {
-  return separated_by(p, pid, q, qid) || separated_by(q, qid, p, pid);
+// Whether all vertices of q not in {skip0, skip1, skip2} are strictly on the positive (sign
+// +1) or negative (-1) side of the plane through `origin` with normal w; 0 if neither is sure.
+int side_of(const Vec3& w, const Vec3& origin, const std::array<Vec3, 3>& q, const Tri& qid,
+            Vid skip0, Vid skip1, Vid skip2) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo, scale = 0;
+  bool any = false;
+  for (int k = 0; k < 3; ++k) {
+    if (qid[k] == skip0 || qid[k] == skip1 || qid[k] == skip2) continue;
+    const Vec3 d = q[k] - origin;
+    const double v = dot(w, d);
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
+    scale = std::max(scale, norm1(d));
+    any = true;
+  }
+  if (!any) return 0;
+  const double bound = kSeparationMargin * norm1(w) * scale;
+  return lo > bound ? 1 : (hi < -bound ? -1 : 0);
+}
+
+bool separated_by(const FacePlanes& f, const std::array<Vec3, 3>& q, const Tri& qid) {
+  if (!f.valid) return false;
+  if (side_of(f.n, f.p[0], q, qid, f.id[0], f.id[1], f.id[2]) != 0) return true;
+  constexpr Vid kNoVertex = ~Vid{0};
+  for (int k = 0; k < 3; ++k) {
+    if (f.usable[k] &&
+        side_of(f.m[k], f.p[k], q, qid, f.id[k], f.id[(k + 1) % 3], kNoVertex) > 0) {
+      return true;
+    }
+  }
+  return false;
 }
 
 }  // namespace
@@ -216,29 +229,53 @@ bool EditMesh::single_chain(bool cycle) {
 }
 
 bool EditMesh::intersects(std::span<const Tri> faces, std::span<const std::array<Vec3, 3>> pos) {
+  // The new faces' planes, once; then every live face near the new ones (one grid query over
+  // their common box), its planes computed when first needed.
+  std::vector<FacePlanes>& planes = new_planes_;
+  planes.clear();
+  Box all = face_box(pos[0]);
+  std::vector<Box>& boxes = new_boxes_;
+  boxes.clear();
   for (std::size_t i = 0; i < faces.size(); ++i) {
-    const Box b = face_box(pos[i]);
-    const auto ids = ids_of(faces[i]);
+    planes.push_back(planes_of(pos[i], faces[i]));
+    boxes.push_back(face_box(pos[i]));
+    all.lo = {std::min(all.lo.x, boxes[i].lo.x), std::min(all.lo.y, boxes[i].lo.y),
+              std::min(all.lo.z, boxes[i].lo.z)};
+    all.hi = {std::max(all.hi.x, boxes[i].hi.x), std::max(all.hi.y, boxes[i].hi.y),
+              std::max(all.hi.z, boxes[i].hi.z)};
+  }
+  auto pair_intersects = [&](std::size_t i, const FacePlanes& other) {
+    if (separated_by(planes[i], other.p, other.id) || separated_by(other, pos[i], faces[i])) {
+      return false;
+    }
+    return faces_intersect(pos[i], ids_of(faces[i]), other.p, ids_of(other.id));
+  };
+  for (std::size_t i = 0; i < faces.size(); ++i) {
     for (std::size_t j = 0; j < i; ++j) {
-      const Box c = face_box(pos[j]);
-      if (boxes_overlap(b.lo, b.hi, c.lo, c.hi) &&
-          !certainly_apart(pos[i], faces[i], pos[j], faces[j]) &&
-          faces_intersect(pos[i], ids, pos[j], ids_of(faces[j]))) {
+      if (boxes_overlap(boxes[i].lo, boxes[i].hi, boxes[j].lo, boxes[j].hi) &&
+          pair_intersects(i, planes[j])) {
         return true;
       }
     }
-    if (!use_grid_) continue;
-    bool hit = false;
-    grid_->for_each_candidate(b.lo, b.hi, [&](std::uint32_t g) {
-      if (hit || mark_[g] == stamp_) return;
-      const auto q = corners(faces_[g]);
-      if (!certainly_apart(pos[i], faces[i], q, faces_[g]) && faces_intersect(pos[i], ids, q, ids_of(faces_[g]))) {
-        hit = true;
-      }
-    });
-    if (hit) return true;
   }
-  return false;
+  if (!use_grid_) return false;
+  bool hit = false;
+  grid_->for_each_candidate(all.lo, all.hi, [&](std::uint32_t g) {
+    if (hit || mark_[g] == stamp_) return;
+    const auto q = corners(faces_[g]);
+    const Box c = face_box(q);
+    bool planes_ready = false;
+    FacePlanes other;
+    for (std::size_t i = 0; i < faces.size() && !hit; ++i) {
+      if (!boxes_overlap(boxes[i].lo, boxes[i].hi, c.lo, c.hi)) continue;
+      if (!planes_ready) {
+        other = planes_of(q, faces_[g]);
+        planes_ready = true;
+      }
+      hit = pair_intersects(i, other);
+    }
+  });
+  return hit;
 }
 
 Refusal EditMesh::check_merge(std::span<const Vid> group, const Vec3& p) {

@@ -20,6 +20,17 @@ using Vid = std::uint32_t;
 using Fid = std::uint32_t;
 using Tri = std::array<Vid, 3>;
 
+/// A face's own plane and the planes through its edges along its normal (outward), for the
+/// separating-plane filter in front of the exact face test (edit_mesh.cpp).
+struct FacePlanes {
+  std::array<Vec3, 3> p;
+  Tri id{};
+  Vec3 n;
+  std::array<Vec3, 3> m;
+  std::array<bool, 3> usable{};
+  bool valid = false;
+};
+
 /// Why an edit was refused.
 enum class Refusal : std::uint8_t { None, Locked, Topology, Flip, Intersection };
 
@@ -112,6 +123,8 @@ class EditMesh {
   std::vector<std::array<Vid, 2>> chain_;
   std::vector<Vid> chain_nodes_;
   std::vector<std::uint32_t> walk_parent_;
+  std::vector<FacePlanes> new_planes_;
+  std::vector<Box> new_boxes_;
   std::vector<std::array<Vid, 2>> sorted_chain_;
 };
 

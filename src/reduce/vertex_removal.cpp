@@ -18,6 +18,9 @@
 namespace isoforge::reduce {
 namespace {
 
+// Rounds over every candidate after the queue runs dry (refusals may have been lifted).
+constexpr int kMaxRounds = 8;
+
 struct Entry {
   double error;
   Vid v;
@@ -71,6 +74,7 @@ class Remover {
   const DecimateOptions& options_;
   double cos_feature_;
   std::vector<std::uint32_t> stamp_;
+  std::vector<double> accumulated_;  // error inherited from removed neighbours
   std::vector<Entry> heap_;
 };
 
@@ -240,7 +244,7 @@ bool Remover::triangulate(const std::vector<Vid>& poly, const Vec3& normal,
 void Remover::push(Vid v) {
   const Plan plan = classify(v);
   if (plan.kind == Kind::Keep) return;
-  heap_.push_back({plan.error, v, stamp_[v]});
+  heap_.push_back({plan.error + accumulated_[v], v, stamp_[v]});
   std::push_heap(heap_.begin(), heap_.end(), Later{});
 }
 
@@ -250,6 +254,7 @@ DecimateStats Remover::run() {
   stats.locked_vertices = prepared_.locked_count;
   const std::size_t nv = mesh_.vertex_count();
   stamp_.assign(nv, 0);
+  accumulated_.assign(nv, 0.0);
   std::vector<Entry> entries(nv);
   std::vector<std::uint8_t> ok(nv, 0);
   parallel_for_range(
@@ -269,7 +274,7 @@ DecimateStats Remover::run() {
   std::make_heap(heap_.begin(), heap_.end(), Later{});
   const std::size_t target = prepared_.target;
   const std::size_t to_remove = stats.input_triangles > target ? stats.input_triangles - target : 0;
-  std::size_t skipped_error = 0, since_fill = 0;
+  std::size_t skipped_error = 0, since_fill = 0, refused_since_fill = 0, rounds = 0;
   std::vector<Tri> triangles;
   for (;;) {
     while (mesh_.live_faces() > target && !heap_.empty()) {
@@ -279,7 +284,8 @@ DecimateStats Remover::run() {
       if (stamp_[e.v] != e.stamp) continue;
       const Plan plan = classify(e.v);
       if (plan.kind == Kind::Keep) continue;
-      if (prepared_.max_error > 0 && plan.error > prepared_.max_error) {
+      const double error = plan.error + accumulated_[e.v];
+      if (prepared_.max_error > 0 && error > prepared_.max_error) {
         ++skipped_error;
         continue;
       }
@@ -303,20 +309,24 @@ DecimateStats Remover::run() {
       }
       if (!made) {
         ++stats.refused_topology;
+        ++refused_since_fill;
         continue;
       }
       switch (mesh_.check_replace(plan.fan, triangles, plan.normal)) {
         case Refusal::None: break;
         case Refusal::Locked:
-        case Refusal::Topology: ++stats.refused_topology; continue;
-        case Refusal::Flip: ++stats.refused_flip; continue;
-        case Refusal::Intersection: ++stats.refused_intersection; continue;
+        case Refusal::Topology: ++stats.refused_topology; ++refused_since_fill; continue;
+        case Refusal::Flip: ++stats.refused_flip; ++refused_since_fill; continue;
+        case Refusal::Intersection: ++stats.refused_intersection; ++refused_since_fill; continue;
       }
       mesh_.replace(plan.fan, triangles);
       ++stamp_[e.v];
       ++stats.operations;
       ++since_fill;
-      stats.max_error = std::max(stats.max_error, plan.error);
+      stats.max_error = std::max(stats.max_error, error);
+      // The surface near the hole has moved by up to `error`: its vertices inherit it, so
+      // errors add up where removals pile up (vtkDecimatePro's accumulated error).
+      for (Vid x : plan.loop) accumulated_[x] = std::max(accumulated_[x], error);
       for (Vid x : plan.loop) {
         ++stamp_[x];
         push(x);
@@ -327,7 +337,13 @@ DecimateStats Remover::run() {
         report_progress(options_.progress, 0.1 + 0.85 * std::min(done, 1.0), "decimate");
       }
     }
-    if (mesh_.live_faces() <= target || since_fill == 0) break;
+    // Refused candidates may have become possible as their neighbourhoods changed: another
+    // round over every edge, while rounds still collapse something (at most kMaxRounds).
+    if (mesh_.live_faces() <= target || since_fill == 0 || refused_since_fill == 0 ||
+        ++rounds > kMaxRounds) {
+      break;
+    }
+    refused_since_fill = 0;
     since_fill = 0;
     skipped_error = 0;
     heap_.clear();

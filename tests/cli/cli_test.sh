@@ -261,8 +261,64 @@ expect_ok empty_band "warning: sample: the band is empty" "$bin" sample -f 'sphe
 out=$("$bin" contour "$tmp/sphere.vti" -v 0 -o "$tmp/full.vtp" 2>&1)
 grep -q warning <<<"$out" && fail "a non-empty contour warned: $out"
 
+# ---- fit: parameters, statistics, the function as an expression that sample reads back ----
+"$bin" --quiet sample -f 'sphere(center=[1,2,3], r=2)' -b -2 4 -1 5 0 6 -d 32 -o "$tmp/ball.vti" >/dev/null
+"$bin" --quiet contour "$tmp/ball.vti" -v 0 -o "$tmp/ball.vtp" >/dev/null
+# The contour's points lie within a voxel's linear-interpolation error of the sphere.
+expect_ok fit_sphere "center: 1(\.0*[0-9]*)? 2(\.0*[0-9]*)? 3(\.0*[0-9]*)?" "$bin" fit "$tmp/ball.vtp" --primitive sphere
+expect_ok fit_sphere_radius "radius: 1\.99[0-9]*" "$bin" fit "$tmp/ball.vtp" -p sphere --loss none
+expect_ok fit_sphere_function "^function: sphere\(center=\[" "$bin" fit "$tmp/ball.vtp" -p sphere --loss cauchy
+expect_ok fit_sphere_file "wrote .*ball.txt" "$bin" fit "$tmp/ball.vtp" -p sphere -o "$tmp/ball.txt"
+grep -Eq '^sphere\(center=\[.*\], r=1\.99[0-9]*\)$' "$tmp/ball.txt" || fail "fit -o: unexpected file: $(cat "$tmp/ball.txt")"
+[ "$(grep '^function: ' <<<"$("$bin" fit "$tmp/ball.vtp" -p sphere)" | cut -c11-)" = "$(cat "$tmp/ball.txt")" ] ||
+  fail "fit -o: the file differs from the printed function"
+expect_ok fit_file_samples "wrote .*refit.vti" "$bin" sample -f "$(cat "$tmp/ball.txt")" -b -2 4 -1 5 0 6 -d 8 -o "$tmp/refit.vti"
+expect_ok fit_quadric "^residuals \(first-order distance\)" "$bin" fit "$tmp/ball.vtp" -p quadric
+expect_ok fit_plane_hello "normal: -?0 -?0 1$" "$bin" fit "$data/hello.vtk" -p plane --loss none
+expect_ok fit_inliers "inliers 1992 of 1992" "$bin" fit "$tmp/ball.vtp" -p sphere
+expect_ok fit_image "fitted to 512 points" "$bin" fit "$tmp/refit.vti" -p plane --max-iterations 5
+expect_usage fit_kind "--primitive: torus not in" "$bin" fit "$tmp/ball.vtp" -p torus
+expect_usage fit_no_kind "--primitive is required" "$bin" fit "$tmp/ball.vtp"
+expect_usage fit_loss "--loss: bogus not in" "$bin" fit "$tmp/ball.vtp" -p sphere --loss bogus
+expect_usage fit_scale_nan "--loss-scale: must be a finite number > 0, got 'nan'" "$bin" fit "$tmp/ball.vtp" -p sphere --loss-scale nan
+expect_usage fit_scale_zero "--loss-scale: must be a finite number > 0, got '0'" "$bin" fit "$tmp/ball.vtp" -p sphere --loss-scale 0
+expect_usage fit_scale_none "--loss-scale: applies to a robust loss" "$bin" fit "$tmp/ball.vtp" -p sphere --loss none --loss-scale 1
+expect_usage fit_iterations_zero "--max-iterations: must be an integer in \[1, 100000\], got 0" "$bin" fit "$tmp/ball.vtp" -p sphere --max-iterations 0
+expect_usage fit_iterations_fraction "--max-iterations: must be an integer .*got '2.5'" "$bin" fit "$tmp/ball.vtp" -p sphere --max-iterations 2.5
+expect_error fit_degenerate "quadric: the points do not determine a quadric" "$bin" fit "$data/hello.vtk" -p quadric
+expect_error fit_missing "nosuch.vtp" "$bin" fit "$tmp/nosuch.vtp" -p plane
+expect_error fit_out_dir "nodir" "$bin" fit "$tmp/ball.vtp" -p sphere -o "$tmp/nodir/f.txt"
+# A failed fit leaves an existing output file as it was.
+echo "keep" > "$tmp/keep.txt"
+"$bin" fit "$data/hello.vtk" -p quadric -o "$tmp/keep.txt" >/dev/null 2>&1
+[ "$(cat "$tmp/keep.txt")" = "keep" ] || fail "a failed fit replaced its output file"
+
+# ---- decimate: exact counts, measured errors, validated options ----
+expect_ok decimate_count "wrote .*bunny10.ply: [0-9]+ points, 6945 triangles \(from 69451; quadric, target reached\)" "$bin" decimate "$data/bunny.ply" -r 0.9 -o "$tmp/bunny10.ply"
+expect_ok decimate_distance "distance to the input: Hausdorff [0-9.e-]+ \([0-9.]+e-0[34] of the diagonal\), RMS" "$bin" decimate "$data/bunny.ply" -t 5000 -o "$tmp/bunny5k.vtp"
+expect_ok decimate_target "wrote .*: [0-9]+ points, 5000 triangles" "$bin" decimate "$data/bunny.ply" -t 5000 -m vertex-removal -o "$tmp/bunny5k_vr.vtp"
+expect_ok decimate_cells "wrote .*: [0-9]+ points, (499[7-9]|5000) triangles .*cell-collapse" "$bin" decimate "$data/bunny.ply" -t 5000 -m cell-collapse -o "$tmp/bunny5k_cc.vtp"
+expect_ok decimate_refine "refined in [0-9.]+ s: RMS" "$bin" decimate "$data/bunny.ply" -t 3000 --refine -o "$tmp/bunny3k.vtp"
+expect_ok decimate_error "maximum error reached" "$bin" decimate "$data/bunny.ply" -e 0.001 --relative --no-measure -o "$tmp/bunny_err.vtp"
+"$bin" --quiet info "$tmp/bunny10.ply" | grep -q "cells: 6945 (6945 triangle)" || fail "decimate: the output file does not hold 6945 triangles"
+expect_usage decimate_no_stop "give a stop" "$bin" decimate "$data/bunny.ply" -o "$tmp/x.vtp"
+expect_usage decimate_two_stops "exclude each other" "$bin" decimate "$data/bunny.ply" -t 10 -r 0.5 -o "$tmp/x.vtp"
+expect_usage decimate_reduction_big "--reduction: must be a finite number in \(0, 1\]" "$bin" decimate "$data/bunny.ply" -r 1.5 -o "$tmp/x.vtp"
+expect_usage decimate_reduction_one "--reduction: must be below 1" "$bin" decimate "$data/bunny.ply" -r 1 -o "$tmp/x.vtp"
+expect_usage decimate_reduction_nan "--reduction: .*got 'nan'" "$bin" decimate "$data/bunny.ply" -r nan -o "$tmp/x.vtp"
+expect_usage decimate_target_zero "--target-triangles: must be an integer >= 1, got 0" "$bin" decimate "$data/bunny.ply" -t 0 -o "$tmp/x.vtp"
+expect_usage decimate_target_negative "--target-triangles: must be an integer >= 1, got '?-5'?" "$bin" decimate "$data/bunny.ply" -t -5 -o "$tmp/x.vtp"
+expect_usage decimate_error_negative "--max-error: must be a finite number > 0" "$bin" decimate "$data/bunny.ply" -e -1 -o "$tmp/x.vtp"
+expect_usage decimate_relative_alone "--relative: applies to --max-error only" "$bin" decimate "$data/bunny.ply" -t 100 --relative -o "$tmp/x.vtp"
+expect_usage decimate_method "--method: bogus not in" "$bin" decimate "$data/bunny.ply" -t 100 -m bogus -o "$tmp/x.vtp"
+expect_usage decimate_angle "--feature-angle: must be a finite number in \(0, 180\]" "$bin" decimate "$data/bunny.ply" -t 100 --feature-angle 200 -o "$tmp/x.vtp"
+expect_usage decimate_extension "x.vti" "$bin" decimate "$data/bunny.ply" -t 100 -o "$tmp/x.vti"
+expect_error decimate_volume "decimate: .*ironProt.vtk is image data; only polygonal data can be decimated" "$bin" decimate "$data/ironProt.vtk" -t 100 -o "$tmp/x.vtp"
+expect_error decimate_lock_missing "lock array 'Nope'" "$bin" decimate "$data/bunny.ply" -t 100 --lock Nope -o "$tmp/x.vtp"
+expect_error decimate_no_triangles "no triangle" "$bin" decimate "$data/hello.vtk" -t 10 -o "$tmp/x.vtp"
+
 # ---- help: every subcommand has examples ----
-for sub in info convert sample select contour distance offset csg attractor; do
+for sub in info convert sample select contour distance offset csg attractor fit decimate; do
   expect_ok "help_$sub" "Examples:" "$bin" "$sub" --help
 done
 

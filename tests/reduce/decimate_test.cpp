@@ -140,7 +140,7 @@ TEST(Decimate, AFlatSheetKeepsItsBorderAndPlane) {
     const Vec3 a = out.points[ids[0]], b = out.points[ids[1]], d = out.points[ids[2]];
     area += 0.5 * cross(b - a, d - a).z;
   }
-  EXPECT_NEAR(area, 1.0, 1e-9);  // border kept: the square is still covered exactly once
+  EXPECT_NEAR(area, 1.0, 1e-6);  // border kept (to float32 output precision): covered once
   for (std::size_t i = 0; i < out.num_points(); ++i) EXPECT_NEAR(out.points[i].z, 0.0, 1e-12);
 }
 

@@ -33,8 +33,10 @@ enum class DecimateMethod {
 
 struct DecimateOptions {
   DecimateMethod method = DecimateMethod::Quadric;
-  /// Stop at this many triangles (0 = not set). Hit exactly by the quadric method on closed
-  /// manifold input unless a guarantee or `max_error` stops it first (reported in the stats).
+  /// Stop at this many triangles or just below (0 = not set): an edge collapse removes two
+  /// faces (one on a border), so an even target is hit exactly on closed manifold input and an
+  /// odd one ends one below; a cell collapse removes up to four, a vertex removal two. A
+  /// guarantee or `max_error` may stop earlier (reported in the stats).
   std::size_t target_triangles = 0;
   /// Or stop after removing this fraction of the triangles, in [0, 1) (0 = not set).
   double target_reduction = 0;

@@ -62,7 +62,8 @@ class TriangleGrid {
   /// \throw Error if the box is not finite.
   void insert(std::uint32_t face, const Vec3& lo, const Vec3& hi);
   /// Removes `face`, given the box it was inserted with (swap-erase in each of its cells).
-  /// \throw Error if the face is not in those cells.
+  /// \throw Error if the face is not in those cells (a caller's bug: the grid is then left
+  /// partly updated).
   void remove(std::uint32_t face, const Vec3& lo, const Vec3& hi);
 
   /// Calls f(face) exactly once for every face whose (outward-rounded) box overlaps the closed
