@@ -70,6 +70,16 @@ triangles_of() {
   "$iso" info "$1" | sed -n 's/^cells: \([0-9]*\).*/\1/p'
 }
 
+# step PEER COMMAND...: one decimation of the current case ($c, $target) into $o-PEER.ply, added to
+# the outputs to measure when the command wrote it.
+step() {
+  local peer=$1; shift
+  echo "  $peer"
+  rm -f "$o-$peer.ply"
+  run "$c" "$peer" "$o-$peer.ply" "$target" "$@"
+  if [ -f "$o-$peer.ply" ]; then outputs+=("$o-$peer.ply"); fi
+}
+
 for c in $cases; do
   in=$(input_of "$c")
   n=$(triangles_of "$in")
@@ -79,7 +89,6 @@ for c in $cases; do
     echo "== $c: $n triangles -> $p % = $target"
     o=$out/outputs/$c-$p
     outputs=()
-    step() { local peer=$1; shift; echo "  $peer"; rm -f "$o-$peer.ply"; run "$c" "$peer" "$o-$peer.ply" "$target" "$@"; [ -f "$o-$peer.ply" ] && outputs+=("$o-$peer.ply"); true; }
     if [ $have_cli = 1 ]; then
       for t in 1 2; do
         # --no-measure: the command would otherwise also measure its distance to the input.

@@ -1,13 +1,6 @@
 // The decimation benchmark's subcommands (see bench_commands.hpp).
 //
-// Distance: the reference is sampled once (sample_mesh at `spacing`) and put in one AABB tree;
-// each mesh is sampled at the same spacing and put in its own tree. max_ref_to_mesh and
-// rms_ref_to_mesh measure the reference's samples against the mesh, max_mesh_to_ref and
-// rms_mesh_to_ref the other way (each RMS area-weighted); hausdorff is the larger maximum,
-// rms = sqrt((rms_ref_to_mesh^2 + rms_mesh_to_ref^2) / 2). Relative values divide by the
-// reference's bounding-box diagonal. Sampled maxima are lower bounds of the true ones. Each side
-// takes about `max_samples` samples at most (see budget_samples), so that a million-triangle
-// reference is measured in seconds; the reference's samples are the same for every mesh.
+// Distance: ReferenceDistance (reference_distance.hpp), one JSON line per mesh.
 
 #include "bench_commands.hpp"
 
@@ -20,10 +13,9 @@
 #include "accuracy.hpp"
 #include "cgal_decimate.hpp"
 #include "decimate_inputs.hpp"
-#include "isoforge/core/mesh_topology.hpp"
 #include "isoforge/io/io.hpp"
 #include "mesh_checks.hpp"
-#include "mesh_distance.hpp"
+#include "reference_distance.hpp"
 
 namespace isoforge::verify {
 
@@ -35,66 +27,6 @@ PolyData read_mesh(const std::string& path) {
   if (!pd)
     throw Error(path + ": is " + std::string(dataset_type_name(ds)) + ", not a polygonal mesh");
   return std::move(*pd);
-}
-
-struct OneWay {
-  double max = 0, rms = 0;
-};
-
-OneWay measure(const Samples& s, const MeshDistance& to) {
-  const std::vector<double> d = to.distances(s.points);
-  OneWay w;
-  double sum = 0, wsum = 0;
-  for (std::size_t i = 0; i < d.size(); ++i) {
-    w.max = std::max(w.max, d[i]);
-    sum += s.weights[i] * d[i] * d[i];
-    wsum += s.weights[i];
-  }
-  w.rms = wsum > 0 ? std::sqrt(sum / wsum) : 0.0;
-  return w;
-}
-
-// Samples of `mesh` for `measure`, at most about `budget` of them. When the barycentric grid of
-// sample_mesh (at least 7 samples per triangle) fits, it is used at `spacing`, or at the smallest
-// larger spacing that fits (every triangle keeps its corners, edge midpoints and centroid; only
-// the grid inside gets coarser). Otherwise (a reference of more than budget / 7 triangles) the
-// samples are the mesh's points (weight 0: they count toward the maximum only) and the triangle
-// centroids weighted by the triangle areas. Returns the spacing used (0 for the second kind).
-std::pair<Samples, double> budget_samples(const PolyData& mesh, double spacing,
-                                          std::size_t budget) {
-  const auto tris = triangulate_faces(mesh);
-  const auto P = [&](Index id) { return mesh.points[static_cast<std::size_t>(id)]; };
-  if (7 * tris.size() > budget) {
-    Samples s;
-    for (std::size_t i = 0; i < mesh.points.size(); ++i) {
-      s.points.push_back(mesh.points[i]);
-      s.weights.push_back(0);
-    }
-    for (const auto& t : tris) {
-      s.points.push_back((P(t[0]) + P(t[1]) + P(t[2])) / 3.0);
-      s.weights.push_back(0.5 * norm(cross(P(t[1]) - P(t[0]), P(t[2]) - P(t[0]))));
-    }
-    return {std::move(s), 0.0};
-  }
-  std::vector<double> longest(tris.size());
-  for (std::size_t f = 0; f < tris.size(); ++f) {
-    const auto& t = tris[f];
-    longest[f] =
-        std::max({norm(P(t[1]) - P(t[0])), norm(P(t[2]) - P(t[1])), norm(P(t[0]) - P(t[2]))});
-  }
-  const auto count = [&](double h) {  // sample_mesh's count at spacing h
-    std::size_t c = 0;
-    for (const double l : longest) {
-      std::size_t n = std::max<std::size_t>(2, static_cast<std::size_t>(std::ceil(l / h)));
-      n += n % 2;
-      c += (n + 1) * (n + 2) / 2 + 1;
-    }
-    return c;
-  };
-  for (std::size_t c = count(spacing); c > budget; c = count(spacing)) {
-    spacing *= 1.05 * std::sqrt(static_cast<double>(c) / static_cast<double>(budget));
-  }
-  return {sample_mesh(mesh, spacing), spacing};
 }
 
 std::string json_string(const std::string& s) {
@@ -109,20 +41,11 @@ std::string json_string(const std::string& s) {
 }  // namespace
 
 int run_distance(const DistanceCommand& command) {
-  const PolyData ref = read_mesh(command.reference);
-  const double diagonal = ref.bounds().diagonal();
-  const double spacing = command.spacing > 0 ? command.spacing : 0.5 * mean_edge_length(ref);
-  const auto [ref_samples, ref_spacing] = budget_samples(ref, spacing, command.max_samples);
-  const MeshDistance ref_tree(ref);
+  const ReferenceDistance ref(read_mesh(command.reference), command.spacing, command.max_samples);
   for (const auto& path : command.meshes) {
     const auto t0 = std::chrono::steady_clock::now();
     const PolyData mesh = read_mesh(path);
-    const MeshDistance tree(mesh);
-    const OneWay ab = measure(ref_samples, tree);
-    const auto [mesh_samples, mesh_spacing] = budget_samples(mesh, spacing, command.max_samples);
-    const OneWay ba = measure(mesh_samples, ref_tree);
-    const double hausdorff = std::max(ab.max, ba.max);
-    const double rms = std::sqrt(0.5 * (ab.rms * ab.rms + ba.rms * ba.rms));
+    const ReferenceError e = ref.measure(mesh);
     std::string line = fmt::format(
         "{{\"reference\": {}, \"mesh\": {}, \"spacing_reference\": {:.9g}, "
         "\"spacing_mesh\": {:.9g}, \"samples_reference\": {}, \"samples_mesh\": {}, "
@@ -130,9 +53,10 @@ int run_distance(const DistanceCommand& command) {
         "\"hausdorff\": {:.9g}, \"rms\": {:.9g}, \"max_ref_to_mesh\": {:.9g}, "
         "\"max_mesh_to_ref\": {:.9g}, \"rms_ref_to_mesh\": {:.9g}, \"rms_mesh_to_ref\": {:.9g}, "
         "\"relative_hausdorff\": {:.9g}, \"relative_rms\": {:.9g}",
-        json_string(command.reference), json_string(path), ref_spacing, mesh_spacing,
-        ref_samples.points.size(), mesh_samples.points.size(), diagonal, hausdorff, rms, ab.max,
-        ba.max, ab.rms, ba.rms, hausdorff / diagonal, rms / diagonal);
+        json_string(command.reference), json_string(path), ref.reference_spacing(), e.spacing_mesh,
+        ref.reference_samples(), e.samples_mesh, ref.diagonal(), e.hausdorff, e.rms,
+        e.max_ref_to_mesh, e.max_mesh_to_ref, e.rms_ref_to_mesh, e.rms_mesh_to_ref,
+        e.relative_hausdorff, e.relative_rms);
     if (command.check) {
       const MeshReport m = check_mesh(mesh);
       long genus = 0;

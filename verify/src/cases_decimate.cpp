@@ -17,6 +17,7 @@
 #include "cgal_decimate.hpp"
 #include "decimate_inputs.hpp"
 #include "isoforge/reduce/decimate.hpp"
+#include "reference_distance.hpp"
 
 namespace isoforge::verify {
 
@@ -42,26 +43,12 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-struct RelativeError {
-  double hausdorff = 0, rms = 0;  ///< relative to the input's bounding-box diagonal
-};
-
-// Hausdorff (larger sampled maximum) and RMS (root of the mean of both directions' squared RMS)
-// between input and output, relative to the input's diagonal: the metric of
-// `isoforge-verify distance` (bench_commands.cpp).
-RelativeError relative_error(const PolyData& input, const PolyData& output, double spacing,
-                             double diagonal) {
-  const DistanceReport d = mesh_to_mesh_distance(input, output, spacing);
-  return {d.hausdorff() / diagonal,
-          std::sqrt(0.5 * (d.rms_a_to_b * d.rms_a_to_b + d.rms_b_to_a * d.rms_b_to_a)) / diagonal};
-}
-
 void decimate_case(CaseResult& r, const std::string& kind, double keep) {
   const PolyData input = decimation_input(kind);
   const MeshReport in = check_mesh(input);
   const auto target = static_cast<std::size_t>(std::llround(keep * static_cast<double>(in.faces)));
-  const double diagonal = input.bounds().diagonal();
-  const double spacing = 0.5 * mean_edge_length(input);
+  // The metric of `isoforge-verify distance` (the benchmark's), the input measured once.
+  const ReferenceDistance error(input, 0);
   r.note("input", fmt::format("{}: {} triangles, {} components, genus {}, {} border loops, "
                               "manifold {}, {} self-intersecting pairs",
                               kind, in.faces, in.components.size(), total_genus(in),
@@ -106,24 +93,26 @@ void decimate_case(CaseResult& r, const std::string& kind, double keep) {
   r.equal("border loops (as the input)", border_loops(out), border_loops(in));
 
   // Quality against CGAL at the same face count, one metric for all.
-  const RelativeError ours = relative_error(input, output, spacing, diagonal);
+  const ReferenceError ours = error.measure(output);
   r.note("isoforge error", fmt::format("Hausdorff {:.4e}, RMS {:.4e} (relative to the diagonal)",
-                                       ours.hausdorff, ours.rms));
-  RelativeError best{INFINITY, INFINITY};
+                                       ours.relative_hausdorff, ours.relative_rms));
+  double best_hausdorff = INFINITY, best_rms = INFINITY;
   for (const CgalPolicy policy : {CgalPolicy::GarlandHeckbert, CgalPolicy::LindstromTurk}) {
     const CgalDecimateResult c = cgal_decimate(input, target, policy);
-    const RelativeError e = relative_error(input, c.mesh, spacing, diagonal);
+    const ReferenceError e = error.measure(c.mesh);
     const MeshReport m = check_mesh(c.mesh);
-    best.hausdorff = std::min(best.hausdorff, e.hausdorff);
-    best.rms = std::min(best.rms, e.rms);
+    best_hausdorff = std::min(best_hausdorff, e.relative_hausdorff);
+    best_rms = std::min(best_rms, e.relative_rms);
     r.note(to_string(policy),
            fmt::format("{} triangles in {:.3f} s: Hausdorff {:.4e}, RMS {:.4e}; {} "
                        "self-intersecting pairs, manifold {}, genus {}, {} border loops{}",
-                       m.faces, c.collapse_seconds, e.hausdorff, e.rms, m.self_intersections,
-                       m.manifold ? "yes" : "no", total_genus(m), border_loops(m),
+                       m.faces, c.collapse_seconds, e.relative_hausdorff, e.relative_rms,
+                       m.self_intersections, m.manifold ? "yes" : "no", total_genus(m),
+                       border_loops(m),
                        c.split_non_manifold ? " (input split at its non-manifold edge)" : ""));
   }
-  const double rh = ours.hausdorff / best.hausdorff, rr = ours.rms / best.rms;
+  const double rh = ours.relative_hausdorff / best_hausdorff;
+  const double rr = ours.relative_rms / best_rms;
   r.note(
       "isoforge / best CGAL",
       fmt::format("Hausdorff {:.3f}, RMS {:.3f} (expected <= {:.2f}, not yet required): {}", rh, rr,

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # isoforge-verify mesh FILE on tiny meshes: self-intersection counts and the exit status of
-# --require. Usage: mesh_cli_test.sh ISOFORGE_VERIFY SCRATCH_DIR
+# --require; the decimation benchmark's subcommands (make-mesh, decimate, distance).
+# Usage: mesh_cli_test.sh ISOFORGE_VERIFY SCRATCH_DIR
 set -u
 bin=$1 tmp=$2
 rm -rf "$tmp" && mkdir -p "$tmp"
@@ -40,6 +41,22 @@ expect cross_repeated 1 "required checks failed: closed .*no-self-intersections"
 expect unknown_name 2 "watertight" mesh "$tmp/tetra.off" --require closed,watertight
 expect skipped_si 2 "contradicts" mesh "$tmp/tetra.off" --require no-self-intersections \
   --no-self-intersections
+# The decimation benchmark's subcommands. An icosphere of 5 subdivisions has 20 * 4^5 faces; two
+# of them glued on an edge share its 2 points.
+expect make_glued 0 "wrote .*glued.off: 20482 points, 40960 triangles" \
+  make-mesh glued-spheres "$tmp/glued.off"
+# CGAL's collapses of a closed mesh remove two faces each: from 40 960 to exactly 1000 (the
+# spheres are first split at their shared edge, which the JSON line reports).
+expect cgal_gh 0 '"peer": "cgal-gh", .*"output_triangles": 1000,' \
+  decimate "$tmp/glued.off" -o "$tmp/gh.off" --target 1000 --policy gh
+expect cgal_split 0 '"split_non_manifold": true' \
+  decimate "$tmp/glued.off" -o "$tmp/lt.off" --target 1000 --policy lt
+expect cgal_policy 2 "policy" decimate "$tmp/glued.off" -o "$tmp/x.off" --target 10 --policy qem
+# distance --check: one line per mesh, the checks of each.
+expect distance_check 0 '"mesh": ".*cross.off".*"self_intersections": 1, "manifold": true' \
+  distance "$tmp/tetra.off" "$tmp/tetra.off" "$tmp/cross.off" --check
+expect distance_self 0 '"mesh": ".*tetra.off", .*"hausdorff": [0-9.e-]+, "rms": [0-9.e-]+, .*"relative_hausdorff": ([0-9]\.[0-9]+e-1[0-9]|0),' \
+  distance "$tmp/tetra.off" "$tmp/tetra.off"
 expect version 0 "^[0-9]+\.[0-9]+\.[0-9]+$" --version
 
 if [ $failures -ne 0 ]; then echo "$failures failure(s)"; exit 1; fi
