@@ -53,6 +53,7 @@ constexpr double kReverseBary[4][3] = {{1.0 / 3, 1.0 / 3, 1.0 / 3},
                                        {1.0 / 6, 2.0 / 3, 1.0 / 6},
                                        {1.0 / 6, 1.0 / 6, 2.0 / 3}};
 constexpr double kStepScales[3] = {1, 0.5, 0.25};  // a worse step is retried shorter
+constexpr int kLocalUndoRounds = 3;  // rounds of undoing the vertices that raise the maximum
 
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
@@ -381,11 +382,19 @@ double median(std::vector<double> v) {
 
 // Weights of residuals of size sqrt(dist2) under the robust loss (iteratively reweighted least
 // squares: w = ρ'(r²) with the scale from the median |r| of all sample residuals), 1 without.
+constexpr double kEmphasisMax = 16;
+
 struct Weights {
   RobustLoss loss = RobustLoss::None;
-  double a2 = 0;  // squared scale
+  double a2 = 0;     // squared scale
+  double rms2 = 0;   // mean squared residual: large residuals weigh more (see below)
   [[nodiscard]] double operator()(double dist2) const {
-    if (loss == RobustLoss::None || a2 == 0) return 1;
+    // Without a robust loss, a residual above the RMS weighs 1 + (r / rms)², up to 16: the
+    // solve then leans on the largest distances (an L4-like energy), so the Hausdorff distance
+    // falls with the RMS instead of being traded for it.
+    if (loss == RobustLoss::None || a2 == 0) {
+      return rms2 > 0 ? std::min(1 + dist2 / rms2, kEmphasisMax) : 1;
+    }
     if (loss == RobustLoss::Huber) return dist2 <= a2 ? 1 : std::sqrt(a2 / dist2);
     return 1 / (1 + dist2 / a2);  // Cauchy
   }
@@ -394,7 +403,14 @@ struct Weights {
 Weights weights_for(const Measure& m, RobustLoss loss) {
   Weights w;
   w.loss = loss;
-  if (loss == RobustLoss::None) return w;
+  if (loss == RobustLoss::None) {
+    double sum = 0;
+    for (const Forward& f : m.fwd) sum += f.dist2;
+    for (const Reverse& r : m.rev) sum += r.dist2;
+    const std::size_t n = m.fwd.size() + m.rev.size();
+    w.rms2 = n > 0 ? sum / double(n) : 0;
+    return w;
+  }
   std::vector<double> d;
   d.reserve(m.fwd.size() + m.rev.size());
   for (const Forward& f : m.fwd) d.push_back(std::sqrt(f.dist2));
@@ -650,9 +666,36 @@ RefineResult refine_mesh(const PolyData& original, const PolyData& simplified,
       }
       stats.rejected_moves += rejector.run(pos, trial);
       Measure m = measure(trial, tris, samples, orig, &current);
-      // A step is taken if the RMS error does not grow and the Hausdorff distance stays within
-      // the input's: least squares lowers the RMS and may trade a little of the maximum for it,
-      // never beyond where it started.
+      // Where the step pushed a sample beyond the input's Hausdorff distance, the vertices of
+      // the triangles involved go back (a few rounds): least squares may trade a little of the
+      // maximum for the RMS, and this keeps the trade local instead of refusing the whole step.
+      for (int round = 0; round < kLocalUndoRounds && m.hausdorff > stats.hausdorff_before;
+           ++round) {
+        const double limit2 = stats.hausdorff_before * stats.hausdorff_before;
+        std::vector<char> undo(pos.size(), 0);
+        for (const Forward& f : m.fwd) {
+          if (f.dist2 > limit2) {
+            for (Id v : tris[f.tri]) undo[v] = 1;
+          }
+        }
+        for (std::size_t f = 0; f < tris.size(); ++f) {
+          for (int k = 0; k < 4; ++k) {
+            if (m.rev[4 * f + k].dist2 > limit2) {
+              for (Id v : tris[f]) undo[v] = 1;
+            }
+          }
+        }
+        bool changed = false;
+        for (std::size_t i = 0; i < pos.size(); ++i) {
+          if (undo[i] && trial[i] != pos[i]) {
+            trial[i] = pos[i];
+            changed = true;
+          }
+        }
+        if (!changed) break;
+        stats.rejected_moves += rejector.run(pos, trial);
+        m = measure(trial, tris, samples, orig, &current);
+      }
       if (m.rms <= current.rms && m.hausdorff <= stats.hausdorff_before) {
         pos = std::move(trial);
         current = std::move(m);
