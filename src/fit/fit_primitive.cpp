@@ -103,8 +103,28 @@ Data load(DatasetRef ds, const FitOptions& o) {
 }
 
 // Eigen decomposition of a symmetric 3x3 matrix, eigenvalues ascending.
-Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig3(const Eigen::Matrix3d& m) {
-  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m);
+// Every symmetric eigenproblem and solve of this file goes through one dynamic-size
+// instantiation: Eigen's fixed-size 3x3, 4x4 and 10x10 solvers each cost seconds of compile
+// time, and these matrices are decomposed a handful of times per fit.
+using Eig = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>;
+
+// Eigen decomposition of a symmetric matrix, eigenvalues ascending.
+Eig eig(const Eigen::MatrixXd& m) {
+  return Eig(m);
+}
+Eig eig3(const Eigen::Matrix3d& m) {
+  return eig(m);
+}
+
+// The least-squares solution of the symmetric system m x = rhs (the pseudo-inverse, ignoring
+// eigenvalues below kDegenerate of the largest; callers have checked that m is regular).
+Eigen::VectorXd solve_symmetric(const Eig& e, const Eigen::VectorXd& rhs) {
+  const Eigen::VectorXd& lam = e.eigenvalues();
+  const double top = lam.cwiseAbs().maxCoeff();
+  Eigen::VectorXd y = e.eigenvectors().transpose() * rhs;
+  for (Eigen::Index i = 0; i < y.size(); ++i)
+    y(i) = std::abs(lam(i)) > kDegenerate * top ? y(i) / lam(i) : 0.0;
+  return e.eigenvectors() * y;
 }
 
 // ---- initialisations (normalised coordinates) ----
@@ -131,7 +151,7 @@ bool fit_circle_2d(const std::vector<Eigen::Vector2d>& q, Eigen::Vector2d& c, do
   }
   const auto e = eig3(m);
   if (!(e.eigenvalues()(0) > kDegenerate * e.eigenvalues()(2))) return false;
-  const Eigen::Vector3d s = m.ldlt().solve(rhs);
+  const Eigen::Vector3d s = solve_symmetric(e, rhs);
   c = s.head<2>();
   const double r2 = s(2) + c.squaredNorm();
   if (!(r2 > 0)) return false;
@@ -147,10 +167,10 @@ std::vector<double> init_sphere(const Data& d) {
     m += row * row.transpose();
     rhs += row * p.squaredNorm();
   }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> e(m);
+  const Eig e = eig(m);
   if (!(e.eigenvalues()(0) > kDegenerate * e.eigenvalues()(3)))
     fail(PrimitiveKind::Sphere, "the points are coplanar (or collinear): no unique sphere");
-  const Eigen::Vector4d s = m.ldlt().solve(rhs);
+  const Eigen::Vector4d s = solve_symmetric(e, rhs);
   const V3 c = s.head<3>();
   const double r2 = s(3) + c.squaredNorm();
   if (!(r2 > 0)) fail(PrimitiveKind::Sphere, "the points do not lie near a sphere");
@@ -172,7 +192,7 @@ std::vector<double> init_quadric(const Data& d, PrimitiveKind kind) {
     const auto row = monomials(p);
     m += row * row.transpose();
   }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 10, 10>> e(m);
+  const Eig e = eig(m);
   // A second (near-)zero eigenvalue: several quadrics through the points (they lie on a plane,
   // a conic or too few distinct places), so the shape is not determined.
   if (!(e.eigenvalues()(1) > kDegenerate * e.eigenvalues()(9)))
@@ -254,9 +274,9 @@ std::vector<double> init_cone(const Data& d) {
   }
   const auto em = eig3(m);
   if (!d.n.empty() && em.eigenvalues()(0) > 1e-3 * em.eigenvalues()(2)) {
-    apex = m.ldlt().solve(rhs);
+    apex = solve_symmetric(em, rhs);
   } else {  // the quadric's center: ∇Q = 2 A x + b = 0
-    apex = a.fullPivLu().solve(-b / 2);
+    apex = solve_symmetric(eig3(a), -b / 2);
   }
   if (!apex.allFinite()) fail(PrimitiveKind::Cone, "no apex found (are the points a cylinder?)");
   double h_sum = 0, angle = 0;
@@ -272,11 +292,99 @@ std::vector<double> init_cone(const Data& d) {
   return {apex.x(), apex.y(), apex.z(), axis.x(), axis.y(), axis.z(), angle};
 }
 
-// ---- geometric residuals (normalised coordinates), templated for automatic derivatives ----
+// ---- forward-mode derivatives ----
+//
+// A dual number v + Σ d_i ε_i carries the derivatives with respect to the N parameters through
+// the residual formulas below (written once, templated on the number type). Ceres's Jet does
+// the same with an Eigen vector inside; these few operations are all the residuals need and
+// compile faster (docs/algorithms/fitting.md, "Compile time").
+
+template <int N>
+struct Dual {
+  double v = 0;
+  std::array<double, N> d{};
+};
+template <int N>
+Dual<N> operator+(Dual<N> a, const Dual<N>& b) {
+  a.v += b.v;
+  for (int i = 0; i < N; ++i) a.d[i] += b.d[i];
+  return a;
+}
+template <int N>
+Dual<N> operator-(Dual<N> a, const Dual<N>& b) {
+  a.v -= b.v;
+  for (int i = 0; i < N; ++i) a.d[i] -= b.d[i];
+  return a;
+}
+template <int N>
+Dual<N> operator*(const Dual<N>& a, const Dual<N>& b) {
+  Dual<N> r;
+  r.v = a.v * b.v;
+  for (int i = 0; i < N; ++i) r.d[i] = a.d[i] * b.v + a.v * b.d[i];
+  return r;
+}
+template <int N>
+Dual<N> operator/(const Dual<N>& a, const Dual<N>& b) {
+  Dual<N> r;
+  r.v = a.v / b.v;
+  for (int i = 0; i < N; ++i) r.d[i] = (a.d[i] - r.v * b.d[i]) / b.v;
+  return r;
+}
+template <int N>
+Dual<N> operator*(double s, Dual<N> a) {
+  a.v *= s;
+  for (double& x : a.d) x *= s;
+  return a;
+}
+template <int N>
+Dual<N> operator*(const Dual<N>& a, double s) {
+  return s * a;
+}
+template <int N>
+Dual<N> operator+(Dual<N> a, double s) {
+  a.v += s;
+  return a;
+}
+template <int N>
+Dual<N> operator-(double s, const Dual<N>& a) {
+  return (-1.0 * a) + s;
+}
+template <int N>
+Dual<N> operator-(const Dual<N>& a, double s) {
+  return a + (-s);
+}
+// f(a) with f'(a) = df: the chain rule.
+template <int N>
+Dual<N> chain(const Dual<N>& a, double f, double df) {
+  Dual<N> r;
+  r.v = f;
+  for (int i = 0; i < N; ++i) r.d[i] = df * a.d[i];
+  return r;
+}
+template <int N>
+Dual<N> sqrt(const Dual<N>& a) {
+  const double s = std::sqrt(a.v);
+  return chain(a, s, 0.5 / s);
+}
+template <int N>
+Dual<N> cos(const Dual<N>& a) {
+  return chain(a, std::cos(a.v), -std::sin(a.v));
+}
+template <int N>
+Dual<N> sin(const Dual<N>& a) {
+  return chain(a, std::sin(a.v), std::cos(a.v));
+}
+template <int N>
+Dual<N> abs(const Dual<N>& a) {
+  return a.v < 0 ? -1.0 * a : a;
+}
+
+// ---- geometric residuals (normalised coordinates), templated on the number type ----
 
 template <class T>
 T norm3(const T* v) {
-  return ceres::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  using std::sqrt;
+  return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 }
 
 struct PlaneCost {
@@ -324,7 +432,8 @@ struct ConeCost {
   bool operator()(const T* q, T* r) const {
     T h;
     const T rho = axis_distance(p, q, q + 3, h);
-    r[0] = rho * ceres::cos(q[6]) - ceres::abs(h) * ceres::sin(q[6]);
+    using std::abs, std::cos, std::sin;
+    r[0] = rho * cos(q[6]) - abs(h) * sin(q[6]);
     return true;
   }
 };
@@ -377,9 +486,39 @@ double median_abs(std::vector<double> r) {
   return *mid;
 }
 
+// The residual of one point and its derivatives (dual numbers) for Ceres.
+template <class Cost, int N>
+class PointCost final : public ceres::SizedCostFunction<1, N> {
+ public:
+  explicit PointCost(const V3& p) : cost_{p} {}
+  bool Evaluate(double const* const* q, double* r, double** jac) const override {
+    if (!jac || !jac[0]) {
+      cost_(q[0], r);
+      return std::isfinite(r[0]);
+    }
+    std::array<Dual<N>, N> x;
+    for (int i = 0; i < N; ++i) {
+      x[i].v = q[0][i];
+      x[i].d[i] = 1;
+    }
+    Dual<N> out;
+    cost_(x.data(), &out);
+    r[0] = out.v;
+    bool finite = std::isfinite(out.v);
+    for (int i = 0; i < N; ++i) {
+      jac[0][i] = out.d[i];
+      finite = finite && std::isfinite(out.d[i]);
+    }
+    return finite;
+  }
+
+ private:
+  Cost cost_;
+};
+
 template <class Cost, int N>
 ceres::CostFunction* cost(const V3& p) {
-  return new ceres::AutoDiffCostFunction<Cost, 1, N>(new Cost{p});
+  return new PointCost<Cost, N>(p);
 }
 
 // Stops the solver when the progress callback asks to cancel.

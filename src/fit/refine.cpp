@@ -27,7 +27,6 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
-#include <numeric>
 #include <vector>
 
 #include "isoforge/core/closest_point.hpp"

@@ -3,8 +3,13 @@
 // order of the quadric error at the optimal placement, from a priority queue whose stale entries
 // are recognised by per-vertex stamps. Each collapse is checked by EditMesh before it is done.
 
+#include <tbb/task_group.h>
+
 #include <algorithm>
+#include <atomic>
+#include <optional>
 #include <cmath>
+#include <cstdlib>
 #include <numbers>
 
 #include "isoforge/core/parallel.hpp"
@@ -43,11 +48,30 @@ struct Candidate {
   double t = 0;      // where p projects on keep→drop, in [0, 1] (for the point arrays)
 };
 
+// The quadrics of the vertices (owned by the caller: the parts of a partitioned run fill
+// disjoint entries of one set, which the final run then continues from).
+struct Quadrics {
+  std::vector<Quadric> planes;
+  std::vector<PointQuadric> points;
+  std::vector<double> area;
+};
+
+// One run of collapses on a mesh, to `target` faces or until `max_error`.
 class Collapser {
  public:
-  Collapser(EditMesh& mesh, CarriedAttributes& attributes, const Prepared& prepared,
-            const DecimateOptions& options)
-      : mesh_(mesh), attributes_(attributes), prepared_(prepared), options_(options) {
+  Collapser(EditMesh& mesh, CarriedAttributes& attributes, Quadrics& quadrics,
+            const Prepared& prepared, const DecimateOptions& options, std::size_t target,
+            ProgressCallback progress, const std::atomic<bool>* stop_flag = nullptr)
+      : mesh_(mesh),
+        attributes_(attributes),
+        quadric_(quadrics.planes),
+        point_(quadrics.points),
+        area_(quadrics.area),
+        prepared_(prepared),
+        options_(options),
+        target_(target),
+        progress_(std::move(progress)),
+        stop_flag_(stop_flag) {
     const double w = options.attribute_weight * prepared.diagonal;
     attribute_scale2_ = attributes.empty() ? 0 : w * w;
   }
@@ -55,27 +79,25 @@ class Collapser {
   DecimateStats run();
 
  private:
-  void build_quadrics();
   [[nodiscard]] Candidate evaluate(Vid u, Vid v) const;
   void push_edges_of(Vid v);
   void fill_heap();
 
   EditMesh& mesh_;
   CarriedAttributes& attributes_;
+  std::vector<Quadric>& quadric_;
+  std::vector<PointQuadric>& point_;
+  std::vector<double>& area_;
   const Prepared& prepared_;
   const DecimateOptions& options_;
+  std::size_t target_;
+  ProgressCallback progress_;
+  const std::atomic<bool>* stop_flag_;
   double attribute_scale2_ = 0;
-  std::vector<Quadric> quadric_;
-  std::vector<PointQuadric> point_;
-  std::vector<double> area_;
   std::vector<std::uint32_t> stamp_;
   std::vector<Entry> heap_;
   std::vector<Vid> scratch_;
 };
-
-void Collapser::build_quadrics() {
-  vertex_quadrics(mesh_, options_, quadric_, point_, area_, progress_range(options_.progress, 0, 0.05));
-}
 
 Candidate Collapser::evaluate(Vid u, Vid v) const {
   Candidate c;
@@ -170,12 +192,10 @@ void Collapser::fill_heap() {
 DecimateStats Collapser::run() {
   DecimateStats stats;
   stats.input_triangles = mesh_.live_faces();
-  stats.locked_vertices = prepared_.locked_count;
-  build_quadrics();
   stamp_.assign(mesh_.vertex_count(), 0);
   fill_heap();
-  report_progress(options_.progress, 0.1, "decimate");
-  const std::size_t target = prepared_.target;
+  report_progress(progress_, 0.1, "decimate");
+  const std::size_t target = target_;
   const std::size_t to_remove = stats.input_triangles > target ? stats.input_triangles - target : 0;
   std::size_t skipped_error = 0, since_fill = 0, refused_since_fill = 0, rounds = 0;
   for (;;) {
@@ -213,10 +233,15 @@ DecimateStats Collapser::run() {
       ++since_fill;
       stats.max_error = std::max(stats.max_error, c.error);
       push_edges_of(c.keep);
-      if ((stats.operations & 4095) == 0 && to_remove > 0) {
-        const double done = static_cast<double>(stats.input_triangles - mesh_.live_faces()) /
-                            static_cast<double>(to_remove);
-        report_progress(options_.progress, 0.1 + 0.85 * std::min(done, 1.0), "decimate");
+      if ((stats.operations & 4095) == 0) {
+        if (stop_flag_ != nullptr && stop_flag_->load(std::memory_order_relaxed)) {
+          throw Cancelled("decimate");
+        }
+        if (to_remove > 0) {
+          const double done = static_cast<double>(stats.input_triangles - mesh_.live_faces()) /
+                              static_cast<double>(to_remove);
+          report_progress(progress_, 0.1 + 0.9 * std::min(done, 1.0), "decimate");
+        }
       }
     }
     // Refused candidates may have become possible as their neighbourhoods changed: another
@@ -240,19 +265,191 @@ DecimateStats Collapser::run() {
   return stats;
 }
 
-}  // namespace
+// Runs below this many triangles are not partitioned (the second core would not pay).
+constexpr std::size_t kPartitionMinFaces = 150'000;
 
-DecimateResult decimate_quadric(const PolyData& input, Prepared prepared,
-                                const DecimateOptions& options) {
+EditSettings edit_settings(const DecimateOptions& options) {
   EditSettings settings;
   settings.preserve_topology = options.preserve_topology;
   settings.max_normal_turn = options.max_normal_turn;
   settings.check_intersections = options.check_self_intersections;
-  EditMesh mesh(std::move(prepared.positions), std::move(prepared.triangles),
-                std::move(prepared.locked), settings);
+  return settings;
+}
+
+void add_stats(DecimateStats& into, const DecimateStats& s) {
+  into.operations += s.operations;
+  into.max_error = std::max(into.max_error, s.max_error);
+  into.refused_topology += s.refused_topology;
+  into.refused_flip += s.refused_flip;
+  into.refused_intersection += s.refused_intersection;
+}
+
+// The partitioned first phase on large meshes (docs/algorithms/decimation.md, "Two cores"): the
+// vertices are split at the median of the longest axis; each half is decimated on its own with
+// the vertices of the faces that cross the cut locked and every moved vertex kept strictly on its
+// side, so the halves' new faces can never meet; then one sequential run over the joined mesh,
+// the cut unlocked, goes to the target. The split does not depend on the thread count, and the
+// halves run on the calling thread and one task (one after the other with one thread), so the
+// result does not either.
+struct Partitioned {
+  std::vector<Vec3> positions;
+  std::vector<Tri> triangles;
+  Quadrics quadrics;
+  DecimateStats stats;
+};
+
+Partitioned decimate_halves(Prepared& prepared, CarriedAttributes& attributes,
+                            const DecimateOptions& options, const ProgressCallback& progress) {
+  const std::size_t nv = prepared.positions.size();
+  Bounds box;
+  for (const Tri& t : prepared.triangles) {
+    for (Vid v : t) box.extend(prepared.positions[v]);
+  }
+  const Vec3 extent = box.max - box.min;
+  const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+  std::vector<std::uint8_t> used(nv, 0);
+  for (const Tri& t : prepared.triangles) {
+    for (Vid v : t) used[v] = 1;
+  }
+  std::vector<double> coordinate;
+  for (std::size_t v = 0; v < nv; ++v) {
+    if (used[v]) coordinate.push_back(prepared.positions[v][axis]);
+  }
+  std::nth_element(coordinate.begin(), coordinate.begin() + coordinate.size() / 2, coordinate.end());
+  const double cut = coordinate[coordinate.size() / 2];
+  auto side = [&](Vid v) { return prepared.positions[v][axis] < cut ? 0 : 1; };
+
+  std::array<std::vector<Tri>, 2> faces;
+  std::array<std::vector<std::uint8_t>, 2> locks{prepared.locked, prepared.locked};
+  std::size_t crossing = 0;
+  for (const Tri& t : prepared.triangles) {
+    const int s0 = side(t[0]), s1 = side(t[1]), s2 = side(t[2]);
+    if (s0 == s1 && s1 == s2) {
+      faces[static_cast<std::size_t>(s0)].push_back(t);
+      continue;
+    }
+    ++crossing;
+    for (int h = 0; h < 2; ++h) {
+      faces[static_cast<std::size_t>(h)].push_back(t);
+      for (Vid v : t) locks[static_cast<std::size_t>(h)][v] = 1;
+    }
+  }
+  // Each half goes a little above its share of the target, so the joined run still has work
+  // to do along the cut.
+  const double total = static_cast<double>(prepared.triangles.size());
+  std::array<std::size_t, 2> targets{};
+  for (int h = 0; h < 2; ++h) {
+    const double own = static_cast<double>(faces[static_cast<std::size_t>(h)].size() - crossing);
+    const double share = prepared.target > 0
+                             ? 1.03 * static_cast<double>(prepared.target) * (own + 0.5 * crossing) / total
+                             : 0.0;
+    targets[static_cast<std::size_t>(h)] = static_cast<std::size_t>(share) + crossing;
+  }
+
+  Partitioned out;
+  std::array<Quadrics, 2> quadrics;
+  std::array<std::optional<EditMesh>, 2> meshes;
+  std::array<DecimateStats, 2> stats;
+  std::atomic<bool> stop{false};
+  auto run_half = [&](int h, const ProgressCallback& report) {
+    const auto i = static_cast<std::size_t>(h);
+    EditSettings settings = edit_settings(options);
+    settings.side_axis = axis;
+    settings.side_cut = cut;
+    settings.side_below = h == 0;
+    meshes[i].emplace(prepared.positions, std::move(faces[i]), std::move(locks[i]), settings);
+    vertex_quadrics(*meshes[i], options, quadrics[i].planes, quadrics[i].points, quadrics[i].area,
+                    {});
+    Collapser collapser(*meshes[i], attributes, quadrics[i], prepared, options, targets[i], report,
+                        &stop);
+    stats[i] = collapser.run();
+  };
+  tbb::task_group group;
+  group.run([&] {
+    try {
+      run_half(1, {});
+    } catch (...) {
+      stop = true;
+      throw;
+    }
+  });
+  try {
+    run_half(0, progress);
+  } catch (...) {
+    stop = true;
+    try {
+      group.wait();
+    } catch (...) {
+    }
+    throw;
+  }
+  group.wait();
+
+  // Join: each vertex from the half of its side; the crossing faces (unchanged, in both) once.
+  out.positions = prepared.positions;
+  out.quadrics.planes.resize(nv);
+  out.quadrics.points.resize(nv);
+  out.quadrics.area.resize(nv);
+  for (Vid v = 0; v < nv; ++v) {
+    const auto h = static_cast<std::size_t>(side(v));
+    out.positions[v] = meshes[h]->position(v);
+    out.quadrics.planes[v] = quadrics[h].planes[v];
+    out.quadrics.points[v] = quadrics[h].points[v];
+    out.quadrics.area[v] = quadrics[h].area[v];
+  }
+  for (int h = 0; h < 2; ++h) {
+    const EditMesh& m = *meshes[static_cast<std::size_t>(h)];
+    for (Fid f = 0; f < m.face_count(); ++f) {
+      if (!m.face_alive(f)) continue;
+      const Tri& t = m.face(f);
+      const bool crosses = side(t[0]) != side(t[1]) || side(t[1]) != side(t[2]);
+      if (crosses && h == 1) continue;
+      out.triangles.push_back(t);
+    }
+    add_stats(out.stats, stats[static_cast<std::size_t>(h)]);
+  }
+  return out;
+}
+
+}  // namespace
+
+DecimateResult decimate_quadric(const PolyData& input, Prepared prepared,
+                                const DecimateOptions& options) {
   CarriedAttributes attributes(input.point_data);
-  Collapser collapser(mesh, attributes, prepared, options);
-  DecimateStats stats = collapser.run();
+  DecimateStats stats;
+  stats.input_triangles = prepared.triangles.size();
+  stats.locked_vertices = prepared.locked_count;
+  Quadrics quadrics;
+  std::vector<Vec3> positions;
+  std::vector<Tri> triangles;
+  double from = 0;
+  const bool split = prepared.triangles.size() >= kPartitionMinFaces &&
+                     (prepared.target == 0 ||
+                      static_cast<double>(prepared.target) <
+                          0.7 * static_cast<double>(prepared.triangles.size()));
+  if (split) {
+    Partitioned halves =
+        decimate_halves(prepared, attributes, options, progress_range(options.progress, 0, 0.85));
+    positions = std::move(halves.positions);
+    triangles = std::move(halves.triangles);
+    quadrics = std::move(halves.quadrics);
+    add_stats(stats, halves.stats);
+    from = 0.85;
+  } else {
+    positions = std::move(prepared.positions);
+    triangles = std::move(prepared.triangles);
+  }
+  EditMesh mesh(std::move(positions), std::move(triangles), prepared.locked,
+                edit_settings(options));
+  if (!split) {
+    vertex_quadrics(mesh, options, quadrics.planes, quadrics.points, quadrics.area,
+                    progress_range(options.progress, 0, 0.05));
+  }
+  Collapser collapser(mesh, attributes, quadrics, prepared, options, prepared.target,
+                      progress_range(options.progress, from, 1.0));
+  const DecimateStats last = collapser.run();
+  add_stats(stats, last);
+  stats.stop = last.stop;
   PolyData output = assemble(mesh, attributes, input.points.type());
   stats.output_triangles = mesh.live_faces();
   stats.output_points = output.num_points();

@@ -285,6 +285,12 @@ Refusal EditMesh::check_merge(std::span<const Vid> group, const Vec3& p) {
   for (Vid s : group) {
     if (locked_[s] && positions_[s] != p) return Refusal::Locked;
   }
+  if (settings_.side_axis >= 0) {
+    const double x = p[settings_.side_axis];
+    if (settings_.side_below ? !(x < settings_.side_cut) : !(x >= settings_.side_cut)) {
+      return Refusal::Locked;
+    }
+  }
   if (settings_.preserve_topology) {
     for (Vid s : group) border = border || border_[s] != 0;
   }

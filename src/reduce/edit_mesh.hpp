@@ -38,6 +38,11 @@ struct EditSettings {
   bool preserve_topology = true;
   double max_normal_turn = 90;  ///< degrees
   bool check_intersections = true;
+  /// With side_axis 0, 1 or 2, a merge must place its vertex strictly below `side_cut` on that
+  /// axis (`side_below`) or at or above it (one half of a partitioned run).
+  int side_axis = -1;
+  double side_cut = 0;
+  bool side_below = true;
 };
 
 class EditMesh {

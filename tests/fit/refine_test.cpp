@@ -191,6 +191,19 @@ TEST(RefineMesh, PlaneStaysPlanarAndBorderStays) {
   EXPECT_TRUE(self_intersections(out).empty());
 }
 
+TEST(RefineMesh, FreeBorderStaysPlanar) {
+  // keep_boundary = false: the border may move too, still within the plane, never worse.
+  const PolyData fine = plane_grid(60, 0);
+  const PolyData coarse = plane_grid(8, 0.3);
+  RefineOptions o;
+  o.keep_boundary = false;
+  const auto [out, st] = refine_mesh(fine, coarse, o);
+  for (std::size_t i = 0; i < out.points.size(); ++i) EXPECT_EQ(out.points[i].z, 0) << i;
+  EXPECT_LE(st.rms_after, st.rms_before);
+  EXPECT_LE(st.hausdorff_after, st.hausdorff_before);
+  EXPECT_TRUE(self_intersections(out).empty());
+}
+
 TEST(RefineMesh, LockedVerticesStay) {
   const PolyData fine = bumpy_sphere(32, 64, 0);
   PolyData coarse = icosphere(1, 0.9);

@@ -301,6 +301,33 @@ TEST(Decimate, OutputDoesNotDependOnTheThreadCount) {
   EXPECT_EQ(one.polys, two.polys);
 }
 
+TEST(Decimate, TheTwoHalvesOfALargeMeshGiveTheSameOutputForAnyThreadCount) {
+  // 160,000 triangles: above the size where the quadric method decimates two halves at once.
+  const PolyData in = torus(400, 200);
+  PolyData one, two;
+  DecimateStats stats;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = decimate(in, to_count(8000)).output;
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    auto r = decimate(in, to_count(8000));
+    two = std::move(r.output);
+    stats = r.stats;
+  }
+  EXPECT_EQ(one.points, two.points);
+  EXPECT_EQ(one.polys, two.polys);
+  EXPECT_EQ(stats.output_triangles, 8000u);
+  EXPECT_EQ(stats.stop, DecimateStop::Target);
+  expect_valid(two, true, 1, 0);
+  for (std::size_t i = 0; i < two.num_points(); ++i) {
+    const Vec3 p = two.points[i];
+    const double ring = std::hypot(p.x, p.y) - 1;
+    EXPECT_NEAR(std::hypot(ring, p.z), 0.3, 0.01);  // still on the torus
+  }
+}
+
 TEST(Decimate, ReportsProgressAndCancels) {
   const PolyData in = sphere(60, 120);
   DecimateOptions o = to_count(100);

@@ -25,7 +25,9 @@ struct RefineOptions {
   /// Spring weight κ relative to the data (≥ 0): each edge adds κ (samples / edges) |vi − vj|²
   /// to the energy, which keeps the solve well posed where no sample reaches a vertex.
   double spring = 1e-3;
-  RobustLoss loss = RobustLoss::None;  ///< on the sample residuals; scale from their median
+  /// Robust loss on the sample distances, as weights recomputed each outer iteration
+  /// (iteratively reweighted least squares); scale from the median distance as in FitOptions.
+  RobustLoss loss = RobustLoss::None;
   /// Border vertices (of edges with one face) and vertices of non-manifold edges do not move,
   /// so the border stays exactly where it was; false lets them move like the others.
   bool keep_boundary = true;
