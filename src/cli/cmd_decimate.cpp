@@ -20,7 +20,7 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
     std::string in, out, method = "quadric", lock;
     std::int64_t target = 0;
     double reduction = 0, max_error = 0, feature_angle = 180, max_turn = 90,
-           boundary_weight = 1000, attribute_weight = 0;
+           boundary_weight = 10, attribute_weight = 0;
     bool relative = false, preserve_boundary = true, preserve_topology = true, refine = false,
          no_measure = false, no_intersection_check = false;
   };
@@ -60,7 +60,7 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
                   "Refuse operations turning a face normal more than this (degrees, default 90)")
       ->check(number_in(0, 180, true));
   cmd->add_option("--boundary-weight", args->boundary_weight,
-                  "Weight of the border and feature constraint planes (default 1000)")
+                  "Weight of the border and feature constraint planes (default 10)")
       ->check(non_negative_number());
   cmd->add_option("--attribute-weight", args->attribute_weight,
                   "Weight of point-array differences in the collapse cost, as a fraction of the "

@@ -90,7 +90,7 @@ Vec3 minimize(const Quadric& q, const Vec3& anchor, double relative_cutoff = 1e-
 /// Weight of the point quadric each vertex gets (× its faces' area): small enough not to move
 /// placements measurably, large enough to order collapses on flat regions (where every plane
 /// error is zero) by edge length, so fans stay small instead of sweeping through the mesh.
-inline constexpr double kPointQuadricWeight = 1e-5;
+inline constexpr double kPointQuadricWeight = 1e-7;
 
 /// The quadric of every vertex: its faces' planes weighted by area, a point quadric at the
 /// vertex in `points` (kPointQuadricWeight), plus (with

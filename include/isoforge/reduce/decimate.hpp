@@ -46,7 +46,9 @@ struct DecimateOptions {
   bool max_error_relative = false;
   bool preserve_topology = true;  ///< link condition: no non-manifold edges/vertices, no genus change
   bool preserve_boundary = true;  ///< constraint planes along border edges (quadric method)
-  double boundary_weight = 1000;  ///< weight of the border constraint planes (≥ 0)
+  /// Weight of the border (and feature) constraint planes, × the edge length squared (≥ 0).
+  /// 10 keeps borders in place as well as 1000 does on the verify cases, with lower errors.
+  double boundary_weight = 10;
   /// Edges whose dihedral angle exceeds this (degrees, in (0, 180]) are features: their vertices
   /// get constraint planes (quadric) or are not removed (vertex removal). 180 = no features.
   double feature_angle = 180;
