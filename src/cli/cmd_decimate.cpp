@@ -19,26 +19,26 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
   struct Args {
     std::string in, out, method = "quadric", lock;
     std::int64_t target = 0;
-    double reduction = 0, max_error = 0, feature_angle = 180, max_turn = 90,
-           boundary_weight = 10, attribute_weight = 0;
+    double reduction = 0, max_error = 0, feature_angle = 180, max_turn = 90, boundary_weight = 10,
+           attribute_weight = 0;
     bool relative = false, preserve_boundary = true, preserve_topology = true, refine = false,
          no_measure = false, no_intersection_check = false;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
-      "decimate", "Reduce a triangle mesh: quadric edge collapse, vertex removal or cell collapse; "
-                  "never self-intersecting, topology kept");
+      "decimate",
+      "Reduce a triangle mesh: quadric edge collapse, vertex removal or cell collapse; "
+      "never self-intersecting, topology kept");
   cmd->add_option("input", args->in, "Input surface (" + std::string(kSurfaceExtensions) + ")")
       ->required();
   cmd->add_option("-o,--output", args->out, "Output: " + std::string(kSurfaceExtensions))
       ->required();
-  auto* target_opt = cmd->add_option("-t,--target-triangles", args->target,
-                                     "Stop at this many triangles (N >= 1)")
-                         ->transform(integer_in(1));
-  auto* reduction_opt =
-      cmd->add_option("-r,--reduction", args->reduction,
-                      "Or remove this fraction of the triangles, in (0, 1)")
-          ->check(number_in(0, 1, true));
+  auto* target_opt =
+      cmd->add_option("-t,--target-triangles", args->target, "Stop at this many triangles (N >= 1)")
+          ->transform(integer_in(1));
+  auto* reduction_opt = cmd->add_option("-r,--reduction", args->reduction,
+                                        "Or remove this fraction of the triangles, in (0, 1)")
+                            ->check(number_in(0, 1, true));
   auto* error_opt = cmd->add_option("-e,--max-error", args->max_error,
                                     "Or stop before an operation would move the surface by more "
                                     "than this (data units, or a fraction of the diagonal with "
@@ -81,7 +81,8 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
       "Examples:\n"
       "  isoforge decimate data/bunny.ply -r 0.9 -o bunny10.ply\n"
       "  isoforge decimate data/bunny.ply -t 1000 --refine -o bunny1k.vtp\n"
-      "  isoforge decimate data/bunny.ply -t 5000 -m vertex-removal --feature-angle 60 -o bunny5k.vtp\n"
+      "  isoforge decimate data/bunny.ply -t 5000 -m vertex-removal --feature-angle 60 -o "
+      "bunny5k.vtp\n"
       "  isoforge decimate data/bunny.ply -e 0.001 --relative -o bunny_err.vtp");
   cmd->callback([args, &ctx, target_opt, reduction_opt, error_opt, relative_opt] {
     (void)output_format(args->out, kSurfaceFormats, kSurfaceExtensions);
@@ -95,7 +96,7 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
                        fmt::format("{}", args->reduction));
     }
     DecimateOptions o;
-    o.method = args->method == "vertex-removal" ? DecimateMethod::VertexRemoval
+    o.method = args->method == "vertex-removal"  ? DecimateMethod::VertexRemoval
                : args->method == "cell-collapse" ? DecimateMethod::CellCollapse
                                                  : DecimateMethod::Quadric;
     o.target_triangles = static_cast<std::size_t>(args->target);

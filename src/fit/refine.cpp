@@ -386,8 +386,8 @@ constexpr double kEmphasisMax = 16;
 
 struct Weights {
   RobustLoss loss = RobustLoss::None;
-  double a2 = 0;     // squared scale
-  double rms2 = 0;   // mean squared residual: large residuals weigh more (see below)
+  double a2 = 0;    // squared scale
+  double rms2 = 0;  // mean squared residual: large residuals weigh more (see below)
   [[nodiscard]] double operator()(double dist2) const {
     // Without a robust loss, a residual above the RMS weighs 1 + (r / rms)², up to 16: the
     // solve then leans on the largest distances (an L4-like energy), so the Hausdorff distance

@@ -137,7 +137,8 @@ DecimateStats CellCollapser::run() {
   DecimateStats stats;
   stats.input_triangles = mesh_.live_faces();
   stats.locked_vertices = prepared_.locked_count;
-  vertex_quadrics(mesh_, options_, quadric_, point_, area_, progress_range(options_.progress, 0, 0.05));
+  vertex_quadrics(mesh_, options_, quadric_, point_, area_,
+                  progress_range(options_.progress, 0, 0.05));
   stamp_.assign(mesh_.vertex_count(), 0);
   fill_heap();
   const std::size_t target = prepared_.target;
@@ -161,11 +162,21 @@ DecimateStats CellCollapser::run() {
         continue;
       }
       switch (mesh_.check_merge(c.group, c.p)) {
-        case Refusal::None: break;
+        case Refusal::None:
+          break;
         case Refusal::Locked:
-        case Refusal::Topology: ++stats.refused_topology; ++refused_since_fill; continue;
-        case Refusal::Flip: ++stats.refused_flip; ++refused_since_fill; continue;
-        case Refusal::Intersection: ++stats.refused_intersection; ++refused_since_fill; continue;
+        case Refusal::Topology:
+          ++stats.refused_topology;
+          ++refused_since_fill;
+          continue;
+        case Refusal::Flip:
+          ++stats.refused_flip;
+          ++refused_since_fill;
+          continue;
+        case Refusal::Intersection:
+          ++stats.refused_intersection;
+          ++refused_since_fill;
+          continue;
       }
       const Quadric q = quadric_[c.group[0]] + quadric_[c.group[1]] + quadric_[c.group[2]];
       const PointQuadric pq = point_[c.group[0]] + point_[c.group[1]] + point_[c.group[2]];

@@ -133,11 +133,10 @@ Prepared prepare(const PolyData& input, const DecimateOptions& o) {
   p.locked.assign(n, 0);
   if (!o.lock_array.empty()) {
     const DataArray* mask = input.point_data.find(o.lock_array);
-    require(mask != nullptr, fmt::format("lock array '{}' is not a point array of the input",
-                                         o.lock_array));
-    require(mask->components() == 1,
-            fmt::format("lock array '{}' has {} components, not 1", o.lock_array,
-                        mask->components()));
+    require(mask != nullptr,
+            fmt::format("lock array '{}' is not a point array of the input", o.lock_array));
+    require(mask->components() == 1, fmt::format("lock array '{}' has {} components, not 1",
+                                                 o.lock_array, mask->components()));
     for (std::size_t i = 0; i < n; ++i) p.locked[i] = mask->get(i) != 0 ? 1 : 0;
   }
   lock_non_manifold(p.triangles, p.locked);
@@ -145,8 +144,8 @@ Prepared prepare(const PolyData& input, const DecimateOptions& o) {
   const std::size_t count = p.triangles.size();
   if (by_count) p.target = std::min(o.target_triangles, count);
   if (by_ratio) {
-    p.target = static_cast<std::size_t>(std::llround(static_cast<double>(count) *
-                                                     (1 - o.target_reduction)));
+    p.target = static_cast<std::size_t>(
+        std::llround(static_cast<double>(count) * (1 - o.target_reduction)));
   }
   p.max_error = o.max_error_relative ? o.max_error * p.diagonal : o.max_error;
   return p;
@@ -276,18 +275,24 @@ DecimateResult decimate(const PolyData& input, const DecimateOptions& options) {
 
 const char* to_string(DecimateMethod method) {
   switch (method) {
-    case DecimateMethod::Quadric: return "quadric";
-    case DecimateMethod::VertexRemoval: return "vertex-removal";
-    case DecimateMethod::CellCollapse: return "cell-collapse";
+    case DecimateMethod::Quadric:
+      return "quadric";
+    case DecimateMethod::VertexRemoval:
+      return "vertex-removal";
+    case DecimateMethod::CellCollapse:
+      return "cell-collapse";
   }
   return "unknown";
 }
 
 const char* to_string(DecimateStop stop) {
   switch (stop) {
-    case DecimateStop::Target: return "target reached";
-    case DecimateStop::MaxError: return "maximum error reached";
-    case DecimateStop::Exhausted: return "no further operation is allowed";
+    case DecimateStop::Target:
+      return "target reached";
+    case DecimateStop::MaxError:
+      return "maximum error reached";
+    case DecimateStop::Exhausted:
+      return "no further operation is allowed";
   }
   return "unknown";
 }

@@ -17,8 +17,8 @@ struct Prepared {
   std::vector<std::uint8_t> locked;  ///< by mask or on a non-manifold edge/vertex
   std::size_t locked_count = 0;
   double diagonal = 0;
-  std::size_t target = 0;   ///< stop at or below this many triangles (0: only the error stops)
-  double max_error = 0;     ///< absolute; 0 = none
+  std::size_t target = 0;  ///< stop at or below this many triangles (0: only the error stops)
+  double max_error = 0;    ///< absolute; 0 = none
 };
 
 /// Validates `options`, triangulates `input`, locks vertices (mask, non-manifold) and turns the

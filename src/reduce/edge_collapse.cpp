@@ -7,10 +7,10 @@
 
 #include <algorithm>
 #include <atomic>
-#include <optional>
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
+#include <optional>
 
 #include "isoforge/core/parallel.hpp"
 #include "reduce/decimate_internal.hpp"
@@ -68,7 +68,6 @@ class Collapser {
         point_(quadrics.points),
         area_(quadrics.area),
         prepared_(prepared),
-        options_(options),
         target_(target),
         progress_(std::move(progress)),
         stop_flag_(stop_flag) {
@@ -89,7 +88,6 @@ class Collapser {
   std::vector<PointQuadric>& point_;
   std::vector<double>& area_;
   const Prepared& prepared_;
-  const DecimateOptions& options_;
   std::size_t target_;
   ProgressCallback progress_;
   const std::atomic<bool>* stop_flag_;
@@ -212,11 +210,21 @@ DecimateStats Collapser::run() {
       }
       const std::array<Vid, 2> group{c.keep, c.drop};
       switch (mesh_.check_merge(group, c.p)) {
-        case Refusal::None: break;
+        case Refusal::None:
+          break;
         case Refusal::Locked:
-        case Refusal::Topology: ++stats.refused_topology; ++refused_since_fill; continue;
-        case Refusal::Flip: ++stats.refused_flip; ++refused_since_fill; continue;
-        case Refusal::Intersection: ++stats.refused_intersection; ++refused_since_fill; continue;
+        case Refusal::Topology:
+          ++stats.refused_topology;
+          ++refused_since_fill;
+          continue;
+        case Refusal::Flip:
+          ++stats.refused_flip;
+          ++refused_since_fill;
+          continue;
+        case Refusal::Intersection:
+          ++stats.refused_intersection;
+          ++refused_since_fill;
+          continue;
       }
       const Quadric q = quadric_[c.keep] + quadric_[c.drop];
       const PointQuadric pq = point_[c.keep] + point_[c.drop];
@@ -306,7 +314,8 @@ Partitioned decimate_halves(Prepared& prepared, CarriedAttributes& attributes,
     for (Vid v : t) box.extend(prepared.positions[v]);
   }
   const Vec3 extent = box.max - box.min;
-  const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+  const int axis =
+      extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
   std::vector<std::uint8_t> used(nv, 0);
   for (const Tri& t : prepared.triangles) {
     for (Vid v : t) used[v] = 1;
@@ -315,7 +324,8 @@ Partitioned decimate_halves(Prepared& prepared, CarriedAttributes& attributes,
   for (std::size_t v = 0; v < nv; ++v) {
     if (used[v]) coordinate.push_back(prepared.positions[v][axis]);
   }
-  std::nth_element(coordinate.begin(), coordinate.begin() + coordinate.size() / 2, coordinate.end());
+  std::nth_element(coordinate.begin(), coordinate.begin() + coordinate.size() / 2,
+                   coordinate.end());
   const double cut = coordinate[coordinate.size() / 2];
   auto side = [&](Vid v) { return prepared.positions[v][axis] < cut ? 0 : 1; };
 
@@ -341,7 +351,8 @@ Partitioned decimate_halves(Prepared& prepared, CarriedAttributes& attributes,
   for (int h = 0; h < 2; ++h) {
     const double own = static_cast<double>(faces[static_cast<std::size_t>(h)].size() - crossing);
     const double share = prepared.target > 0
-                             ? 1.03 * static_cast<double>(prepared.target) * (own + 0.5 * crossing) / total
+                             ? 1.03 * static_cast<double>(prepared.target) *
+                                   (own + 0.5 * static_cast<double>(crossing)) / total
                              : 0.0;
     targets[static_cast<std::size_t>(h)] = static_cast<std::size_t>(share) + crossing;
   }
@@ -423,10 +434,10 @@ DecimateResult decimate_quadric(const PolyData& input, Prepared prepared,
   std::vector<Vec3> positions;
   std::vector<Tri> triangles;
   double from = 0;
-  const bool split = prepared.triangles.size() >= kPartitionMinFaces &&
-                     (prepared.target == 0 ||
-                      static_cast<double>(prepared.target) <
-                          0.7 * static_cast<double>(prepared.triangles.size()));
+  const bool split =
+      prepared.triangles.size() >= kPartitionMinFaces &&
+      (prepared.target == 0 ||
+       static_cast<double>(prepared.target) < 0.7 * static_cast<double>(prepared.triangles.size()));
   if (split) {
     Partitioned halves =
         decimate_halves(prepared, attributes, options, progress_range(options.progress, 0, 0.85));

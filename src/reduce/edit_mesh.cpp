@@ -15,9 +15,13 @@ bool boxes_overlap(const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3
          blo.z <= ahi.z;
 }
 
-std::array<Index, 3> ids_of(const Tri& t) { return {t[0], t[1], t[2]}; }
+std::array<Index, 3> ids_of(const Tri& t) {
+  return {t[0], t[1], t[2]};
+}
 
-Vec3 face_normal(const std::array<Vec3, 3>& p) { return cross(p[1] - p[0], p[2] - p[0]); }
+Vec3 face_normal(const std::array<Vec3, 3>& p) {
+  return cross(p[1] - p[0], p[2] - p[0]);
+}
 
 // The separating-plane filter. Whether a plane certainly separates two faces except at the
 // vertices they share (equal ids: the same point) is decided in double arithmetic with a margin
@@ -32,7 +36,9 @@ Vec3 face_normal(const std::array<Vec3, 3>& p) { return cross(p[1] - p[0], p[2] 
 // here without the exact fallback.
 constexpr double kSeparationMargin = 1e-12;
 
-double norm1(const Vec3& v) { return std::abs(v.x) + std::abs(v.y) + std::abs(v.z); }
+double norm1(const Vec3& v) {
+  return std::abs(v.x) + std::abs(v.y) + std::abs(v.z);
+}
 
 FacePlanes planes_of(const std::array<Vec3, 3>& p, const Tri& id) {
   FacePlanes f;
@@ -78,8 +84,7 @@ bool separated_by(const FacePlanes& f, const std::array<Vec3, 3>& q, const Tri& 
   if (side_of(f.n, f.p[0], q, qid, f.id[0], f.id[1], f.id[2]) != 0) return true;
   constexpr Vid kNoVertex = ~Vid{0};
   for (int k = 0; k < 3; ++k) {
-    if (f.usable[k] &&
-        side_of(f.m[k], f.p[k], q, qid, f.id[k], f.id[(k + 1) % 3], kNoVertex) > 0) {
+    if (f.usable[k] && side_of(f.m[k], f.p[k], q, qid, f.id[k], f.id[(k + 1) % 3], kNoVertex) > 0) {
       return true;
     }
   }
@@ -130,14 +135,14 @@ void EditMesh::build_grid() {
       edges += norm(positions_[t[(k + 1) % 3]] - positions_[t[k]]);
     }
   }
-  const double mean_edge = edges / (3.0 * static_cast<double>(std::max<std::size_t>(live_faces_, 1)));
+  const double mean_edge =
+      edges / (3.0 * static_cast<double>(std::max<std::size_t>(live_faces_, 1)));
   grid_.emplace(box, triangle_grid_cell_size(box, live_faces_, mean_edge));
   for (Fid f = 0; f < faces_.size(); ++f) {
     if (alive_[f]) grid_insert(f);
   }
   grid_faces_ = live_faces_;
 }
-
 
 EditMesh::Box EditMesh::face_box(const std::array<Vec3, 3>& p) const {
   Box b{p[0], p[0]};

@@ -49,8 +49,8 @@ class EditMesh {
  public:
   /// Takes the mesh (triangles with three distinct ids < positions.size()). `locked` has one
   /// entry per vertex (non-zero = never moved or removed).
-  EditMesh(std::vector<Vec3> positions, std::vector<Tri> triangles, std::vector<std::uint8_t> locked,
-           const EditSettings& settings);
+  EditMesh(std::vector<Vec3> positions, std::vector<Tri> triangles,
+           std::vector<std::uint8_t> locked, const EditSettings& settings);
 
   [[nodiscard]] std::size_t vertex_count() const { return positions_.size(); }
   [[nodiscard]] std::size_t face_count() const { return faces_.size(); }
@@ -84,8 +84,8 @@ class EditMesh {
   /// vertices only in old faces disappear) keeps the mesh valid: no new face duplicates a
   /// remaining one or gives an edge three faces, no new face is degenerate or turned by more
   /// than the limit from `reference_normal`, and none intersects another face (exact).
-  [[nodiscard]] Refusal check_replace(std::span<const Fid> old_faces, std::span<const Tri> new_faces,
-                                      const Vec3& reference_normal);
+  [[nodiscard]] Refusal check_replace(std::span<const Fid> old_faces,
+                                      std::span<const Tri> new_faces, const Vec3& reference_normal);
   /// Applies a replacement that `check_replace` accepted.
   void replace(std::span<const Fid> old_faces, std::span<const Tri> new_faces);
 
@@ -103,7 +103,8 @@ class EditMesh {
   void detach(Fid f, Vid v);
   /// Whether any of `faces` (with positions `pos`) intersects another of them or a live face
   /// outside `excluded` (faces being removed or rewritten, marked with `mark_`).
-  [[nodiscard]] bool intersects(std::span<const Tri> faces, std::span<const std::array<Vec3, 3>> pos);
+  [[nodiscard]] bool intersects(std::span<const Tri> faces,
+                                std::span<const std::array<Vec3, 3>> pos);
   /// Whether the undirected edges (a, b) form one cycle (`cycle`) or one path.
   [[nodiscard]] bool single_chain(bool cycle);
 

@@ -39,8 +39,17 @@ struct Quadric {
   }
 
   Quadric& operator+=(const Quadric& o) {
-    a00 += o.a00; a01 += o.a01; a02 += o.a02; a11 += o.a11; a12 += o.a12; a22 += o.a22;
-    b0 += o.b0; b1 += o.b1; b2 += o.b2; c += o.c; weight += o.weight;
+    a00 += o.a00;
+    a01 += o.a01;
+    a02 += o.a02;
+    a11 += o.a11;
+    a12 += o.a12;
+    a22 += o.a22;
+    b0 += o.b0;
+    b1 += o.b1;
+    b2 += o.b2;
+    c += o.c;
+    weight += o.weight;
     return *this;
   }
   friend Quadric operator+(Quadric a, const Quadric& b) { return a += b; }
@@ -64,7 +73,11 @@ struct PointQuadric {
     return {w, w * p.x, w * p.y, w * p.z, w * dot(p, p)};
   }
   PointQuadric& operator+=(const PointQuadric& o) {
-    w += o.w; x += o.x; y += o.y; z += o.z; xx += o.xx;
+    w += o.w;
+    x += o.x;
+    y += o.y;
+    z += o.z;
+    xx += o.xx;
     return *this;
   }
   friend PointQuadric operator+(PointQuadric a, const PointQuadric& b) { return a += b; }
@@ -74,8 +87,12 @@ struct PointQuadric {
   }
   /// q + this as one quadric (for the placement).
   [[nodiscard]] Quadric added_to(Quadric q) const {
-    q.a00 += w; q.a11 += w; q.a22 += w;
-    q.b0 -= x; q.b1 -= y; q.b2 -= z;
+    q.a00 += w;
+    q.a11 += w;
+    q.a22 += w;
+    q.b0 -= x;
+    q.b1 -= y;
+    q.b2 -= z;
     q.c += xx;
     return q;
   }

@@ -313,11 +313,21 @@ DecimateStats Remover::run() {
         continue;
       }
       switch (mesh_.check_replace(plan.fan, triangles, plan.normal)) {
-        case Refusal::None: break;
+        case Refusal::None:
+          break;
         case Refusal::Locked:
-        case Refusal::Topology: ++stats.refused_topology; ++refused_since_fill; continue;
-        case Refusal::Flip: ++stats.refused_flip; ++refused_since_fill; continue;
-        case Refusal::Intersection: ++stats.refused_intersection; ++refused_since_fill; continue;
+        case Refusal::Topology:
+          ++stats.refused_topology;
+          ++refused_since_fill;
+          continue;
+        case Refusal::Flip:
+          ++stats.refused_flip;
+          ++refused_since_fill;
+          continue;
+        case Refusal::Intersection:
+          ++stats.refused_intersection;
+          ++refused_since_fill;
+          continue;
       }
       mesh_.replace(plan.fan, triangles);
       ++stamp_[e.v];

@@ -268,7 +268,8 @@ TEST(Decimate, NonManifoldEdgesAreLockedAndKept) {
 TEST(Decimate, AThinSlabNeverSelfIntersects) {
   // Two sheets 0.002 apart, joined at the border: aggressive decimation without the exact test
   // could make the sheets cross; with it, never.
-  PolyData top = sheet(40, [](double x, double y) { return 0.05 * std::sin(9 * x) * std::cos(7 * y); });
+  PolyData top =
+      sheet(40, [](double x, double y) { return 0.05 * std::sin(9 * x) * std::cos(7 * y); });
   const std::size_t half = top.num_points();
   PolyData slab = top;
   for (std::size_t i = 0; i < half; ++i) {

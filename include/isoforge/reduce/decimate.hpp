@@ -44,7 +44,8 @@ struct DecimateOptions {
   /// or a fraction of the bounding-box diagonal when `max_error_relative`.
   double max_error = 0;
   bool max_error_relative = false;
-  bool preserve_topology = true;  ///< link condition: no non-manifold edges/vertices, no genus change
+  bool preserve_topology =
+      true;  ///< link condition: no non-manifold edges/vertices, no genus change
   bool preserve_boundary = true;  ///< constraint planes along border edges (quadric method)
   /// Weight of the border (and feature) constraint planes, × the edge length squared (≥ 0).
   /// 10 keeps borders in place as well as 1000 does on the verify cases, with lower errors.
@@ -66,21 +67,21 @@ struct DecimateOptions {
 
 /// Why decimation stopped.
 enum class DecimateStop {
-  Target,      ///< the requested count was reached
-  MaxError,    ///< the next operation would exceed `max_error`
-  Exhausted,   ///< every remaining operation is refused by a guarantee (see the counters)
+  Target,     ///< the requested count was reached
+  MaxError,   ///< the next operation would exceed `max_error`
+  Exhausted,  ///< every remaining operation is refused by a guarantee (see the counters)
 };
 
 struct DecimateStats {
   std::size_t input_triangles = 0;
   std::size_t output_triangles = 0;
   std::size_t output_points = 0;
-  std::size_t operations = 0;        ///< collapses or removals done
-  double max_error = 0;              ///< largest error of an accepted operation (data units)
+  std::size_t operations = 0;  ///< collapses or removals done
+  double max_error = 0;        ///< largest error of an accepted operation (data units)
   DecimateStop stop = DecimateStop::Target;
-  std::size_t locked_vertices = 0;   ///< by mask or non-manifold input
-  std::size_t refused_topology = 0;  ///< candidates refused by the link condition / topology
-  std::size_t refused_flip = 0;      ///< refused for turning a normal too far
+  std::size_t locked_vertices = 0;       ///< by mask or non-manifold input
+  std::size_t refused_topology = 0;      ///< candidates refused by the link condition / topology
+  std::size_t refused_flip = 0;          ///< refused for turning a normal too far
   std::size_t refused_intersection = 0;  ///< refused for creating a self-intersection
 };
 
