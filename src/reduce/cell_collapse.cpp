@@ -12,9 +12,6 @@
 namespace isoforge::reduce {
 namespace {
 
-// Rounds over every candidate after the queue runs dry (refusals may have been lifted).
-constexpr int kMaxRounds = 8;
-
 struct Entry {
   double cost;
   Fid f;
@@ -142,8 +139,7 @@ DecimateStats CellCollapser::run() {
   stamp_.assign(mesh_.vertex_count(), 0);
   fill_heap();
   const std::size_t target = prepared_.target;
-  const std::size_t to_remove = stats.input_triangles > target ? stats.input_triangles - target : 0;
-  std::size_t skipped_error = 0, since_fill = 0, refused_since_fill = 0, rounds = 0;
+  RunLoop loop(stats, target, options_.progress);
   for (;;) {
     while (mesh_.live_faces() > target && !heap_.empty()) {
       std::pop_heap(heap_.begin(), heap_.end(), Later{});
@@ -158,26 +154,10 @@ DecimateStats CellCollapser::run() {
       const Candidate c = evaluate(e.f);
       if (!c.valid) continue;
       if (prepared_.max_error > 0 && c.error > prepared_.max_error) {
-        ++skipped_error;
+        loop.skip_for_error();
         continue;
       }
-      switch (mesh_.check_merge(c.group, c.p)) {
-        case Refusal::None:
-          break;
-        case Refusal::Locked:
-        case Refusal::Topology:
-          ++stats.refused_topology;
-          ++refused_since_fill;
-          continue;
-        case Refusal::Flip:
-          ++stats.refused_flip;
-          ++refused_since_fill;
-          continue;
-        case Refusal::Intersection:
-          ++stats.refused_intersection;
-          ++refused_since_fill;
-          continue;
-      }
+      if (!loop.accept(mesh_.check_merge(c.group, c.p))) continue;
       const Quadric q = quadric_[c.group[0]] + quadric_[c.group[1]] + quadric_[c.group[2]];
       const PointQuadric pq = point_[c.group[0]] + point_[c.group[1]] + point_[c.group[2]];
       const double area = area_[c.group[0]] + area_[c.group[1]] + area_[c.group[2]];
@@ -188,8 +168,6 @@ DecimateStats CellCollapser::run() {
       point_[c.group[0]] = pq;
       area_[c.group[0]] = area;
       for (Vid v : c.group) ++stamp_[v];
-      ++stats.operations;
-      ++since_fill;
       stats.max_error = std::max(stats.max_error, c.error);
       for (Fid g : mesh_.faces_of(c.group[0])) {
         const Candidate n = evaluate(g);
@@ -197,26 +175,12 @@ DecimateStats CellCollapser::run() {
         heap_.push_back(entry(g, n));
         std::push_heap(heap_.begin(), heap_.end(), Later{});
       }
-      if ((stats.operations & 2047) == 0 && to_remove > 0) {
-        const double done = static_cast<double>(stats.input_triangles - mesh_.live_faces()) /
-                            static_cast<double>(to_remove);
-        report_progress(options_.progress, 0.1 + 0.85 * std::min(done, 1.0), "decimate");
-      }
+      loop.done(mesh_.live_faces());
     }
-    // Refused candidates may have become possible as their neighbourhoods changed: another
-    // round over every edge, while rounds still collapse something (at most kMaxRounds).
-    if (mesh_.live_faces() <= target || since_fill == 0 || refused_since_fill == 0 ||
-        ++rounds > kMaxRounds) {
-      break;
-    }
-    refused_since_fill = 0;
-    since_fill = 0;
-    skipped_error = 0;
+    if (!loop.another_round(mesh_.live_faces())) break;
     fill_heap();
   }
-  stats.stop = mesh_.live_faces() <= target ? DecimateStop::Target
-               : skipped_error > 0          ? DecimateStop::MaxError
-                                            : DecimateStop::Exhausted;
+  stats.stop = loop.stop(mesh_.live_faces());
   return stats;
 }
 
@@ -224,20 +188,12 @@ DecimateStats CellCollapser::run() {
 
 DecimateResult decimate_cell_collapse(const PolyData& input, Prepared prepared,
                                       const DecimateOptions& options) {
-  EditSettings settings;
-  settings.preserve_topology = options.preserve_topology;
-  settings.max_normal_turn = options.max_normal_turn;
-  settings.check_intersections = options.check_self_intersections;
   EditMesh mesh(std::move(prepared.positions), std::move(prepared.triangles),
-                std::move(prepared.locked), settings);
+                std::move(prepared.locked), edit_settings(options));
   CarriedAttributes attributes(input.point_data);
   CellCollapser collapser(mesh, attributes, prepared, options);
   DecimateStats stats = collapser.run();
-  PolyData output = assemble(mesh, attributes, input.points.type());
-  stats.output_triangles = mesh.live_faces();
-  stats.output_points = output.num_points();
-  report_progress(options.progress, 1.0, "decimate");
-  return {std::move(output), stats};
+  return finish(mesh, attributes, input, stats, options);
 }
 
 }  // namespace isoforge::reduce

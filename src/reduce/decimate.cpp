@@ -258,6 +258,70 @@ PolyData assemble(const EditMesh& mesh, const CarriedAttributes& attributes,
   return out;
 }
 
+EditSettings edit_settings(const DecimateOptions& options) {
+  EditSettings settings;
+  settings.preserve_topology = options.preserve_topology;
+  settings.max_normal_turn = options.max_normal_turn;
+  settings.check_intersections = options.check_self_intersections;
+  return settings;
+}
+
+bool RunLoop::accept(Refusal r) {
+  switch (r) {
+    case Refusal::None:
+      return true;
+    case Refusal::Locked:
+    case Refusal::Topology:
+      ++stats_.refused_topology;
+      break;
+    case Refusal::Flip:
+      ++stats_.refused_flip;
+      break;
+    case Refusal::Intersection:
+      ++stats_.refused_intersection;
+      break;
+  }
+  ++refused_since_fill_;
+  return false;
+}
+
+void RunLoop::done(std::size_t live, const std::atomic<bool>* stop) {
+  ++stats_.operations;
+  ++since_fill_;
+  if ((stats_.operations & 2047) != 0) return;
+  if (stop != nullptr && stop->load(std::memory_order_relaxed)) throw Cancelled("decimate");
+  const std::size_t from = stats_.input_triangles;
+  if (from > target_) {
+    const double f =
+        static_cast<double>(from - std::min(live, from)) / static_cast<double>(from - target_);
+    report_progress(progress_, 0.1 + 0.9 * std::min(f, 1.0), "decimate");
+  }
+}
+
+bool RunLoop::another_round(std::size_t live) {
+  if (live <= target_ || since_fill_ == 0 || refused_since_fill_ == 0 || ++rounds_ > kMaxRounds) {
+    return false;
+  }
+  refused_since_fill_ = 0;
+  since_fill_ = 0;
+  skipped_error_ = 0;
+  return true;
+}
+
+DecimateStop RunLoop::stop(std::size_t live) const {
+  if (live <= target_) return DecimateStop::Target;
+  return skipped_error_ > 0 ? DecimateStop::MaxError : DecimateStop::Exhausted;
+}
+
+DecimateResult finish(const EditMesh& mesh, const CarriedAttributes& attributes,
+                      const PolyData& input, DecimateStats stats, const DecimateOptions& options) {
+  PolyData output = assemble(mesh, attributes, input.points.type());
+  stats.output_triangles = mesh.live_faces();
+  stats.output_points = output.num_points();
+  report_progress(options.progress, 1.0, "decimate");
+  return {std::move(output), stats};
+}
+
 }  // namespace reduce
 
 DecimateResult decimate(const PolyData& input, const DecimateOptions& options) {

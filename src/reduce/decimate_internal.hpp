@@ -2,6 +2,7 @@
 // What the three decimation methods share: the prepared input (triangles, double positions,
 // locks, the stop), the point arrays carried as doubles while vertices merge, and the output.
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -53,6 +54,41 @@ class CarriedAttributes {
 /// carried point arrays.
 [[nodiscard]] PolyData assemble(const EditMesh& mesh, const CarriedAttributes& attributes,
                                 ScalarType point_type);
+
+/// The edit settings `options` ask for.
+[[nodiscard]] EditSettings edit_settings(const DecimateOptions& options);
+
+/// The bookkeeping every method's loop shares: refusals, rounds over every candidate after the
+/// queue runs dry (refusals may have been lifted by later edits: at most kMaxRounds, and only
+/// while a round still edits something), the stop reason and progress.
+class RunLoop {
+ public:
+  static constexpr int kMaxRounds = 8;
+  RunLoop(DecimateStats& stats, std::size_t target, const ProgressCallback& progress)
+      : stats_(stats), target_(target), progress_(progress) {}
+  /// Counts a refusal; true when the edit may go ahead.
+  bool accept(Refusal r);
+  /// Counts a candidate skipped for its error.
+  void skip_for_error() { ++skipped_error_; }
+  /// Counts an edit done, reports progress now and then (`live` faces left; cancels by
+  /// throwing `Cancelled`, also when `stop` is set).
+  void done(std::size_t live, const std::atomic<bool>* stop = nullptr);
+  /// Whether to fill the queue again after it ran dry with `live` faces left.
+  bool another_round(std::size_t live);
+  [[nodiscard]] DecimateStop stop(std::size_t live) const;
+
+ private:
+  DecimateStats& stats_;
+  std::size_t target_;
+  const ProgressCallback& progress_;
+  std::size_t skipped_error_ = 0, since_fill_ = 0, refused_since_fill_ = 0;
+  int rounds_ = 0;
+};
+
+/// The output of a method: the mesh assembled, the counts filled in, progress at 1.
+[[nodiscard]] DecimateResult finish(const EditMesh& mesh, const CarriedAttributes& attributes,
+                                    const PolyData& input, DecimateStats stats,
+                                    const DecimateOptions& options);
 
 DecimateResult decimate_quadric(const PolyData& input, Prepared prepared,
                                 const DecimateOptions& options);

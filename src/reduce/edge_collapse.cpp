@@ -19,9 +19,6 @@
 namespace isoforge::reduce {
 namespace {
 
-// Rounds over every candidate after the queue runs dry (refusals may have been lifted).
-constexpr int kMaxRounds = 8;
-
 // 16 bytes, so four entries share a cache line. Stamps only grow, so the sum of the two
 // vertices' stamps changes whenever either does: one field tells a stale entry.
 struct Entry {
@@ -194,8 +191,7 @@ DecimateStats Collapser::run() {
   fill_heap();
   report_progress(progress_, 0.1, "decimate");
   const std::size_t target = target_;
-  const std::size_t to_remove = stats.input_triangles > target ? stats.input_triangles - target : 0;
-  std::size_t skipped_error = 0, since_fill = 0, refused_since_fill = 0, rounds = 0;
+  RunLoop loop(stats, target, progress_);
   for (;;) {
     while (mesh_.live_faces() > target && !heap_.empty()) {
       std::pop_heap(heap_.begin(), heap_.end(), Later{});
@@ -205,27 +201,11 @@ DecimateStats Collapser::run() {
       const Candidate c = evaluate(e.u, e.v);
       if (!c.valid) continue;
       if (prepared_.max_error > 0 && c.error > prepared_.max_error) {
-        ++skipped_error;
+        loop.skip_for_error();
         continue;
       }
       const std::array<Vid, 2> group{c.keep, c.drop};
-      switch (mesh_.check_merge(group, c.p)) {
-        case Refusal::None:
-          break;
-        case Refusal::Locked:
-        case Refusal::Topology:
-          ++stats.refused_topology;
-          ++refused_since_fill;
-          continue;
-        case Refusal::Flip:
-          ++stats.refused_flip;
-          ++refused_since_fill;
-          continue;
-        case Refusal::Intersection:
-          ++stats.refused_intersection;
-          ++refused_since_fill;
-          continue;
-      }
+      if (!loop.accept(mesh_.check_merge(group, c.p))) continue;
       const Quadric q = quadric_[c.keep] + quadric_[c.drop];
       const PointQuadric pq = point_[c.keep] + point_[c.drop];
       mesh_.merge(group, c.p);
@@ -237,52 +217,19 @@ DecimateStats Collapser::run() {
       area_[c.keep] += area_[c.drop];
       ++stamp_[c.keep];
       ++stamp_[c.drop];
-      ++stats.operations;
-      ++since_fill;
       stats.max_error = std::max(stats.max_error, c.error);
       push_edges_of(c.keep);
-      if ((stats.operations & 4095) == 0) {
-        if (stop_flag_ != nullptr && stop_flag_->load(std::memory_order_relaxed)) {
-          throw Cancelled("decimate");
-        }
-        if (to_remove > 0) {
-          const double done = static_cast<double>(stats.input_triangles - mesh_.live_faces()) /
-                              static_cast<double>(to_remove);
-          report_progress(progress_, 0.1 + 0.9 * std::min(done, 1.0), "decimate");
-        }
-      }
+      loop.done(mesh_.live_faces(), stop_flag_);
     }
-    // Refused candidates may have become possible as their neighbourhoods changed: another
-    // round over every edge, while rounds still collapse something (at most kMaxRounds).
-    if (mesh_.live_faces() <= target || since_fill == 0 || refused_since_fill == 0 ||
-        ++rounds > kMaxRounds) {
-      break;
-    }
-    refused_since_fill = 0;
-    since_fill = 0;
-    skipped_error = 0;
+    if (!loop.another_round(mesh_.live_faces())) break;
     fill_heap();
   }
-  if (mesh_.live_faces() <= target) {
-    stats.stop = DecimateStop::Target;
-  } else if (skipped_error > 0) {
-    stats.stop = DecimateStop::MaxError;
-  } else {
-    stats.stop = DecimateStop::Exhausted;
-  }
+  stats.stop = loop.stop(mesh_.live_faces());
   return stats;
 }
 
 // Runs below this many triangles are not partitioned (the second core would not pay).
 constexpr std::size_t kPartitionMinFaces = 150'000;
-
-EditSettings edit_settings(const DecimateOptions& options) {
-  EditSettings settings;
-  settings.preserve_topology = options.preserve_topology;
-  settings.max_normal_turn = options.max_normal_turn;
-  settings.check_intersections = options.check_self_intersections;
-  return settings;
-}
 
 void add_stats(DecimateStats& into, const DecimateStats& s) {
   into.operations += s.operations;
@@ -461,11 +408,7 @@ DecimateResult decimate_quadric(const PolyData& input, Prepared prepared,
   const DecimateStats last = collapser.run();
   add_stats(stats, last);
   stats.stop = last.stop;
-  PolyData output = assemble(mesh, attributes, input.points.type());
-  stats.output_triangles = mesh.live_faces();
-  stats.output_points = output.num_points();
-  report_progress(options.progress, 1.0, "decimate");
-  return {std::move(output), stats};
+  return finish(mesh, attributes, input, stats, options);
 }
 
 }  // namespace isoforge::reduce

@@ -283,6 +283,19 @@ bool EditMesh::intersects(std::span<const Tri> faces, std::span<const std::array
   return hit;
 }
 
+void EditMesh::gather_faces(std::span<const Vid> group) {
+  ++stamp_;
+  touched_.clear();
+  for (Vid s : group) {
+    for (Fid f : vertex_faces_[s]) {
+      if (mark_[f] != stamp_) {
+        mark_[f] = stamp_;
+        touched_.push_back(f);
+      }
+    }
+  }
+}
+
 Refusal EditMesh::check_merge(std::span<const Vid> group, const Vec3& p) {
   const Vid keep = group[0];
   auto member = [&](Vid v) { return std::find(group.begin(), group.end(), v) != group.end(); };
@@ -299,16 +312,7 @@ Refusal EditMesh::check_merge(std::span<const Vid> group, const Vec3& p) {
   if (settings_.preserve_topology) {
     for (Vid s : group) border = border || border_[s] != 0;
   }
-  ++stamp_;
-  touched_.clear();
-  for (Vid s : group) {
-    for (Fid f : vertex_faces_[s]) {
-      if (mark_[f] != stamp_) {
-        mark_[f] = stamp_;
-        touched_.push_back(f);
-      }
-    }
-  }
+  gather_faces(group);
   new_faces_.clear();
   new_pos_.clear();
   chain_.clear();
@@ -382,16 +386,7 @@ void EditMesh::detach(Fid f, Vid v) {
 std::size_t EditMesh::merge(std::span<const Vid> group, const Vec3& p) {
   const Vid keep = group[0];
   auto member = [&](Vid v) { return std::find(group.begin(), group.end(), v) != group.end(); };
-  ++stamp_;
-  touched_.clear();
-  for (Vid s : group) {
-    for (Fid f : vertex_faces_[s]) {
-      if (mark_[f] != stamp_) {
-        mark_[f] = stamp_;
-        touched_.push_back(f);
-      }
-    }
-  }
+  gather_faces(group);
   if (use_grid_) {
     for (Fid f : touched_) grid_remove(f);
   }

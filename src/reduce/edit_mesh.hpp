@@ -101,6 +101,8 @@ class EditMesh {
   void grid_insert(Fid f);
   void grid_remove(Fid f);
   void detach(Fid f, Vid v);
+  /// The faces of `group`'s vertices into touched_, each once, marked with a new stamp_.
+  void gather_faces(std::span<const Vid> group);
   /// Whether any of `faces` (with positions `pos`) intersects another of them or a live face
   /// outside `excluded` (faces being removed or rewritten, marked with `mark_`).
   [[nodiscard]] bool intersects(std::span<const Tri> faces,

@@ -18,9 +18,6 @@
 namespace isoforge::reduce {
 namespace {
 
-// Rounds over every candidate after the queue runs dry (refusals may have been lifted).
-constexpr int kMaxRounds = 8;
-
 struct Entry {
   double error;
   Vid v;
@@ -273,8 +270,7 @@ DecimateStats Remover::run() {
   }
   std::make_heap(heap_.begin(), heap_.end(), Later{});
   const std::size_t target = prepared_.target;
-  const std::size_t to_remove = stats.input_triangles > target ? stats.input_triangles - target : 0;
-  std::size_t skipped_error = 0, since_fill = 0, refused_since_fill = 0, rounds = 0;
+  RunLoop loop(stats, target, options_.progress);
   std::vector<Tri> triangles;
   for (;;) {
     while (mesh_.live_faces() > target && !heap_.empty()) {
@@ -286,7 +282,7 @@ DecimateStats Remover::run() {
       if (plan.kind == Kind::Keep) continue;
       const double error = plan.error + accumulated_[e.v];
       if (prepared_.max_error > 0 && error > prepared_.max_error) {
-        ++skipped_error;
+        loop.skip_for_error();
         continue;
       }
       triangles.clear();
@@ -307,32 +303,10 @@ DecimateStats Remover::run() {
       } else {
         made = triangulate(plan.loop, plan.normal, triangles);
       }
-      if (!made) {
-        ++stats.refused_topology;
-        ++refused_since_fill;
-        continue;
-      }
-      switch (mesh_.check_replace(plan.fan, triangles, plan.normal)) {
-        case Refusal::None:
-          break;
-        case Refusal::Locked:
-        case Refusal::Topology:
-          ++stats.refused_topology;
-          ++refused_since_fill;
-          continue;
-        case Refusal::Flip:
-          ++stats.refused_flip;
-          ++refused_since_fill;
-          continue;
-        case Refusal::Intersection:
-          ++stats.refused_intersection;
-          ++refused_since_fill;
-          continue;
-      }
+      if (!made && !loop.accept(Refusal::Topology)) continue;
+      if (!loop.accept(mesh_.check_replace(plan.fan, triangles, plan.normal))) continue;
       mesh_.replace(plan.fan, triangles);
       ++stamp_[e.v];
-      ++stats.operations;
-      ++since_fill;
       stats.max_error = std::max(stats.max_error, error);
       // The surface near the hole has moved by up to `error`: its vertices inherit it, so
       // errors add up where removals pile up (vtkDecimatePro's accumulated error).
@@ -341,27 +315,13 @@ DecimateStats Remover::run() {
         ++stamp_[x];
         push(x);
       }
-      if ((stats.operations & 2047) == 0 && to_remove > 0) {
-        const double done = static_cast<double>(stats.input_triangles - mesh_.live_faces()) /
-                            static_cast<double>(to_remove);
-        report_progress(options_.progress, 0.1 + 0.85 * std::min(done, 1.0), "decimate");
-      }
+      loop.done(mesh_.live_faces());
     }
-    // Refused candidates may have become possible as their neighbourhoods changed: another
-    // round over every edge, while rounds still collapse something (at most kMaxRounds).
-    if (mesh_.live_faces() <= target || since_fill == 0 || refused_since_fill == 0 ||
-        ++rounds > kMaxRounds) {
-      break;
-    }
-    refused_since_fill = 0;
-    since_fill = 0;
-    skipped_error = 0;
+    if (!loop.another_round(mesh_.live_faces())) break;
     heap_.clear();
     for (Vid v = 0; v < nv; ++v) push(v);
   }
-  stats.stop = mesh_.live_faces() <= target ? DecimateStop::Target
-               : skipped_error > 0          ? DecimateStop::MaxError
-                                            : DecimateStop::Exhausted;
+  stats.stop = loop.stop(mesh_.live_faces());
   return stats;
 }
 
@@ -369,20 +329,12 @@ DecimateStats Remover::run() {
 
 DecimateResult decimate_vertex_removal(const PolyData& input, Prepared prepared,
                                        const DecimateOptions& options) {
-  EditSettings settings;
-  settings.preserve_topology = options.preserve_topology;
-  settings.max_normal_turn = options.max_normal_turn;
-  settings.check_intersections = options.check_self_intersections;
   EditMesh mesh(std::move(prepared.positions), std::move(prepared.triangles),
-                std::move(prepared.locked), settings);
+                std::move(prepared.locked), edit_settings(options));
   CarriedAttributes attributes(input.point_data);
   Remover remover(mesh, prepared, options);
   DecimateStats stats = remover.run();
-  PolyData output = assemble(mesh, attributes, input.points.type());
-  stats.output_triangles = mesh.live_faces();
-  stats.output_points = output.num_points();
-  report_progress(options.progress, 1.0, "decimate");
-  return {std::move(output), stats};
+  return finish(mesh, attributes, input, stats, options);
 }
 
 }  // namespace isoforge::reduce
