@@ -21,6 +21,14 @@ Points::Points(DataArray array) : data_(std::move(array)) {
   }
 }
 
+Vec3 Points::stored(const Vec3& p) const {
+  if (data_.type() != ScalarType::Float32) return p;
+  // Through memory: GCC 12 at -O3 was seen to drop a double -> float -> double round trip.
+  volatile float x = static_cast<float>(p.x), y = static_cast<float>(p.y),
+                 z = static_cast<float>(p.z);
+  return {static_cast<double>(x), static_cast<double>(y), static_cast<double>(z)};
+}
+
 void Points::set(std::size_t i, const Vec3& p) {
   if (data_.type() == ScalarType::Float32) {
     float* q = data_.values<float>().data() + 3 * i;

@@ -602,7 +602,6 @@ RefineResult refine_mesh(const PolyData& original, const PolyData& simplified,
   const std::vector<Tri> tris = simplified_triangles(simplified);
   std::vector<Vec3> pos = finite_points(simplified, "simplified");
   const std::vector<char> fixed = fixed_vertices(simplified, tris, o);
-  const bool single = simplified.points.type() == ScalarType::Float32;
   report_progress(o.progress, 0, "refine_mesh");
 
   // The original: locator, triangle normals, samples.
@@ -661,7 +660,7 @@ RefineResult refine_mesh(const PolyData& original, const PolyData& simplified,
       std::vector<Vec3> trial(pos.size());
       for (std::size_t i = 0; i < pos.size(); ++i) {
         Vec3 p = fixed[i] ? pos[i] : pos[i] + scale * (solved[i] - pos[i]);
-        if (single) p = {double(float(p.x)), double(float(p.y)), double(float(p.z))};
+        p = simplified.points.stored(p);
         trial[i] = is_finite(p) ? p : pos[i];
       }
       stats.rejected_moves += rejector.run(pos, trial);

@@ -89,6 +89,7 @@ Candidate CellCollapser::evaluate(Fid f) const {
       }
     }
   }
+  c.p = prepared_.points->stored(c.p);  // checked and written as stored
   const double geometric = planes(c.p);
   const double area = area_[t[0]] + area_[t[1]] + area_[t[2]];
   c.cost = q(c.p);

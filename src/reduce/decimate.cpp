@@ -130,6 +130,7 @@ Prepared prepare(const PolyData& input, const DecimateOptions& o) {
     box.extend(p.positions[i]);
   }
   p.diagonal = norm(box.max - box.min);
+  p.points = &input.points;
   p.locked.assign(n, 0);
   if (!o.lock_array.empty()) {
     const DataArray* mask = input.point_data.find(o.lock_array);

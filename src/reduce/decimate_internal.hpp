@@ -20,6 +20,9 @@ struct Prepared {
   double diagonal = 0;
   std::size_t target = 0;  ///< stop at or below this many triangles (0: only the error stops)
   double max_error = 0;    ///< absolute; 0 = none
+  /// The input's points: placements are rounded to their precision (`Points::stored`)
+  /// before they are checked, so the checks decide on the coordinates that are written.
+  const Points* points = nullptr;
 };
 
 /// Validates `options`, triangulates `input`, locks vertices (mask, non-manifold) and turns the

@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <cstdlib>
 #include <numbers>
 #include <optional>
 
@@ -120,6 +119,7 @@ Candidate Collapser::evaluate(Vid u, Vid v) const {
       }
     }
   }
+  c.p = prepared_.points->stored(c.p);  // checked and written as stored
   const double geometric = planes(c.p);
   c.cost = q(c.p);
   if (attribute_scale2_ > 0) {

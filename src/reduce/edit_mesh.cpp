@@ -44,15 +44,21 @@ FacePlanes planes_of(const std::array<Vec3, 3>& p, const Tri& id) {
   FacePlanes f;
   f.p = p;
   f.id = id;
-  f.n = cross(p[1] - p[0], p[2] - p[0]);
+  const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0];
+  f.n = cross(e1, e2);
   if (!(norm1(f.n) > 0)) return f;
   f.valid = true;
+  // Rounding errors follow the inputs' magnitudes, not the results': a sliver's normal is
+  // small and its direction poorly known, so its bounds are taken from its edges' lengths.
+  f.n_scale = norm1(e1) * norm1(e2);
   for (int k = 0; k < 3; ++k) {
     const Vec3& a = p[k];
     const Vec3 r = p[(k + 2) % 3] - a;
-    Vec3 m = cross(p[(k + 1) % 3] - a, f.n);
+    const Vec3 e = p[(k + 1) % 3] - a;
+    Vec3 m = cross(e, f.n);
+    f.m_scale[k] = norm1(e) * f.n_scale;
     const double inner = dot(m, r);
-    const double bound = kSeparationMargin * norm1(m) * norm1(r);
+    const double bound = kSeparationMargin * f.m_scale[k] * norm1(r);
     f.usable[k] = std::abs(inner) > bound;
     f.m[k] = inner > 0 ? -m : m;  // outward
   }
@@ -60,9 +66,10 @@ FacePlanes planes_of(const std::array<Vec3, 3>& p, const Tri& id) {
 }
 
 // Whether all vertices of q not in {skip0, skip1, skip2} are strictly on the positive (sign
-// +1) or negative (-1) side of the plane through `origin` with normal w; 0 if neither is sure.
-int side_of(const Vec3& w, const Vec3& origin, const std::array<Vec3, 3>& q, const Tri& qid,
-            Vid skip0, Vid skip1, Vid skip2) {
+// +1) or negative (-1) side of the plane through `origin` with normal w (computed from inputs
+// of magnitude `w_scale`: its components are known to a few ulps of that); 0 if not sure.
+int side_of(const Vec3& w, double w_scale, const Vec3& origin, const std::array<Vec3, 3>& q,
+            const Tri& qid, Vid skip0, Vid skip1, Vid skip2) {
   double lo = std::numeric_limits<double>::infinity(), hi = -lo, scale = 0;
   bool any = false;
   for (int k = 0; k < 3; ++k) {
@@ -75,16 +82,17 @@ int side_of(const Vec3& w, const Vec3& origin, const std::array<Vec3, 3>& q, con
     any = true;
   }
   if (!any) return 0;
-  const double bound = kSeparationMargin * norm1(w) * scale;
+  const double bound = kSeparationMargin * w_scale * scale;
   return lo > bound ? 1 : (hi < -bound ? -1 : 0);
 }
 
 bool separated_by(const FacePlanes& f, const std::array<Vec3, 3>& q, const Tri& qid) {
   if (!f.valid) return false;
-  if (side_of(f.n, f.p[0], q, qid, f.id[0], f.id[1], f.id[2]) != 0) return true;
+  if (side_of(f.n, f.n_scale, f.p[0], q, qid, f.id[0], f.id[1], f.id[2]) != 0) return true;
   constexpr Vid kNoVertex = ~Vid{0};
   for (int k = 0; k < 3; ++k) {
-    if (f.usable[k] && side_of(f.m[k], f.p[k], q, qid, f.id[k], f.id[(k + 1) % 3], kNoVertex) > 0) {
+    if (f.usable[k] &&
+        side_of(f.m[k], f.m_scale[k], f.p[k], q, qid, f.id[k], f.id[(k + 1) % 3], kNoVertex) > 0) {
       return true;
     }
   }

@@ -27,6 +27,8 @@ struct FacePlanes {
   Tri id{};
   Vec3 n;
   std::array<Vec3, 3> m;
+  double n_scale = 0;               // the magnitude n is computed from (|e1|₁ |e2|₁)
+  std::array<double, 3> m_scale{};  // the same for m
   std::array<bool, 3> usable{};
   bool valid = false;
 };

@@ -35,6 +35,9 @@ class Points {
     return {p[0], p[1], p[2]};
   }
   void set(std::size_t i, const Vec3& p);
+  /// p as this array stores it (rounded to float for Float32): what `set` then `operator[]`
+  /// give back. Algorithms that decide on coordinates (exact predicates) decide on these.
+  [[nodiscard]] Vec3 stored(const Vec3& p) const;
   void push_back(const Vec3& p);
   void resize(std::size_t n) { data_.resize(n); }
   void reserve(std::size_t n) { data_.reserve(n); }
