@@ -79,15 +79,7 @@ Candidate CellCollapser::evaluate(Fid f) const {
     c.p = mesh_.position(t[keep]);
   } else {
     const Vec3 centroid = (a + b + d) / 3.0;
-    c.p = minimize(q, centroid);
-    double best = q(c.p);
-    for (const Vec3& x : {a, b, d, centroid}) {
-      const double e = q(x);
-      if (e < best) {
-        best = e;
-        c.p = x;
-      }
-    }
+    c.p = place(q, centroid, {a, b, d, centroid});
   }
   c.p = prepared_.points->stored(c.p);  // checked and written as stored
   const double geometric = planes(c.p);

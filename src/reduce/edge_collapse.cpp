@@ -109,15 +109,7 @@ Candidate Collapser::evaluate(Vid u, Vid v) const {
     c.keep = u;
     c.drop = v;
     const Vec3 mid = 0.5 * (pu + pv);
-    c.p = minimize(q, mid);
-    double best = q(c.p);
-    for (const Vec3& x : {pu, pv, mid}) {
-      const double e = q(x);
-      if (e < best) {
-        best = e;
-        c.p = x;
-      }
-    }
+    c.p = place(q, mid, {pu, pv, mid});
   }
   c.p = prepared_.points->stored(c.p);  // checked and written as stored
   const double geometric = planes(c.p);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <initializer_list>
 #include <vector>
 
 #include "isoforge/core/progress.hpp"
@@ -108,6 +109,22 @@ Vec3 minimize(const Quadric& q, const Vec3& anchor, double relative_cutoff = 1e-
 /// placements measurably, large enough to order collapses on flat regions (where every plane
 /// error is zero) by edge length, so fans stay small instead of sweeping through the mesh.
 inline constexpr double kPointQuadricWeight = 1e-7;
+
+/// The placement of a merged vertex: `minimize(q, anchor)`, unless one of `alternatives` (the
+/// merged vertices' positions, the anchor) has a smaller q — a safeguard against rounding.
+[[nodiscard]] inline Vec3 place(const Quadric& q, const Vec3& anchor,
+                                std::initializer_list<Vec3> alternatives) {
+  Vec3 p = minimize(q, anchor);
+  double best = q(p);
+  for (const Vec3& x : alternatives) {
+    const double e = q(x);
+    if (e < best) {
+      best = e;
+      p = x;
+    }
+  }
+  return p;
+}
 
 /// The quadric of every vertex: its faces' planes weighted by area, a point quadric at the
 /// vertex in `points` (kPointQuadricWeight), plus (with
