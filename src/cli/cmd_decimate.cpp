@@ -152,6 +152,10 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
                  "{} self-intersection; {} vertices locked\n",
                  stats.operations, stats.max_error, stats.refused_topology, stats.refused_flip,
                  stats.refused_intersection, stats.locked_vertices);
+      if (stats.intersection_reruns > 0) {
+        fmt::print(stderr, "  redone {} time(s) with more merges tested for intersections\n",
+                   stats.intersection_reruns);
+      }
       if (args->refine) {
         fmt::print(stderr,
                    "  refined in {:.3f} s: RMS {:.4g} -> {:.4g}, Hausdorff {:.4g} -> {:.4g} "

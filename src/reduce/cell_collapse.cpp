@@ -179,14 +179,15 @@ DecimateStats CellCollapser::run() {
 
 }  // namespace
 
-DecimateResult decimate_cell_collapse(const PolyData& input, Prepared prepared,
-                                      const DecimateOptions& options) {
-  EditMesh mesh(std::move(prepared.positions), std::move(prepared.triangles),
-                std::move(prepared.locked), edit_settings(options));
-  CarriedAttributes attributes(input.point_data);
-  CellCollapser collapser(mesh, attributes, prepared, options);
-  DecimateStats stats = collapser.run();
-  return finish(mesh, attributes, input, stats, options);
+MethodRun decimate_cell_collapse(const PolyData& input, const Prepared& prepared,
+                                 const DecimateOptions& options, const EditSettings& settings) {
+  MethodRun run;
+  run.mesh.emplace(prepared.positions, prepared.triangles, prepared.locked, settings);
+  run.attributes.emplace(input.point_data);
+  EditMesh& mesh = *run.mesh;
+  CellCollapser collapser(mesh, *run.attributes, prepared, options);
+  run.stats = collapser.run();
+  return run;
 }
 
 }  // namespace isoforge::reduce

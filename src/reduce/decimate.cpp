@@ -8,6 +8,7 @@
 
 #include "isoforge/core/mesh_topology.hpp"
 #include "isoforge/core/subset.hpp"
+#include "isoforge/spatial/self_intersections.hpp"
 #include "reduce/decimate_internal.hpp"
 
 namespace isoforge {
@@ -325,17 +326,121 @@ DecimateResult finish(const EditMesh& mesh, const CarriedAttributes& attributes,
 
 }  // namespace reduce
 
-DecimateResult decimate(const PolyData& input, const DecimateOptions& options) {
-  reduce::Prepared prepared = reduce::prepare(input, options);
-  switch (options.method) {
-    case DecimateMethod::Quadric:
-      return reduce::decimate_quadric(input, std::move(prepared), options);
-    case DecimateMethod::VertexRemoval:
-      return reduce::decimate_vertex_removal(input, std::move(prepared), options);
-    case DecimateMethod::CellCollapse:
-      return reduce::decimate_cell_collapse(input, std::move(prepared), options);
+namespace reduce {
+namespace {
+
+// Deferred runs before one with every edit tested (docs/algorithms/decimation.md,
+// "Certification").
+constexpr int kDeferredRuns = 3;
+
+// The pairs of live faces of `mesh` that intersect (exact) where one face was made by an
+// untested merge: the only pairs that can be new (a tested edit met no face it intersects, and
+// the faces it made kept their place until a later edit made them again).
+std::vector<std::array<Fid, 2>> untested_intersections(const EditMesh& mesh,
+                                                       const ProgressCallback& progress) {
+  PolyData live;
+  live.points = Points(mesh.vertex_count(), ScalarType::Float64);
+  for (Vid v = 0; v < mesh.vertex_count(); ++v) live.points.set(v, mesh.position(v));
+  std::vector<Fid> face_of;
+  face_of.reserve(mesh.live_faces());
+  Buffer<Index> offsets, connectivity;
+  offsets.reserve(mesh.live_faces() + 1);
+  connectivity.reserve(3 * mesh.live_faces());
+  offsets.push_back(0);
+  for (Fid f = 0; f < mesh.face_count(); ++f) {
+    if (!mesh.face_alive(f)) continue;
+    face_of.push_back(f);
+    for (Vid v : mesh.face(f)) connectivity.push_back(v);
+    offsets.push_back(static_cast<Index>(connectivity.size()));
   }
-  throw Error("decimate: unknown method");
+  live.polys = CellArray(std::move(offsets), std::move(connectivity));
+  SelfIntersectionOptions si;
+  si.progress = progress;
+  std::vector<std::array<Fid, 2>> out;
+  for (const auto& [i, j] : self_intersections(live, si)) {
+    const Fid a = face_of[static_cast<std::size_t>(i)], b = face_of[static_cast<std::size_t>(j)];
+    if (mesh.face_unchecked(a) || mesh.face_unchecked(b)) out.push_back({a, b});
+  }
+  return out;
+}
+
+// Marks, in `near`, every input vertex merged into a vertex of the faces in `pairs` or of
+// their neighbours: the next run tests the merges that made those faces.
+void mark_near(const MethodRun& run, const std::vector<std::array<Fid, 2>>& pairs,
+               std::vector<std::uint8_t>& near) {
+  const EditMesh& mesh = *run.mesh;
+  const std::size_t nv = mesh.vertex_count();
+  std::vector<std::uint8_t> hit(nv, 0);
+  std::vector<Vid> ring;
+  for (const auto& pair : pairs) {
+    for (Fid f : pair) {
+      for (Vid v : mesh.face(f)) {
+        hit[v] = 1;
+        mesh.neighbours(v, ring);
+        for (Vid w : ring) hit[w] = 1;
+      }
+    }
+  }
+  std::vector<Vid> merged = run.merged_into;
+  for (Vid v = 0; v < nv; ++v) {
+    if (hit[find_root(merged, v)] != 0) near[v] = 1;
+  }
+}
+
+}  // namespace
+}  // namespace reduce
+
+DecimateResult decimate(const PolyData& input, const DecimateOptions& options) {
+  using namespace reduce;
+  const Prepared prepared = prepare(input, options);
+  MergeLog log;  // the previous run's merges (edge collapse), redone by the next one
+  std::size_t reruns = 0;
+  auto method = [&](const DecimateOptions& o, const EditSettings& settings) {
+    switch (options.method) {
+      case DecimateMethod::Quadric:
+        return decimate_quadric(input, prepared, o, settings, reruns > 0 ? &log : nullptr);
+      case DecimateMethod::VertexRemoval:
+        return decimate_vertex_removal(input, prepared, o, settings);
+      case DecimateMethod::CellCollapse:
+        return decimate_cell_collapse(input, prepared, o, settings);
+    }
+    throw Error("decimate: unknown method");
+  };
+  // Merges are tested for intersections once, on the finished mesh, and redone with the test
+  // where that finds one (vertex removal tests as it goes).
+  const bool defer =
+      options.check_self_intersections && options.method != DecimateMethod::VertexRemoval;
+  std::vector<std::uint8_t> near;
+  double from = 0, width = defer ? 0.9 : 1.0;
+  for (int attempt = 0;; ++attempt) {
+    EditSettings settings = edit_settings(options);
+    settings.defer_intersections = defer && attempt < kDeferredRuns;
+    if (settings.defer_intersections) settings.check_near = near;
+    DecimateOptions o = options;
+    o.progress = progress_range(options.progress, from, from + width);
+    MethodRun run = method(o, settings);
+    run.stats.intersection_reruns = reruns;
+    if (settings.defer_intersections) {
+      const auto pairs = untested_intersections(
+          *run.mesh, progress_range(options.progress, from + width, from + 1.05 * width));
+      if (!pairs.empty()) {
+        if (run.merged_into.empty()) {
+          run.merged_into.resize(run.mesh->vertex_count());
+          for (Vid v = 0; v < run.merged_into.size(); ++v) {
+            run.merged_into[v] = run.mesh->merged_into(v);
+          }
+        }
+        near.resize(run.mesh->vertex_count(), 0);
+        mark_near(run, pairs, near);
+        log = std::move(run.log);
+        ++reruns;
+        from += 1.05 * width;
+        width = 0.5 * (1 - from);
+        continue;
+      }
+    }
+    return finish(*run.mesh, *run.attributes, input, run.stats, options);
+  }
 }
 
 const char* to_string(DecimateMethod method) {

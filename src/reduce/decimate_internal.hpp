@@ -2,9 +2,11 @@
 // What the three decimation methods share: the prepared input (triangles, double positions,
 // locks, the stop), the point arrays carried as doubles while vertices merge, and the output.
 
+#include <array>
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "isoforge/reduce/decimate.hpp"
@@ -88,16 +90,50 @@ class RunLoop {
   int rounds_ = 0;
 };
 
-/// The output of a method: the mesh assembled, the counts filled in, progress at 1.
-[[nodiscard]] DecimateResult finish(const EditMesh& mesh, const CarriedAttributes& attributes,
-                                    const PolyData& input, DecimateStats stats,
-                                    const DecimateOptions& options);
+/// One merge of an edge collapse run, as done: enough to redo it without choosing it again.
+struct MergeOp {
+  Vid keep = 0, drop = 0;
+  Vec3 p;
+  double t = 0;      ///< where p projects on keep→drop (for the point arrays)
+  double error = 0;  ///< its error (for the stats)
+};
 
-DecimateResult decimate_quadric(const PolyData& input, Prepared prepared,
-                                const DecimateOptions& options);
-DecimateResult decimate_vertex_removal(const PolyData& input, Prepared prepared,
-                                       const DecimateOptions& options);
-DecimateResult decimate_cell_collapse(const PolyData& input, Prepared prepared,
-                                      const DecimateOptions& options);
+/// The merges of an edge collapse run, per part: the two halves of a partitioned run and the
+/// joined (or only) run. A later run with more merges tested redoes them in order — testing
+/// those it must — up to the first one refused, and chooses afresh from there on.
+struct MergeLog {
+  std::array<std::vector<MergeOp>, 3> parts;
+};
+
+/// A method's finished run: the edited mesh, the carried point arrays and the counts.
+struct MethodRun {
+  std::optional<EditMesh> mesh;
+  std::optional<CarriedAttributes> attributes;
+  DecimateStats stats;
+  /// Per input vertex, the vertex it was merged into (itself if none); filled by runs with
+  /// deferred intersection tests.
+  std::vector<Vid> merged_into;
+  /// The merges done (edge collapse, deferred runs only).
+  MergeLog log;
+};
+
+/// The vertex that `v` ended in, following `merged_into` (compressing the paths it walks).
+inline Vid find_root(std::vector<Vid>& merged_into, Vid v) {
+  while (merged_into[v] != v) {
+    merged_into[v] = merged_into[merged_into[v]];
+    v = merged_into[v];
+  }
+  return v;
+}
+
+/// The three methods. Each runs on a copy of `prepared` with `settings` (edit_settings, plus
+/// the deferred-test marks of `decimate`'s certification loop); `options.progress` covers the run.
+MethodRun decimate_quadric(const PolyData& input, const Prepared& prepared,
+                           const DecimateOptions& options, const EditSettings& settings,
+                           const MergeLog* replay = nullptr);
+MethodRun decimate_vertex_removal(const PolyData& input, const Prepared& prepared,
+                                  const DecimateOptions& options, const EditSettings& settings);
+MethodRun decimate_cell_collapse(const PolyData& input, const Prepared& prepared,
+                                 const DecimateOptions& options, const EditSettings& settings);
 
 }  // namespace isoforge::reduce

@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "isoforge/core/parallel.hpp"
+#include "reduce/dary_heap.hpp"
 #include "reduce/decimate_internal.hpp"
 #include "reduce/quadric.hpp"
 
@@ -57,7 +58,8 @@ class Collapser {
  public:
   Collapser(EditMesh& mesh, CarriedAttributes& attributes, Quadrics& quadrics,
             const Prepared& prepared, const DecimateOptions& options, std::size_t target,
-            ProgressCallback progress, const std::atomic<bool>* stop_flag = nullptr)
+            ProgressCallback progress, const std::atomic<bool>* stop_flag = nullptr,
+            const std::vector<MergeOp>* replay = nullptr, std::vector<MergeOp>* record = nullptr)
       : mesh_(mesh),
         attributes_(attributes),
         quadric_(quadrics.planes),
@@ -66,14 +68,21 @@ class Collapser {
         prepared_(prepared),
         target_(target),
         progress_(std::move(progress)),
-        stop_flag_(stop_flag) {
+        stop_flag_(stop_flag),
+        replay_(replay),
+        record_(record) {
     const double w = options.attribute_weight * prepared.diagonal;
     attribute_scale2_ = attributes.empty() ? 0 : w * w;
   }
 
   DecimateStats run();
+  /// Whether the whole replay log was redone (false: a merge in it was refused, or no log).
+  [[nodiscard]] bool replayed_all() const { return replayed_all_; }
 
  private:
+  void apply(Vid keep, Vid drop, const Vec3& p, double t, double error, DecimateStats& stats);
+  /// Redoes the merges of the replay log up to the first one refused; false if one was.
+  bool replay(RunLoop& loop, DecimateStats& stats);
   [[nodiscard]] Candidate evaluate(Vid u, Vid v) const;
   void push_edges_of(Vid v);
   void fill_heap();
@@ -87,9 +96,12 @@ class Collapser {
   std::size_t target_;
   ProgressCallback progress_;
   const std::atomic<bool>* stop_flag_;
+  const std::vector<MergeOp>* replay_;
+  std::vector<MergeOp>* record_;
+  bool replayed_all_ = false;
   double attribute_scale2_ = 0;
   std::vector<std::uint32_t> stamp_;
-  std::vector<Entry> heap_;
+  DaryHeap<Entry, Later> heap_;
   std::vector<Vid> scratch_;
 };
 
@@ -132,8 +144,7 @@ void Collapser::push_edges_of(Vid v) {
     const Vid a = std::min(v, w), b = std::max(v, w);
     const Candidate c = evaluate(a, b);
     if (!c.valid) continue;
-    heap_.push_back({static_cast<float>(c.cost), a, b, stamp_[a] + stamp_[b]});
-    std::push_heap(heap_.begin(), heap_.end(), Later{});
+    heap_.push({static_cast<float>(c.cost), a, b, stamp_[a] + stamp_[b]});
   }
 }
 
@@ -168,27 +179,62 @@ void Collapser::fill_heap() {
       }
     }
   });
-  heap_.clear();
-  heap_.reserve(entries.size() + entries.size() / 2);
+  std::size_t kept = 0;
   for (std::size_t i = 0; i < entries.size(); ++i) {
-    if (ok[i]) heap_.push_back(entries[i]);
+    if (ok[i]) entries[kept++] = entries[i];
   }
-  std::make_heap(heap_.begin(), heap_.end(), Later{});
+  entries.resize(kept);
+  entries.reserve(kept + kept / 2);
+  heap_.assign(std::move(entries));
+}
+
+void Collapser::apply(Vid keep, Vid drop, const Vec3& p, double t, double error,
+                      DecimateStats& stats) {
+  const std::array<Vid, 2> group{keep, drop};
+  const Quadric q = quadric_[keep] + quadric_[drop];
+  const PointQuadric pq = point_[keep] + point_[drop];
+  mesh_.merge(group, p);
+  const std::array<std::size_t, 2> from{keep, drop};
+  const std::array<double, 2> weights{1 - t, t};
+  attributes_.blend(keep, from, weights);
+  quadric_[keep] = q;
+  point_[keep] = pq;
+  area_[keep] += area_[drop];
+  ++stamp_[keep];
+  ++stamp_[drop];
+  stats.max_error = std::max(stats.max_error, error);
+  if (record_ != nullptr) record_->push_back({keep, drop, p, t, error});
+}
+
+bool Collapser::replay(RunLoop& loop, DecimateStats& stats) {
+  // Until a merge is refused the mesh is the one the logged run had at the same step, so the
+  // merges that need no test now are valid as they were; the others are checked.
+  for (const MergeOp& op : *replay_) {
+    if (mesh_.live_faces() <= target_) break;
+    const std::array<Vid, 2> group{op.keep, op.drop};
+    if (mesh_.tests_now(group) && !loop.accept(mesh_.check_merge(group, op.p))) return false;
+    apply(op.keep, op.drop, op.p, op.t, op.error, stats);
+    loop.done(mesh_.live_faces(), stop_flag_);
+  }
+  return true;
 }
 
 DecimateStats Collapser::run() {
   DecimateStats stats;
   stats.input_triangles = mesh_.live_faces();
   stamp_.assign(mesh_.vertex_count(), 0);
-  fill_heap();
-  report_progress(progress_, 0.1, "decimate");
   const std::size_t target = target_;
   RunLoop loop(stats, target, progress_);
+  if (replay_ != nullptr) replayed_all_ = replay(loop, stats);
+  if (mesh_.live_faces() <= target) {
+    stats.stop = loop.stop(mesh_.live_faces());
+    return stats;
+  }
+  fill_heap();
+  report_progress(progress_, 0.1, "decimate");
   for (;;) {
     while (mesh_.live_faces() > target && !heap_.empty()) {
-      std::pop_heap(heap_.begin(), heap_.end(), Later{});
-      const Entry e = heap_.back();
-      heap_.pop_back();
+      const Entry e = heap_.pop();
       if (stamp_[e.u] + stamp_[e.v] != e.stamps) continue;
       const Candidate c = evaluate(e.u, e.v);
       if (!c.valid) continue;
@@ -198,18 +244,7 @@ DecimateStats Collapser::run() {
       }
       const std::array<Vid, 2> group{c.keep, c.drop};
       if (!loop.accept(mesh_.check_merge(group, c.p))) continue;
-      const Quadric q = quadric_[c.keep] + quadric_[c.drop];
-      const PointQuadric pq = point_[c.keep] + point_[c.drop];
-      mesh_.merge(group, c.p);
-      const std::array<std::size_t, 2> from{c.keep, c.drop};
-      const std::array<double, 2> weights{1 - c.t, c.t};
-      attributes_.blend(c.keep, from, weights);
-      quadric_[c.keep] = q;
-      point_[c.keep] = pq;
-      area_[c.keep] += area_[c.drop];
-      ++stamp_[c.keep];
-      ++stamp_[c.drop];
-      stats.max_error = std::max(stats.max_error, c.error);
+      apply(c.keep, c.drop, c.p, c.t, c.error, stats);
       push_edges_of(c.keep);
       loop.done(mesh_.live_faces(), stop_flag_);
     }
@@ -243,10 +278,15 @@ struct Partitioned {
   std::vector<Tri> triangles;
   Quadrics quadrics;
   DecimateStats stats;
+  std::vector<Vid> merged_into;
+  std::vector<std::uint8_t> unchecked;  // per triangle: made by an untested merge
+  bool replayed_all = false;            // both halves redid their whole logs
 };
 
-Partitioned decimate_halves(Prepared& prepared, CarriedAttributes& attributes,
-                            const DecimateOptions& options, const ProgressCallback& progress) {
+Partitioned decimate_halves(const Prepared& prepared, CarriedAttributes& attributes,
+                            const DecimateOptions& options, const EditSettings& base,
+                            const MergeLog* replay, MergeLog* record,
+                            const ProgressCallback& progress) {
   const std::size_t nv = prepared.positions.size();
   Bounds box;
   for (const Tri& t : prepared.triangles) {
@@ -297,13 +337,15 @@ Partitioned decimate_halves(Prepared& prepared, CarriedAttributes& attributes,
   }
 
   Partitioned out;
+  out.merged_into.resize(nv);
   std::array<Quadrics, 2> quadrics;
   std::array<std::optional<EditMesh>, 2> meshes;
   std::array<DecimateStats, 2> stats;
+  std::array<bool, 2> replayed{false, false};
   std::atomic<bool> stop{false};
   auto run_half = [&](int h, const ProgressCallback& report) {
     const auto i = static_cast<std::size_t>(h);
-    EditSettings settings = edit_settings(options);
+    EditSettings settings = base;
     settings.side_axis = axis;
     settings.side_cut = cut;
     settings.side_below = h == 0;
@@ -311,8 +353,10 @@ Partitioned decimate_halves(Prepared& prepared, CarriedAttributes& attributes,
     vertex_quadrics(*meshes[i], options, quadrics[i].planes, quadrics[i].points, quadrics[i].area,
                     {});
     Collapser collapser(*meshes[i], attributes, quadrics[i], prepared, options, targets[i], report,
-                        &stop);
+                        &stop, replay != nullptr ? &replay->parts[i] : nullptr,
+                        record != nullptr ? &record->parts[i] : nullptr);
     stats[i] = collapser.run();
+    replayed[i] = collapser.replayed_all();
   };
   tbb::task_group group;
   group.run([&] {
@@ -346,7 +390,9 @@ Partitioned decimate_halves(Prepared& prepared, CarriedAttributes& attributes,
     out.quadrics.planes[v] = quadrics[h].planes[v];
     out.quadrics.points[v] = quadrics[h].points[v];
     out.quadrics.area[v] = quadrics[h].area[v];
+    out.merged_into[v] = meshes[h]->merged_into(v);
   }
+  out.replayed_all = replayed[0] && replayed[1];
   for (int h = 0; h < 2; ++h) {
     const EditMesh& m = *meshes[static_cast<std::size_t>(h)];
     for (Fid f = 0; f < m.face_count(); ++f) {
@@ -355,6 +401,7 @@ Partitioned decimate_halves(Prepared& prepared, CarriedAttributes& attributes,
       const bool crosses = side(t[0]) != side(t[1]) || side(t[1]) != side(t[2]);
       if (crosses && h == 1) continue;
       out.triangles.push_back(t);
+      out.unchecked.push_back(m.face_unchecked(f) ? 1 : 0);
     }
     add_stats(out.stats, stats[static_cast<std::size_t>(h)]);
   }
@@ -363,44 +410,71 @@ Partitioned decimate_halves(Prepared& prepared, CarriedAttributes& attributes,
 
 }  // namespace
 
-DecimateResult decimate_quadric(const PolyData& input, Prepared prepared,
-                                const DecimateOptions& options) {
-  CarriedAttributes attributes(input.point_data);
-  DecimateStats stats;
+MethodRun decimate_quadric(const PolyData& input, const Prepared& prepared,
+                           const DecimateOptions& options, const EditSettings& settings,
+                           const MergeLog* replay) {
+  MethodRun run;
+  run.attributes.emplace(input.point_data);
+  CarriedAttributes& attributes = *run.attributes;
+  DecimateStats& stats = run.stats;
   stats.input_triangles = prepared.triangles.size();
   stats.locked_vertices = prepared.locked_count;
   Quadrics quadrics;
   std::vector<Vec3> positions;
   std::vector<Tri> triangles;
+  std::vector<std::uint8_t> halves_unchecked;
+  MergeLog* record = settings.defer_intersections ? &run.log : nullptr;
   double from = 0;
   const bool split =
       prepared.triangles.size() >= kPartitionMinFaces &&
       (prepared.target == 0 ||
        static_cast<double>(prepared.target) < 0.7 * static_cast<double>(prepared.triangles.size()));
   if (split) {
-    Partitioned halves =
-        decimate_halves(prepared, attributes, options, progress_range(options.progress, 0, 0.85));
+    Partitioned halves = decimate_halves(prepared, attributes, options, settings, replay, record,
+                                         progress_range(options.progress, 0, 0.85));
+    // The joined run's log continues from the halves' results: only valid if they are the same.
+    if (!halves.replayed_all) replay = nullptr;
     positions = std::move(halves.positions);
     triangles = std::move(halves.triangles);
     quadrics = std::move(halves.quadrics);
+    run.merged_into = std::move(halves.merged_into);
+    halves_unchecked = std::move(halves.unchecked);
     add_stats(stats, halves.stats);
     from = 0.85;
   } else {
-    positions = std::move(prepared.positions);
-    triangles = std::move(prepared.triangles);
+    positions = prepared.positions;
+    triangles = prepared.triangles;
   }
-  EditMesh mesh(std::move(positions), std::move(triangles), prepared.locked,
-                edit_settings(options));
+  // The joined run keeps the marks the halves spread (a merged vertex is marked if a member was).
+  EditSettings joined = settings;
+  if (split && !joined.check_near.empty()) {
+    for (Vid v = 0; v < joined.check_near.size(); ++v) {
+      if (joined.check_near[v] != 0) joined.check_near[find_root(run.merged_into, v)] = 1;
+    }
+  }
+  std::vector<std::uint8_t> unchecked = std::move(halves_unchecked);
+  run.mesh.emplace(std::move(positions), std::move(triangles), prepared.locked, joined);
+  EditMesh& mesh = *run.mesh;
+  for (Fid f = 0; f < unchecked.size(); ++f) {
+    if (unchecked[f] != 0) mesh.mark_unchecked(f);
+  }
   if (!split) {
     vertex_quadrics(mesh, options, quadrics.planes, quadrics.points, quadrics.area,
                     progress_range(options.progress, 0, 0.05));
   }
   Collapser collapser(mesh, attributes, quadrics, prepared, options, prepared.target,
-                      progress_range(options.progress, from, 1.0));
+                      progress_range(options.progress, from, 1.0), nullptr,
+                      replay != nullptr ? &replay->parts[2] : nullptr,
+                      record != nullptr ? &record->parts[2] : nullptr);
   const DecimateStats last = collapser.run();
   add_stats(stats, last);
   stats.stop = last.stop;
-  return finish(mesh, attributes, input, stats, options);
+  if (split) {
+    for (Vid v = 0; v < run.merged_into.size(); ++v) {
+      if (run.merged_into[v] == v) run.merged_into[v] = mesh.merged_into(v);
+    }
+  }
+  return run;
 }
 
 }  // namespace isoforge::reduce

@@ -124,7 +124,18 @@ EditMesh::EditMesh(std::vector<Vec3> positions, std::vector<Tri> triangles,
   for (std::size_t v = 0; v < positions_.size(); ++v) {
     border_[v] = on_border(static_cast<Vid>(v)) ? 1 : 0;
   }
-  use_grid_ = settings_.check_intersections && !faces_.empty();
+  if (settings_.check_intersections && settings_.defer_intersections) {
+    check_near_ = std::move(settings_.check_near);
+    check_near_.resize(positions_.size(), 0);
+    unchecked_.assign(faces_.size(), 0);
+    merged_into_.resize(positions_.size());
+    for (Vid v = 0; v < positions_.size(); ++v) merged_into_[v] = v;
+  }
+  settings_.check_near.clear();
+  // Deferred with nothing marked: no edit is tested now, so no grid.
+  use_grid_ = settings_.check_intersections && !faces_.empty() &&
+              (check_near_.empty() ||
+               std::find(check_near_.begin(), check_near_.end(), 1) != check_near_.end());
   if (use_grid_) {
     build_grid();
   }
@@ -241,7 +252,8 @@ bool EditMesh::single_chain(bool cycle) {
   return components == 1;
 }
 
-bool EditMesh::intersects(std::span<const Tri> faces, std::span<const std::array<Vec3, 3>> pos) {
+bool EditMesh::intersects(std::span<const Tri> faces, std::span<const std::array<Vec3, 3>> pos,
+                          bool local) {
   // The new faces' planes, once; then every live face near the new ones (one grid query over
   // their common box), its planes computed when first needed.
   std::vector<FacePlanes>& planes = new_planes_;
@@ -271,24 +283,54 @@ bool EditMesh::intersects(std::span<const Tri> faces, std::span<const std::array
       }
     }
   }
-  if (!use_grid_) return false;
   bool hit = false;
-  grid_->for_each_candidate(all.lo, all.hi, [&](std::uint32_t g) {
+  auto test = [&](std::uint32_t g) {
     if (hit || mark_[g] == stamp_) return;
-    const auto q = corners(faces_[g]);
+    const Tri& gid = faces_[g];
+    const auto q = corners(gid);
     const Box c = face_box(q);
     bool planes_ready = false;
     FacePlanes other;
     for (std::size_t i = 0; i < faces.size() && !hit; ++i) {
       if (!boxes_overlap(boxes[i].lo, boxes[i].hi, c.lo, c.hi)) continue;
+      // The new face's planes first (made once per edit); the other face's only when needed.
+      if (separated_by(planes[i], q, gid)) continue;
       if (!planes_ready) {
-        other = planes_of(q, faces_[g]);
+        other = planes_of(q, gid);
         planes_ready = true;
       }
-      hit = pair_intersects(i, other);
+      if (separated_by(other, pos[i], faces[i])) continue;
+      hit = faces_intersect(pos[i], ids_of(faces[i]), q, ids_of(gid));
     }
-  });
+  };
+  if (local) {
+    // The faces around the new ones' vertices (the second ring of the merged vertex).
+    ++seen_stamp_;
+    if (seen_.size() < faces_.size()) seen_.resize(faces_.size(), 0);
+    for (const Tri& t : faces) {
+      for (Vid v : t) {
+        for (Fid g : vertex_faces_[v]) {
+          if (seen_[g] == seen_stamp_) continue;
+          seen_[g] = seen_stamp_;
+          test(g);
+          if (hit) return true;
+        }
+      }
+    }
+    return false;
+  }
+  if (!use_grid_) return false;
+  grid_->for_each_candidate(all.lo, all.hi, test);
   return hit;
+}
+
+bool EditMesh::tests_now(std::span<const Vid> group) const {
+  if (!settings_.check_intersections) return false;
+  if (check_near_.empty()) return true;
+  for (Vid v : group) {
+    if (check_near_[v] != 0) return true;
+  }
+  return false;
 }
 
 void EditMesh::gather_faces(std::span<const Vid> group) {
@@ -376,7 +418,11 @@ Refusal EditMesh::check_merge(std::span<const Vid> group, const Vec3& p) {
     }
   }
   if (flip != Refusal::None) return flip;
-  if (settings_.check_intersections && intersects(new_faces_, new_pos_)) {
+  // Merges whose test is deferred are still tested against the faces around them, where
+  // nearly every intersection a merge can make is: a test of the finished mesh then rarely
+  // finds one to redo.
+  if (settings_.check_intersections &&
+      intersects(new_faces_, new_pos_, /*local=*/!tests_now(group))) {
     return Refusal::Intersection;
   }
   return Refusal::None;
@@ -394,6 +440,7 @@ void EditMesh::detach(Fid f, Vid v) {
 std::size_t EditMesh::merge(std::span<const Vid> group, const Vec3& p) {
   const Vid keep = group[0];
   auto member = [&](Vid v) { return std::find(group.begin(), group.end(), v) != group.end(); };
+  const std::uint8_t unchecked = tests_now(group) ? 0 : 1;
   gather_faces(group);
   if (use_grid_) {
     for (Fid f : touched_) grid_remove(f);
@@ -419,10 +466,17 @@ std::size_t EditMesh::merge(std::span<const Vid> group, const Vec3& p) {
       if (member(v)) v = keep;
     }
     kept.push_back(f);
+    if (!unchecked_.empty()) unchecked_[f] = unchecked;
   }
   for (std::size_t i = 1; i < group.size(); ++i) {
     vertex_faces_[group[i]].clear();
     vertex_faces_[group[i]].shrink_to_fit();
+  }
+  if (!merged_into_.empty()) {
+    for (std::size_t i = 1; i < group.size(); ++i) {
+      merged_into_[group[i]] = keep;
+      check_near_[keep] |= check_near_[group[i]];
+    }
   }
   if (locked_[keep] == 0) {
     for (Vid s : group) locked_[keep] |= locked_[s];
@@ -506,6 +560,7 @@ void EditMesh::replace(std::span<const Fid> old_faces, std::span<const Tri> new_
     faces_.push_back(t);
     alive_.push_back(1);
     mark_.push_back(0);
+    if (!unchecked_.empty()) unchecked_.push_back(0);
     ++live_faces_;
     for (Vid v : t) vertex_faces_[v].push_back(f);
     if (use_grid_) grid_insert(f);

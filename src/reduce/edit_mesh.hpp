@@ -45,6 +45,13 @@ struct EditSettings {
   int side_axis = -1;
   double side_cut = 0;
   bool side_below = true;
+  /// Deferred intersection tests (with check_intersections): only merges of a vertex marked in
+  /// `check_near` (per vertex; empty = none) are tested when made, and marks spread to the
+  /// merged vertex; the faces other merges make are flagged (`face_unchecked`) so the finished
+  /// mesh can be tested once and the edits redone where that finds a new intersection
+  /// (decimate.cpp, `certify`).
+  bool defer_intersections = false;
+  std::vector<std::uint8_t> check_near;
 };
 
 class EditMesh {
@@ -63,6 +70,16 @@ class EditMesh {
   [[nodiscard]] bool locked(Vid v) const { return locked_[v] != 0; }
   [[nodiscard]] std::span<const Fid> faces_of(Vid v) const { return vertex_faces_[v]; }
   [[nodiscard]] const std::vector<Vec3>& positions() const { return positions_; }
+  /// Whether face f was last made or moved by a merge that was not tested for intersections.
+  [[nodiscard]] bool face_unchecked(Fid f) const {
+    return !unchecked_.empty() && unchecked_[f] != 0;
+  }
+  /// Flags face f as made by an untested merge (deferred mode; a mesh rebuilt from another).
+  void mark_unchecked(Fid f) {
+    if (!unchecked_.empty()) unchecked_[f] = 1;
+  }
+  /// The vertex v was merged into (v itself while it lives or if it was removed otherwise).
+  [[nodiscard]] Vid merged_into(Vid v) const { return merged_into_.empty() ? v : merged_into_[v]; }
 
   /// The distinct neighbours of v (vertices sharing a face), appended to `out` after clearing it.
   void neighbours(Vid v, std::vector<Vid>& out) const;
@@ -79,6 +96,9 @@ class EditMesh {
   /// normal turned by more than the limit or made zero, and no new face intersecting another one
   /// (exact). Locked members must all sit at `p`.
   [[nodiscard]] Refusal check_merge(std::span<const Vid> group, const Vec3& p);
+  /// Whether a merge of `group` is tested for intersections when it is made (always, unless
+  /// the tests are deferred and no member is marked).
+  [[nodiscard]] bool tests_now(std::span<const Vid> group) const;
   /// Applies a merge that `check_merge` accepted; returns the number of faces removed.
   std::size_t merge(std::span<const Vid> group, const Vec3& p);
 
@@ -106,9 +126,10 @@ class EditMesh {
   /// The faces of `group`'s vertices into touched_, each once, marked with a new stamp_.
   void gather_faces(std::span<const Vid> group);
   /// Whether any of `faces` (with positions `pos`) intersects another of them or a live face
-  /// outside `excluded` (faces being removed or rewritten, marked with `mark_`).
+  /// outside `excluded` (faces being removed or rewritten, marked with `mark_`): every such
+  /// face, or with `local` only those sharing a vertex with `faces`.
   [[nodiscard]] bool intersects(std::span<const Tri> faces,
-                                std::span<const std::array<Vec3, 3>> pos);
+                                std::span<const std::array<Vec3, 3>> pos, bool local = false);
   /// Whether the undirected edges (a, b) form one cycle (`cycle`) or one path.
   [[nodiscard]] bool single_chain(bool cycle);
 
@@ -117,6 +138,9 @@ class EditMesh {
   std::vector<std::uint8_t> alive_;
   std::vector<std::uint8_t> locked_;
   std::vector<std::uint8_t> border_;
+  std::vector<std::uint8_t> check_near_;  // deferred mode: per vertex, test its merges now
+  std::vector<std::uint8_t> unchecked_;   // deferred mode: per face
+  std::vector<Vid> merged_into_;          // deferred mode: per vertex
   std::vector<std::vector<Fid>> vertex_faces_;
   std::size_t live_faces_ = 0;
   EditSettings settings_;
@@ -126,6 +150,8 @@ class EditMesh {
   std::size_t grid_faces_ = 0;  // live faces when the grid was built (rebuilt at half)
   // Scratch (the edits run on one thread).
   std::vector<std::uint32_t> mark_;  // per face: == stamp_ when excluded from the current test
+  std::vector<std::uint32_t> seen_;  // per face: == seen_stamp_ when tested (local tests)
+  std::uint32_t seen_stamp_ = 0;
   std::uint32_t stamp_ = 0;
   std::vector<Fid> touched_;
   std::vector<Tri> new_faces_;

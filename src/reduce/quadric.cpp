@@ -1,7 +1,5 @@
 #include "reduce/quadric.hpp"
 
-#include <Eigen/Eigenvalues>
-
 #include <cmath>
 #include <numbers>
 
@@ -32,27 +30,36 @@ Vec3 minimize(const Quadric& q, const Vec3& anchor, double relative_cutoff) {
       if (is_finite(p)) return p;
     }
   }
-  Eigen::Matrix3d a;
-  a << q.a00, q.a01, q.a02, q.a01, q.a11, q.a12, q.a02, q.a12, q.a22;
-  const double scale = a.cwiseAbs().maxCoeff();
-  if (!(scale > 0) || !std::isfinite(scale)) return anchor;
-  // Solve on the scaled matrix so the eigen solver works near 1.
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-  eig.computeDirect(a / scale);
-  const Eigen::Vector3d m(anchor.x, anchor.y, anchor.z);
-  const Eigen::Vector3d r = -(a * m + Eigen::Vector3d(q.b0, q.b1, q.b2)) / scale;
-  const auto& values = eig.eigenvalues();
-  const auto& vectors = eig.eigenvectors();
-  const double largest = values.cwiseAbs().maxCoeff();
-  Eigen::Vector3d step = Eigen::Vector3d::Zero();
-  for (int i = 0; i < 3; ++i) {
-    if (values[i] > relative_cutoff * largest) {
-      step += vectors.col(i) * (vectors.col(i).dot(r) / values[i]);
-    }
+  // Otherwise a damped step from the anchor: (A + λI) s = −(A m + b) with λ = cutoff/10 × trace.
+  // Along eigenvectors with eigenvalues well above λ this is the exact step; along those well
+  // below it (flat or cylindrical neighbourhoods) the step vanishes, as the pseudo-inverse's
+  // would; and A + λI is symmetric positive definite with condition ≤ (1 + λ/trace) trace / λ,
+  // so Cramer's rule is accurate. (λ = cutoff × trace cost 20 % Hausdorff on bunny → 2 %.)
+  const double trace = q.a00 + q.a11 + q.a22;
+  if (!(trace > 0) || !std::isfinite(trace)) return anchor;
+  const double lambda = 0.1 * relative_cutoff * trace;
+  const double m00 = q.a00 + lambda, m11 = q.a11 + lambda, m22 = q.a22 + lambda;
+  const double c00 = m11 * m22 - q.a12 * q.a12;
+  const double c01 = q.a02 * q.a12 - q.a01 * m22;
+  const double c02 = q.a01 * q.a12 - q.a02 * m11;
+  const double c11 = m00 * m22 - q.a02 * q.a02;
+  const double c12 = q.a01 * q.a02 - m00 * q.a12;
+  const double c22 = m00 * m11 - q.a01 * q.a01;
+  const double det = m00 * c00 + q.a01 * c01 + q.a02 * c02;
+  if (!(det > 0)) return anchor;
+  const double inv = 1 / det;
+  // Iterated: each step leaves a fraction λ/(μ + λ) of the remaining way along an eigenvector
+  // of eigenvalue μ, so three steps put constrained directions (borders) where the exact step
+  // would, to a relative 1e-12, while directions far below λ still hardly move.
+  Vec3 p = anchor;
+  for (int step = 0; step < 3; ++step) {
+    const double r0 = -(q.a00 * p.x + q.a01 * p.y + q.a02 * p.z + q.b0);
+    const double r1 = -(q.a01 * p.x + q.a11 * p.y + q.a12 * p.z + q.b1);
+    const double r2 = -(q.a02 * p.x + q.a12 * p.y + q.a22 * p.z + q.b2);
+    p = {p.x + (c00 * r0 + c01 * r1 + c02 * r2) * inv, p.y + (c01 * r0 + c11 * r1 + c12 * r2) * inv,
+         p.z + (c02 * r0 + c12 * r1 + c22 * r2) * inv};
   }
-  const Eigen::Vector3d p = m + step;
-  if (!p.allFinite()) return anchor;
-  return {p.x(), p.y(), p.z()};
+  return is_finite(p) ? p : anchor;
 }
 
 void vertex_quadrics(const EditMesh& mesh, const DecimateOptions& options,

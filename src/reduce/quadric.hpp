@@ -99,10 +99,12 @@ struct PointQuadric {
   }
 };
 
-/// The minimiser of q closest to `anchor` (the edge midpoint): q's Hessian is pseudo-inverted
-/// with eigenvalues below `relative_cutoff` × the largest treated as zero, so a flat or
-/// cylindrical neighbourhood (singular or nearly singular system) places the vertex on the
-/// minimising set next to the anchor instead of far away along it.
+/// The minimiser of q next to `anchor` (the edge midpoint): the exact one when q's Hessian A is
+/// well conditioned (Cramer's rule), otherwise the damped step anchor + (A + λI)⁻¹(−A anchor − b)
+/// with λ = `relative_cutoff` / 10 × trace(A), which keeps directions whose eigenvalues are well
+/// above λ and drops those well below it, so a flat or cylindrical neighbourhood (singular or
+/// nearly singular system) places the vertex on the minimising set next to the anchor instead of
+/// far away along it.
 Vec3 minimize(const Quadric& q, const Vec3& anchor, double relative_cutoff = 1e-3);
 
 /// Weight of the point quadric each vertex gets (× its faces' area): small enough not to move

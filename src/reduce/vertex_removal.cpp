@@ -327,14 +327,15 @@ DecimateStats Remover::run() {
 
 }  // namespace
 
-DecimateResult decimate_vertex_removal(const PolyData& input, Prepared prepared,
-                                       const DecimateOptions& options) {
-  EditMesh mesh(std::move(prepared.positions), std::move(prepared.triangles),
-                std::move(prepared.locked), edit_settings(options));
-  CarriedAttributes attributes(input.point_data);
+MethodRun decimate_vertex_removal(const PolyData& input, const Prepared& prepared,
+                                  const DecimateOptions& options, const EditSettings& settings) {
+  MethodRun run;
+  run.mesh.emplace(prepared.positions, prepared.triangles, prepared.locked, settings);
+  run.attributes.emplace(input.point_data);
+  EditMesh& mesh = *run.mesh;
   Remover remover(mesh, prepared, options);
-  DecimateStats stats = remover.run();
-  return finish(mesh, attributes, input, stats, options);
+  run.stats = remover.run();
+  return run;
 }
 
 }  // namespace isoforge::reduce

@@ -287,6 +287,32 @@ TEST(Decimate, AThinSlabNeverSelfIntersects) {
   EXPECT_EQ(analyze_topology(out).non_manifold_edges, 0u);
 }
 
+TEST(Decimate, IntersectionsBetweenSeparateShellsAreFoundAndRedone) {
+  // Two nested spheres 0.03 apart: coarse faces of the outer one cut into the inner one. Those
+  // merges share no vertex with what they would cut, so only the test of the finished mesh
+  // sees them: the run is redone with them tested.
+  PolyData shells = sphere(24, 48, 1.0);
+  const PolyData inner = sphere(24, 48, 0.97);
+  const Index base = Index(shells.num_points());
+  for (std::size_t i = 0; i < inner.num_points(); ++i) shells.points.push_back(inner.points[i]);
+  for (std::size_t c = 0; c < inner.polys.size(); ++c) {
+    const auto f = inner.polys.cell(c);
+    shells.polys.add({f[0] + base, f[2] + base, f[1] + base});
+  }
+  DecimateOptions unchecked = to_count(120);
+  unchecked.check_self_intersections = false;
+  EXPECT_FALSE(self_intersections(decimate(shells, unchecked).output).empty());
+  for (DecimateMethod m : {DecimateMethod::Quadric, DecimateMethod::CellCollapse}) {
+    auto [out, stats] = decimate(shells, to_count(120, m));
+    EXPECT_TRUE(self_intersections(out).empty()) << to_string(m);
+    EXPECT_GE(stats.intersection_reruns, 1u) << to_string(m);
+    EXPECT_GT(stats.refused_intersection, 0u) << to_string(m);
+    const SurfaceTopology t = analyze_topology(out);
+    EXPECT_TRUE(t.manifold());
+    EXPECT_EQ(t.components.size(), 2u);
+  }
+}
+
 TEST(Decimate, OutputDoesNotDependOnTheThreadCount) {
   const PolyData in = torus(80, 30);
   PolyData one, two;

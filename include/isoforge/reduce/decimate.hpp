@@ -83,6 +83,9 @@ struct DecimateStats {
   std::size_t refused_topology = 0;      ///< candidates refused by the link condition / topology
   std::size_t refused_flip = 0;          ///< refused for turning a normal too far
   std::size_t refused_intersection = 0;  ///< refused for creating a self-intersection
+  /// Runs redone because the test of the finished mesh found an intersection made by a merge
+  /// whose test had been deferred (each tests more merges as they are made).
+  std::size_t intersection_reruns = 0;
 };
 
 using DecimateResult = Result<PolyData, DecimateStats>;
