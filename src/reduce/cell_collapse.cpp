@@ -181,13 +181,10 @@ DecimateStats CellCollapser::run() {
 
 MethodRun decimate_cell_collapse(const PolyData& input, const Prepared& prepared,
                                  const DecimateOptions& options, const EditSettings& settings) {
-  MethodRun run;
-  run.mesh.emplace(prepared.positions, prepared.triangles, prepared.locked, settings);
-  run.attributes.emplace(input.point_data);
-  EditMesh& mesh = *run.mesh;
-  CellCollapser collapser(mesh, *run.attributes, prepared, options);
-  run.stats = collapser.run();
-  return run;
+  return run_on_copy(input, prepared, settings, [&](EditMesh& mesh, CarriedAttributes& attributes) {
+    CellCollapser collapser(mesh, attributes, prepared, options);
+    return collapser.run();
+  });
 }
 
 }  // namespace isoforge::reduce

@@ -232,6 +232,20 @@ Attributes CarriedAttributes::output(const std::vector<Vid>& kept) const {
   return out;
 }
 
+CellArray live_cells(const EditMesh& mesh, const std::vector<Vid>* map, std::vector<Fid>* face_of) {
+  Buffer<Index> offsets, connectivity;
+  offsets.reserve(mesh.live_faces() + 1);
+  connectivity.reserve(3 * mesh.live_faces());
+  offsets.push_back(0);
+  for (Fid f = 0; f < mesh.face_count(); ++f) {
+    if (!mesh.face_alive(f)) continue;
+    if (face_of != nullptr) face_of->push_back(f);
+    for (Vid v : mesh.face(f)) connectivity.push_back(map != nullptr ? (*map)[v] : v);
+    offsets.push_back(static_cast<Index>(connectivity.size()));
+  }
+  return CellArray(std::move(offsets), std::move(connectivity));
+}
+
 PolyData assemble(const EditMesh& mesh, const CarriedAttributes& attributes,
                   ScalarType point_type) {
   const std::size_t nv = mesh.vertex_count();
@@ -246,16 +260,7 @@ PolyData assemble(const EditMesh& mesh, const CarriedAttributes& attributes,
   PolyData out;
   out.points = Points(kept.size(), point_type);
   for (std::size_t i = 0; i < kept.size(); ++i) out.points.set(i, mesh.position(kept[i]));
-  Buffer<Index> offsets, connectivity;
-  offsets.reserve(mesh.live_faces() + 1);
-  connectivity.reserve(3 * mesh.live_faces());
-  offsets.push_back(0);
-  for (Fid f = 0; f < mesh.face_count(); ++f) {
-    if (!mesh.face_alive(f)) continue;
-    for (Vid v : mesh.face(f)) connectivity.push_back(map[v]);
-    offsets.push_back(static_cast<Index>(connectivity.size()));
-  }
-  out.polys = CellArray(std::move(offsets), std::move(connectivity));
+  out.polys = live_cells(mesh, &map);
   out.point_data = attributes.output(kept);
   return out;
 }
@@ -343,17 +348,7 @@ std::vector<std::array<Fid, 2>> untested_intersections(const EditMesh& mesh,
   for (Vid v = 0; v < mesh.vertex_count(); ++v) live.points.set(v, mesh.position(v));
   std::vector<Fid> face_of;
   face_of.reserve(mesh.live_faces());
-  Buffer<Index> offsets, connectivity;
-  offsets.reserve(mesh.live_faces() + 1);
-  connectivity.reserve(3 * mesh.live_faces());
-  offsets.push_back(0);
-  for (Fid f = 0; f < mesh.face_count(); ++f) {
-    if (!mesh.face_alive(f)) continue;
-    face_of.push_back(f);
-    for (Vid v : mesh.face(f)) connectivity.push_back(v);
-    offsets.push_back(static_cast<Index>(connectivity.size()));
-  }
-  live.polys = CellArray(std::move(offsets), std::move(connectivity));
+  live.polys = live_cells(mesh, nullptr, &face_of);
   SelfIntersectionOptions si;
   si.progress = progress;
   std::vector<std::array<Fid, 2>> out;

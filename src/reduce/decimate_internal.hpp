@@ -126,6 +126,23 @@ inline Vid find_root(std::vector<Vid>& merged_into, Vid v) {
   return v;
 }
 
+/// A method's run on a fresh editable copy of `prepared`: `run(mesh, attributes)` returns
+/// its counts.
+template <class Run>
+MethodRun run_on_copy(const PolyData& input, const Prepared& prepared, const EditSettings& settings,
+                      Run&& run) {
+  MethodRun out;
+  out.mesh.emplace(prepared.positions, prepared.triangles, prepared.locked, settings);
+  out.attributes.emplace(input.point_data);
+  out.stats = run(*out.mesh, *out.attributes);
+  return out;
+}
+
+/// The live faces of `mesh` as a cell array, vertex ids through `map` (none: as they are);
+/// `face_of`, if given, gets the face id of each cell.
+[[nodiscard]] CellArray live_cells(const EditMesh& mesh, const std::vector<Vid>* map,
+                                   std::vector<Fid>* face_of = nullptr);
+
 /// The three methods. Each runs on a copy of `prepared` with `settings` (edit_settings, plus
 /// the deferred-test marks of `decimate`'s certification loop); `options.progress` covers the run.
 MethodRun decimate_quadric(const PolyData& input, const Prepared& prepared,

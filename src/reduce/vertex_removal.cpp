@@ -329,13 +329,10 @@ DecimateStats Remover::run() {
 
 MethodRun decimate_vertex_removal(const PolyData& input, const Prepared& prepared,
                                   const DecimateOptions& options, const EditSettings& settings) {
-  MethodRun run;
-  run.mesh.emplace(prepared.positions, prepared.triangles, prepared.locked, settings);
-  run.attributes.emplace(input.point_data);
-  EditMesh& mesh = *run.mesh;
-  Remover remover(mesh, prepared, options);
-  run.stats = remover.run();
-  return run;
+  return run_on_copy(input, prepared, settings, [&](EditMesh& mesh, CarriedAttributes& attributes) {
+    Remover remover(mesh, prepared, options);
+    return remover.run();
+  });
 }
 
 }  // namespace isoforge::reduce
