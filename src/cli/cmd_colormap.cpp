@@ -61,14 +61,14 @@ void add_colormap_command(CLI::App& app, Context& ctx) {
                   "Point or cell array to colour (a scalar; a vector by its magnitude)")
       ->required();
   cmd->add_option("-o,--output", args->out,
-                  "Output: .vtk .vti .vts .vtp .vtu, or .ply .obj .off for surfaces")
+                  "Output: .vtk .vti .vts .vtp .vtu, or .ply for surfaces")
       ->required();
   add_colormap_option(*cmd, args->map);
   add_color_range_option(*cmd, "--range", args->range);
   cmd->add_flag("--log", args->log, "Logarithmic scale (the range must be positive)");
   auto* component_opt =
       cmd->add_option("--component", args->component, "Colour component K of a vector (0-based)")
-          ->transform(integer_in(0));
+          ->transform(integer_in(0, std::numeric_limits<int>::max()));
   auto* magnitude_opt =
       cmd->add_flag("--magnitude", args->magnitude,
                     "Colour the magnitude (the default for vectors; |value| of a scalar)");
@@ -98,11 +98,11 @@ void add_colormap_command(CLI::App& app, Context& ctx) {
       "  isoforge colormap data/fran_cut.vtk -a textureCoords --component 1 --colormap black-body \\\n"
       "      --name v_colors -o fran.vtp");
   cmd->callback([args, &ctx, component_opt, magnitude_opt, opacity_opt, q_opt] {
+    // The formats that store colours (OBJ and OFF as written here do not).
     static const std::vector<FileFormat> kWritable = {
-        FileFormat::VtkLegacy,           FileFormat::VtkImageData, FileFormat::VtkStructuredGrid,
-        FileFormat::VtkPolyData,         FileFormat::VtkUnstructuredGrid, FileFormat::Ply,
-        FileFormat::Obj,                 FileFormat::Off};
-    (void)output_format(args->out, kWritable, ".vtk .vti .vts .vtp .vtu .ply .obj .off");
+        FileFormat::VtkLegacy,   FileFormat::VtkImageData,        FileFormat::VtkStructuredGrid,
+        FileFormat::VtkPolyData, FileFormat::VtkUnstructuredGrid, FileFormat::Ply};
+    (void)output_format(args->out, kWritable, ".vtk .vti .vts .vtp .vtu .ply");
     require_plot3d_input(q_opt, args->in);
     exclude_each_other({component_opt, magnitude_opt});
     require_meaningful(opacity_opt, args->rgba, "applies to --rgba output only");

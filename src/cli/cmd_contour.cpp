@@ -75,7 +75,7 @@ void add_contour_command(CLI::App& app, Context& ctx) {
     require_plot3d_input(q_opt, args->in);
     require_vdb_input(grid_opt, args->in);
     exclude_each_other({largest_opt, largest_n_opt, closest_opt});
-    check_color_by(args->color_by);
+    check_color_by(args->color_by, format_of(args->out));
     if (!args->color_by.array.empty() && format_of(args->in) == FileFormat::Vdb) {
       throw UsageError("--color-by: the contour of an OpenVDB grid carries no arrays to colour");
     }

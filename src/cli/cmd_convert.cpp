@@ -75,10 +75,7 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     require_meaningful(legacy_opt, !args->vtk_xml && format == FileFormat::VtkLegacy,
                        "applies to VTK legacy output (.vtk) only");
     require_meaningful(tolerance_opt, format == FileFormat::Vdb, "applies to OpenVDB output only");
-    check_color_by(args->color_by);
-    if (!args->color_by.array.empty() && format == FileFormat::Vdb) {
-      throw UsageError("--color-by: an OpenVDB grid holds one float value per voxel, not colours");
-    }
+    check_color_by(args->color_by, format);
     check_writable(args->out);
     ReadOptions ro;
     ro.plot3d_q = args->q;

@@ -88,13 +88,13 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
       "  isoforge decimate data/bunny.ply -e 0.001 --relative -o bunny_err.vtp\n"
       "  isoforge decimate data/bunny.ply -r 0.5 --color-by intensity --colormap inferno -o bunny_colored.ply");
   cmd->callback([args, &ctx, target_opt, reduction_opt, error_opt, relative_opt] {
-    (void)output_format(args->out, kSurfaceFormats, kSurfaceExtensions);
+    const FileFormat format = output_format(args->out, kSurfaceFormats, kSurfaceExtensions);
     exclude_each_other({target_opt, reduction_opt});
     if (target_opt->count() == 0 && reduction_opt->count() == 0 && error_opt->count() == 0) {
       throw UsageError("give a stop: --target-triangles N, --reduction R or --max-error E");
     }
     require_meaningful(relative_opt, error_opt->count() > 0, "applies to --max-error only");
-    check_color_by(args->color_by);
+    check_color_by(args->color_by, format);
     if (args->reduction >= 1) {
       throw UsageError("--reduction: must be below 1 (1 would remove every triangle), got " +
                        fmt::format("{}", args->reduction));

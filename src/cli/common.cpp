@@ -326,11 +326,16 @@ void add_color_by_options(CLI::App& cmd, ColorBy& color_by) {
   color_by.range_option = add_color_range_option(cmd, "--color-range", color_by.range);
 }
 
-void check_color_by(const ColorBy& color_by) {
+void check_color_by(const ColorBy& color_by, FileFormat output) {
   const bool on = !color_by.array.empty();
   require_meaningful(color_by.map_option, on, "applies with --color-by only");
   require_meaningful(color_by.range_option, on, "applies with --color-by only");
   (void)parse_color_range(color_by.range, "--color-range");
+  if (on && (output == FileFormat::Obj || output == FileFormat::Off || output == FileFormat::Vdb)) {
+    throw UsageError(fmt::format("--color-by: {} files do not store colours (write .vtp, .vtk or "
+                                 ".ply)",
+                                 format_name(output)));
+  }
 }
 
 namespace {

@@ -152,8 +152,9 @@ struct ColorBy {
 /// Adds the three options to `cmd`, filling `color_by`.
 void add_color_by_options(CLI::App& cmd, ColorBy& color_by);
 /// Checks them before any work. \throw UsageError for --colormap or --color-range without
-/// --color-by, or a range whose MIN is not below MAX.
-void check_color_by(const ColorBy& color_by);
+/// --color-by, a range whose MIN is not below MAX, or an `output` format that stores no colours
+/// (OBJ, OFF, OpenVDB).
+void check_color_by(const ColorBy& color_by, FileFormat output);
 /// After reading `input`: \throw Error naming the array and listing the arrays when --color-by
 /// names none of `input`'s point arrays (nor cell arrays, unless `points_only`: the subcommand
 /// drops cell data).

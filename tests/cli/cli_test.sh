@@ -347,10 +347,12 @@ expect_usage colormap_short_color "--nan-color: expected R,G,B or R,G,B,A with i
 expect_usage colormap_big_color "--below-color: expected .*got '300,0,0'" "$bin" colormap "$data/bunny.ply" -a intensity --below-color 300,0,0 -o "$tmp/x.vtp"
 expect_usage colormap_opacity_rgb "--opacity: applies to --rgba output only" "$bin" colormap "$data/bunny.ply" -a intensity --opacity 0.5 -o "$tmp/x.vtp"
 expect_usage colormap_bands_zero "--bands: must be an integer in \[1, " "$bin" colormap "$data/bunny.ply" -a intensity --bands 0 -o "$tmp/x.vtp"
-expect_usage colormap_component_negative "--component: must be an integer >= 0" "$bin" colormap "$data/bunny.ply" -a intensity --component -1 -o "$tmp/x.vtp"
+expect_usage colormap_component_negative "--component: must be an integer in \[0, 2147483647\], got -1" "$bin" colormap "$data/bunny.ply" -a intensity --component -1 -o "$tmp/x.vtp"
 expect_usage colormap_empty_name "--name: the colour array needs a name" "$bin" colormap "$data/bunny.ply" -a intensity --name '' -o "$tmp/x.vtp"
 expect_ok contour_color_by "coloured by 'Velocity' \(cool-warm, range" "$bin" contour "$data/combxyz.bin" --q "$data/combq.bin" -a Density -v 0.3 --color-by Velocity --colormap cool-warm -o "$tmp/density.vtp"
 expect_ok contour_color_by_back "'Colors' +UInt8 +x3" "$bin" info "$tmp/density.vtp"
+expect_ok contour_color_by_cells "coloured by 'OriginalCellIds' \(rainbow, range" "$bin" contour "$tmp/inside.vtu" -v -0.5 --color-by OriginalCellIds --colormap rainbow -o "$tmp/inside_contour.vtp"
+expect_ok contour_color_by_empty "warning: contour: no surface at value 0" "$bin" contour "$tmp/inside.vtu" -v 0 --color-by OriginalCellIds -o "$tmp/inside_empty.vtp"
 expect_ok decimate_color_by "coloured by 'intensity' \(viridis, range 0 .. 0.5\)" "$bin" decimate "$data/bunny.ply" -r 0.9 --no-measure --color-by intensity -o "$tmp/bunny10_colors.ply"
 expect_ok decimate_color_by_back "'Colors' +UInt8 +x3" "$bin" info "$tmp/bunny10_colors.ply"
 expect_ok convert_color_by "coloured by 'Pressure' \(black-body, range 1 .. 1.5\)" "$bin" convert "$data/post.vtk" "$tmp/post_colors.vtu" --color-by Pressure --colormap black-body --color-range 1 1.5
@@ -358,7 +360,10 @@ expect_ok convert_color_by_back "'Colors' +UInt8 +x3" "$bin" info "$tmp/post_col
 expect_usage color_by_map_alone "--colormap: applies with --color-by only" "$bin" contour "$tmp/sphere.vti" -v 0 --colormap plasma -o "$tmp/x.vtp"
 expect_usage color_by_range_alone "--color-range: applies with --color-by only" "$bin" convert "$data/post.vtk" "$tmp/x.vtu" --color-range 0 1
 expect_usage color_by_range_order "--color-range: MIN must be below MAX, got 1 1" "$bin" convert "$data/post.vtk" "$tmp/x.vtu" --color-by Pressure --color-range 1 1
-expect_usage color_by_vdb "--color-by: an OpenVDB grid holds one float value per voxel" "$bin" convert "$data/HeadMRVolume.mhd" "$tmp/x.vdb" --color-by MetaImage
+expect_usage color_by_vdb "--color-by: OpenVDB files do not store colours" "$bin" convert "$data/HeadMRVolume.mhd" "$tmp/x.vdb" --color-by MetaImage
+expect_usage color_by_obj "--color-by: OBJ files do not store colours" "$bin" decimate "$data/bunny.ply" -r 0.5 --color-by intensity -o "$tmp/x.obj"
+expect_usage colormap_obj "x.off: this subcommand writes .vtk .vti .vts .vtp .vtu .ply, not OFF" "$bin" colormap "$data/bunny.ply" -a intensity -o "$tmp/x.off"
+expect_usage colormap_component_huge "--component: must be an integer in \[0, 2147483647\], got 4294967296" "$bin" colormap "$data/bunny.ply" -a intensity --component 4294967296 -o "$tmp/x.vtp"
 expect_error color_by_unknown "--color-by: no point array 'nosuch' \(point arrays: 'confidence', 'intensity'\)" "$bin" decimate "$data/bunny.ply" -r 0.5 --color-by nosuch -o "$tmp/x.vtp"
 expect_error color_by_unknown_convert "--color-by: no array 'nosuch' \(point arrays: 'Pressure'; cell arrays: none\)" "$bin" convert "$data/post.vtk" "$tmp/x.vtu" --color-by nosuch
 
