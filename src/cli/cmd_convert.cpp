@@ -16,6 +16,7 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     std::string in, out, q, legacy_version = "4.2", grid;
     bool ascii = false, no_compress = false, vtk_xml = false;
     double vdb_tolerance = 0;
+    ColorBy color_by;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("convert", "Convert a dataset between formats (chosen by the "
@@ -41,6 +42,7 @@ void add_convert_command(CLI::App& app, Context& ctx) {
       cmd->add_option("--vdb-tolerance", args->vdb_tolerance,
                       "OpenVDB output: values within this of the background stay inactive (>= 0)")
           ->check(non_negative_number());
+  add_color_by_options(*cmd, args->color_by);
   cmd->footer(
       "The output is written atomically: a failed run leaves no partial file and keeps an\n"
       "existing file unchanged. A format that cannot hold the dataset is an error.\n"
@@ -49,7 +51,8 @@ void add_convert_command(CLI::App& app, Context& ctx) {
       "  isoforge convert data/post.vtk post --vtk-xml      (writes post.vtu)\n"
       "  isoforge convert data/combxyz.bin --q data/combq.bin combustor.vts\n"
       "  isoforge convert data/bunny.ply bunny.vtk --ascii --legacy-version 5.1\n"
-      "  isoforge convert data/HeadMRVolume.mhd head.vdb    (OpenVDB needs equal spacing on all axes)");
+      "  isoforge convert data/HeadMRVolume.mhd head.vdb    (OpenVDB needs equal spacing on all axes)\n"
+      "  isoforge convert data/post.vtk post.vtu --color-by Pressure --colormap black-body");
   cmd->callback([args, &ctx, q_opt, grid_opt, ascii_opt, vtk_xml_opt, no_compress_opt, legacy_opt,
                  tolerance_opt] {
     require_plot3d_input(q_opt, args->in);
@@ -72,6 +75,7 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     require_meaningful(legacy_opt, !args->vtk_xml && format == FileFormat::VtkLegacy,
                        "applies to VTK legacy output (.vtk) only");
     require_meaningful(tolerance_opt, format == FileFormat::Vdb, "applies to OpenVDB output only");
+    check_color_by(args->color_by, format);
     check_writable(args->out);
     ReadOptions ro;
     ro.plot3d_q = args->q;
@@ -83,7 +87,9 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     wo.vdb_tolerance = args->vdb_tolerance;
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
     bar.stage("reading");
-    const Dataset ds = read_input(args->in, bar, ro);
+    Dataset ds = read_input(args->in, bar, ro);
+    require_color_array(args->color_by, ds, false);
+    const std::string colored = apply_color_by(args->color_by, ds);
     std::filesystem::path out = args->out;
     if (args->vtk_xml) out.replace_extension(vtk_xml_extension(ds));
     write_output(ds, out, bar, wo);
@@ -91,6 +97,7 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     if (!ctx.quiet) {
       fmt::print(stderr, "wrote {} ({} points, {} cells)\n", out.string(), num_points(ds),
                  num_cells(ds));
+      if (!colored.empty()) fmt::print(stderr, "  {}\n", colored);
     }
   });
 }
