@@ -81,8 +81,8 @@ DracoWriteOptions draco_write_options(const DracoCli& d) {
 
 void print_draco_stats(const DracoStats& st, const std::string& path) {
   fmt::print(stderr,
-             "wrote {} ({} points, {} triangles): {} bytes, {:.1f}x smaller than raw "
-             "float32/int32 ({} bytes)\n",
+             "wrote {} ({} points, {} triangles): {} bytes, ratio {:.1f} to raw float32/int32 "
+             "({} bytes)\n",
              path, st.points, st.triangles, st.bytes, st.ratio, st.raw_bytes);
   for (const auto& a : st.attributes) {
     std::string grid = a.bits == 0 ? "exact" : fmt::format("{} bits", a.bits);

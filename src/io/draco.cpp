@@ -630,7 +630,12 @@ std::vector<std::uint8_t> encode_once(const draco::PointCloud& pc, const Prepare
     }
   }
   draco::EncoderBuffer buffer;
-  const draco::Status st = enc->EncodeToBuffer(&buffer);
+  draco::Status st;
+  try {
+    st = enc->EncodeToBuffer(&buffer);
+  } catch (const std::exception& e) {
+    throw Error(std::string(name) + ": Draco could not encode (" + e.what() + ")");
+  }
   if (!st.ok()) throw Error(std::string(name) + ": Draco could not encode: " + st.error_msg());
   const auto* b = reinterpret_cast<const std::uint8_t*>(buffer.data());
   return {b, b + buffer.size()};
@@ -759,8 +764,26 @@ void read_values(const draco::PointAttribute& att, std::size_t n, int comps, Dat
 
 namespace io_detail {
 
+namespace {
+DracoDecodedMesh decode_unguarded(std::span<const std::byte> data, const std::string& file);
+}  // namespace
+
 DracoDecodedMesh decode_draco_mesh(std::span<const std::byte> data, std::string_view name) {
   const std::string file(name);
+  try {
+    return decode_unguarded(data, file);
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw Error(file + ": corrupt Draco data: its counts ask for more memory than there is");
+  } catch (const std::exception& e) {
+    // Draco's decoder signals some corrupt input by standard exceptions (length_error, ...).
+    throw Error(file + ": corrupt Draco data (" + e.what() + ")");
+  }
+}
+
+namespace {
+DracoDecodedMesh decode_unguarded(std::span<const std::byte> data, const std::string& file) {
   draco::DecoderBuffer buffer;
   buffer.Init(reinterpret_cast<const char*>(data.data()), data.size());
   auto type = draco::Decoder::GetEncodedGeometryType(&buffer);
@@ -913,6 +936,7 @@ DracoDecodedMesh decode_draco_mesh(std::span<const std::byte> data, std::string_
   }
   return out;
 }
+}  // namespace
 
 DracoEncodedMesh encode_draco_mesh(const PolyData& mesh, const DracoWriteOptions& options,
                                    const DracoRoles& roles, std::string_view name) {
