@@ -87,6 +87,7 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     const bool drc = !args->vtk_xml && format == FileFormat::Draco;
     check_draco_options(*draco, drc, "applies to Draco output (.drc) only");
     const DracoWriteOptions draco_options = draco_write_options(*draco);
+    if (drc) keep_freed_memory();
     check_writable(args->out);
     ReadOptions ro;
     ro.plot3d_q = args->q;

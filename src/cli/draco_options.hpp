@@ -33,6 +33,10 @@ void check_draco_options(const DracoCli& d, bool meaningful, const std::string& 
 /// --array-error.
 [[nodiscard]] DracoWriteOptions draco_write_options(const DracoCli& d);
 
+/// Tunes the C library's allocator of this process for Draco's many growing vectors (glibc: keep
+/// freed memory instead of unmapping it). Call before reading the input.
+void keep_freed_memory();
+
 /// Prints what the verifying decode measured (stderr, unless quiet).
 void print_draco_stats(const DracoStats& st, const std::string& path);
 
