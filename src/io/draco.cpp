@@ -29,6 +29,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -569,6 +570,26 @@ int normal_bits_for(double budget) {
 
 // ---- building and coding ------------------------------------------------------------------
 
+// Whether the reader, without metadata, gives back this attribute's name, type and roles
+// (see decode_draco_mesh: the default names of Draco's kinds).
+bool reads_back_as_is(const Source& s) {
+  const auto role = [](AttributeRole r) { return 1 << static_cast<int>(r); };
+  switch (s.kind) {
+    case DracoKind::Position: return s.name == kPointsName && s.type == ScalarType::Float32;
+    case DracoKind::Normal:
+      return s.name == "Normals" && s.type == ScalarType::Float32 &&
+             s.roles == role(AttributeRole::Normals);
+    case DracoKind::Color:
+      return s.name == "Colors" && s.type == ScalarType::UInt8 &&
+             s.roles == role(AttributeRole::Scalars);
+    case DracoKind::TexCoord:
+      return s.name == "TCoords" && s.type == ScalarType::Float32 &&
+             s.roles == role(AttributeRole::TCoords);
+    case DracoKind::Generic: break;
+  }
+  return false;
+}
+
 std::unique_ptr<draco::PointCloud> build(const Prepared& p, std::vector<Source>& sources) {
   std::unique_ptr<draco::PointCloud> pc;
   if (p.mesh) {
@@ -584,7 +605,9 @@ std::unique_ptr<draco::PointCloud> build(const Prepared& p, std::vector<Source>&
     pc = std::make_unique<draco::PointCloud>();
   }
   pc->set_num_points(static_cast<std::uint32_t>(p.points));
-  pc->AddMetadata(std::make_unique<draco::GeometryMetadata>());
+  if (!std::all_of(sources.begin(), sources.end(), reads_back_as_is)) {
+    pc->AddMetadata(std::make_unique<draco::GeometryMetadata>());
+  }
   for (Source& s : sources) {
     const draco::DataType dt = s.quantized ? draco::DT_FLOAT32 : s.dtype;
     const auto size = static_cast<std::int64_t>(draco::DataTypeLength(dt)) * s.components;
@@ -597,6 +620,7 @@ std::unique_ptr<draco::PointCloud> build(const Prepared& p, std::vector<Source>&
                                   : static_cast<const void*>(s.raw.data());
     if (p.points > 0) att->buffer()->Write(0, src, static_cast<std::size_t>(size) * p.points);
     s.unique_id = static_cast<int>(att->unique_id());
+    if (reads_back_as_is(s)) continue;  // no metadata needed: saves its bytes
     auto md = std::make_unique<draco::AttributeMetadata>();
     md->AddEntryString(kMetaName, s.name);
     md->AddEntryInt(kMetaType, static_cast<int>(s.type));
@@ -766,11 +790,108 @@ namespace io_detail {
 
 namespace {
 DracoDecodedMesh decode_unguarded(std::span<const std::byte> data, const std::string& file);
+
+// Draco's decoders size their arrays by the counts in the stream before reading the data, so a
+// few corrupt bytes can ask for gigabytes (or minutes). The counts are checked here first against the size
+// of the data: a real file holds far fewer than kMaxCountPerByte points or faces per byte
+// (Edgebreaker needs about 2 bits per triangle for connectivity alone; the bunny holds 1 point
+// per byte at 8 bits).
+constexpr std::uint64_t kMaxCountPerByte = 64;
+constexpr std::uint64_t kCountSlack = 4096;
+
+struct HeaderReader {
+  std::span<const std::byte> data;
+  std::size_t at = 0;
+  bool ok = true;
+  std::uint64_t byte() {
+    if (at >= data.size()) {
+      ok = false;
+      return 0;
+    }
+    return std::to_integer<std::uint64_t>(data[at++]);
+  }
+  std::uint64_t varint() {
+    std::uint64_t v = 0;
+    for (int shift = 0; shift < 64 && ok; shift += 7) {
+      const std::uint64_t b = byte();
+      v |= (b & 0x7f) << shift;
+      if (!(b & 0x80)) return v;
+    }
+    ok = false;
+    return 0;
+  }
+  std::uint64_t u32() {
+    std::uint64_t v = 0;
+    for (int k = 0; k < 4; ++k) v |= byte() << (8 * k);
+    return v;
+  }
+  void skip(std::uint64_t n) {
+    if (n > data.size() - std::min(at, data.size())) {
+      ok = false;
+      return;
+    }
+    at += static_cast<std::size_t>(n);
+  }
+  void metadata(int depth) {  // one Metadata: entries, then named sub-metadata
+    if (depth > 32) {
+      ok = false;
+      return;
+    }
+    const std::uint64_t entries = varint();
+    for (std::uint64_t e = 0; e < entries && ok; ++e) {
+      skip(byte());     // name
+      skip(varint());   // value
+    }
+    const std::uint64_t subs = varint();
+    for (std::uint64_t k = 0; k < subs && ok; ++k) {
+      skip(byte());
+      metadata(depth + 1);
+    }
+  }
+};
+
+void check_counts(std::span<const std::byte> data, const std::string& file) {
+  HeaderReader r{data};
+  if (data.size() < 11) return;  // Draco's own header check reports it
+  r.skip(5);
+  const std::uint64_t major = r.byte(), minor = r.byte();
+  const std::uint64_t type = r.byte(), method = r.byte();
+  const std::uint64_t flags = r.byte() | (r.byte() << 8);
+  const bool v22 = major > 2 || (major == 2 && minor >= 2);
+  if (flags & 0x8000) {  // metadata: attribute metadata, then the geometry's
+    const std::uint64_t n = r.varint();
+    for (std::uint64_t k = 0; k < n && r.ok; ++k) {
+      (void)r.varint();
+      r.metadata(0);
+    }
+    r.metadata(0);
+  }
+  const std::uint64_t limit = kMaxCountPerByte * data.size() + kCountSlack;
+  const auto check = [&](std::uint64_t count, const char* what) {
+    if (r.ok && count > limit) {
+      throw Error(file + ": corrupt Draco data: " + std::to_string(count) + " " + what +
+                  " in " + std::to_string(data.size()) + " bytes");
+    }
+  };
+  if (type == 0) {  // point cloud: an int32 count first
+    check(r.u32(), "points");
+  } else if (type == 1 && method == 0) {  // sequential mesh
+    const std::uint64_t faces = v22 ? r.varint() : r.u32();
+    check(faces, "faces");
+    check(v22 ? r.varint() : r.u32(), "points");
+  } else if (type == 1 && method == 1) {  // Edgebreaker: traverser type, vertices, faces
+    (void)r.byte();
+    if (!v22) (void)r.u32();
+    check(v22 ? r.varint() : r.u32(), "vertices");
+    check(v22 ? r.varint() : r.u32(), "faces");
+  }
+}
 }  // namespace
 
 DracoDecodedMesh decode_draco_mesh(std::span<const std::byte> data, std::string_view name) {
   const std::string file(name);
   try {
+    check_counts(data, file);
     return decode_unguarded(data, file);
   } catch (const Error&) {
     throw;
@@ -940,6 +1061,11 @@ DracoDecodedMesh decode_unguarded(std::span<const std::byte> data, const std::st
 
 DracoEncodedMesh encode_draco_mesh(const PolyData& mesh, const DracoWriteOptions& options,
                                    const DracoRoles& roles, std::string_view name) {
+  using Clock = std::chrono::steady_clock;
+  const auto seconds_since = [](Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+  };
+  const Clock::time_point t_start = Clock::now();
   report_progress(options.progress, 0.0, "draco");
   Prepared p = prepare(mesh, options, roles, name);
   std::vector<Source>& sources = p.sources;
@@ -975,7 +1101,9 @@ DracoEncodedMesh encode_draco_mesh(const PolyData& mesh, const DracoWriteOptions
   constexpr int kMaxEncodes = 12;
   for (int attempt = 1;; ++attempt) {
     report_progress(options.progress, 0.1 + 0.8 * (attempt - 1) / kMaxEncodes, "draco");
+    const Clock::time_point t_encode = Clock::now();
     out.bytes = encode_once(*pc, p, sources, options, name);
+    const double encode_seconds = seconds_since(t_encode);
     io_detail::DracoDecodedMesh dec = decode_draco_mesh(
         std::span<const std::byte>(reinterpret_cast<const std::byte*>(out.bytes.data()),
                                    out.bytes.size()),
@@ -983,6 +1111,7 @@ DracoEncodedMesh encode_draco_mesh(const PolyData& mesh, const DracoWriteOptions
     const Measured m = measure(p, sources, dec, options);
     st = DracoStats{};
     st.encodes = attempt;
+    st.encode_seconds = encode_seconds;
     st.bytes = out.bytes.size();
     st.raw_bytes = p.raw_bytes;
     st.ratio = st.bytes ? double(st.raw_bytes) / double(st.bytes) : 0;
@@ -1053,6 +1182,7 @@ DracoEncodedMesh encode_draco_mesh(const PolyData& mesh, const DracoWriteOptions
       break;
     }
   }
+  out.stats.total_seconds = seconds_since(t_start);
   report_progress(options.progress, 1.0, "draco");
   return out;
 }

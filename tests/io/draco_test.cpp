@@ -501,6 +501,13 @@ TEST(Draco, CorruptAndTruncatedInputGiveErrors) {
     (void)test::rejects_only_with_error(read, test::mutate(bytes, rng, 1 + k % 4, std::string_view("\0\1\2\377", 4)),
                                         "mutation " + std::to_string(k));
   }
+  // A header that claims 2^31 - 1 points in 15 bytes is refused before Draco allocates them
+  // (a point cloud, sequential, no metadata, then the int32 count).
+  std::vector<std::byte> lying;
+  for (int b : {0x44, 0x52, 0x41, 0x43, 0x4f, 2, 3, 0, 0, 0, 0, 0xff, 0xff, 0xff, 0x7f}) {  // "DRACO" 2.3
+    lying.push_back(static_cast<std::byte>(b));
+  }
+  expect_error([&] { (void)read(lying); }, "x.drc: corrupt Draco data: 2147483647 points in 15 bytes");
   // A missing file names the path.
   expect_error([] { (void)read_draco(fs::path("/nonexistent/x.drc")); }, "/nonexistent/x.drc");
 }

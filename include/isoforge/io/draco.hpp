@@ -89,6 +89,8 @@ struct DracoStats {
   double max_position_error = 0;        ///< measured, position units
   std::vector<DracoAttributeStats> attributes;  ///< positions first
   int encodes = 0;          ///< encodings tried (more than one when a budget needed refining)
+  double encode_seconds = 0;  ///< Draco's encoding of the file written (the last attempt)
+  double total_seconds = 0;   ///< everything: preparing, every attempt, decoding, measuring
   std::vector<std::string> dropped;  ///< what Draco cannot hold and was left out (cell data, ...)
   std::string note;         ///< why a budget's wish could not be met, "" otherwise
 };
