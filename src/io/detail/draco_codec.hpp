@@ -13,8 +13,8 @@
 //  - `decoded` is what any conforming decoder gets from `bytes` (it was decoded with Draco's
 //    decoder): its point count, triangle count (polys, all triangles) and values are the ones a
 //    glTF accessor of the primitive must declare (count, min/max of positions). Edgebreaker may
-//    reorder, split or drop points (unreferenced ones) and drops faces made degenerate by
-//    quantization; DracoStats reports how many.
+//    reorder and split points, drops points in no face and faces with a repeated point id
+//    (Draco 1.5.5 keeps faces that quantization alone makes degenerate); DracoStats counts them.
 //  - `stats` holds the measured errors of that decoded mesh against the input; with a budget in
 //    the options they never exceed it (else encode_draco_mesh throws), except for the triangles
 //    counted in stats.lost_triangles when options.keep_faces could not keep them (stats.note
