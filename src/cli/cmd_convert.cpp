@@ -4,7 +4,9 @@
 
 #include "commands.hpp"
 #include "common.hpp"
+#include "draco_options.hpp"
 #include "isoforge/io/atomic_file.hpp"
+#include "isoforge/io/draco.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/vtk_xml.hpp"
 #include "progress_bar.hpp"
@@ -19,42 +21,56 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     ColorBy color_by;
   };
   auto args = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("convert", "Convert a dataset between formats (chosen by the "
-                                            "file extensions)");
+  auto draco = std::make_shared<DracoCli>();
+  auto* cmd = app.add_subcommand("convert",
+                                 "Convert a dataset between formats (chosen by the "
+                                 "file extensions)");
   cmd->add_option("input", args->in, "Input file")->required();
   cmd->add_option("output", args->out,
-                  "Output file: .vtk .vti .vts .vtp .vtu .ply .obj .off .vdb")->required();
+                  "Output file: .vtk .vti .vts .vtp .vtu .ply .obj .off .vdb .drc")
+      ->required();
   auto* q_opt = add_q_option(*cmd, args->q);
   auto* grid_opt = add_grid_option(*cmd, args->grid);
-  auto* ascii_opt = cmd->add_flag("--ascii", args->ascii,
-                                  "Write text instead of binary (VTK legacy/XML, PLY)");
+  auto* ascii_opt =
+      cmd->add_flag("--ascii", args->ascii, "Write text instead of binary (VTK legacy/XML, PLY)");
   auto* vtk_xml_opt =
       cmd->add_flag("--vtk-xml", args->vtk_xml,
                     "Write VTK XML with the extension that fits the dataset (.vti .vts .vtp .vtu), "
                     "replacing any extension OUTPUT has");
-  auto* no_compress_opt =
-      cmd->add_flag("--no-compress", args->no_compress, "VTK XML: do not zlib-compress binary data");
+  auto* no_compress_opt = cmd->add_flag("--no-compress", args->no_compress,
+                                        "VTK XML: do not zlib-compress binary data");
   auto* legacy_opt =
-      cmd->add_option("--legacy-version", args->legacy_version,
-                      "VTK legacy output: header version 4.2 (classic) or 5.1 (offsets/connectivity)")
+      cmd->add_option(
+             "--legacy-version", args->legacy_version,
+             "VTK legacy output: header version 4.2 (classic) or 5.1 (offsets/connectivity)")
           ->check(CLI::IsMember({"4.2", "5.1"}));
   auto* tolerance_opt =
       cmd->add_option("--vdb-tolerance", args->vdb_tolerance,
                       "OpenVDB output: values within this of the background stay inactive (>= 0)")
           ->check(non_negative_number());
   add_color_by_options(*cmd, args->color_by);
+  add_draco_options(*cmd, *draco);
   cmd->footer(
       "The output is written atomically: a failed run leaves no partial file and keeps an\n"
       "existing file unchanged. A format that cannot hold the dataset is an error.\n"
+      "Draco (.drc) output is decoded again after writing and measured: the size, the ratio to\n"
+      "raw float32/int32 data and the largest error of the positions and of every array are\n"
+      "printed; with --max-error(-rel) the quantization is the coarsest that meets it.\n"
       "Examples:\n"
       "  isoforge convert data/fran_cut.vtk fran.vtp\n"
       "  isoforge convert data/post.vtk post --vtk-xml      (writes post.vtu)\n"
       "  isoforge convert data/combxyz.bin --q data/combq.bin combustor.vts\n"
       "  isoforge convert data/bunny.ply bunny.vtk --ascii --legacy-version 5.1\n"
-      "  isoforge convert data/HeadMRVolume.mhd head.vdb    (OpenVDB needs equal spacing on all axes)\n"
-      "  isoforge convert data/post.vtk post.vtu --color-by Pressure --colormap black-body");
-  cmd->callback([args, &ctx, q_opt, grid_opt, ascii_opt, vtk_xml_opt, no_compress_opt, legacy_opt,
-                 tolerance_opt] {
+      "  isoforge convert data/HeadMRVolume.mhd head.vdb    (OpenVDB needs equal spacing on all "
+      "axes)\n"
+      "  isoforge convert data/post.vtk post.vtu --color-by Pressure --colormap black-body\n"
+      "  isoforge convert data/bunny.ply bunny.drc --max-error-rel 1e-4\n"
+      "  isoforge convert data/bunny.ply bunny16.drc --bits 16 --level 10\n"
+      "  isoforge convert bunny.drc bunny_back.vtp\n"
+      "  isoforge convert data/bunny.ply bunny_seq.drc --sequential --max-error 1e-5 \\\n"
+      "      --array-error confidence=0.001");
+  cmd->callback([args, draco, &ctx, q_opt, grid_opt, ascii_opt, vtk_xml_opt, no_compress_opt,
+                 legacy_opt, tolerance_opt] {
     require_plot3d_input(q_opt, args->in);
     require_vdb_input(grid_opt, args->in);
     // The output format: VTK XML of some kind with --vtk-xml, else by the extension. Fail on an
@@ -68,14 +84,19 @@ void add_convert_command(CLI::App& app, Context& ctx) {
       throw UsageError(args->out + ": writing " + std::string(format_name(format)) +
                        " is not supported (write .vts, .vti or .vtk instead)");
     }
-    require_meaningful(ascii_opt, xml || format == FileFormat::VtkLegacy || format == FileFormat::Ply,
-                       "applies to VTK and PLY output (OBJ and OFF are always text, OpenVDB binary)");
+    require_meaningful(
+        ascii_opt, xml || format == FileFormat::VtkLegacy || format == FileFormat::Ply,
+        "applies to VTK and PLY output (OBJ and OFF are always text, OpenVDB binary)");
     require_meaningful(no_compress_opt, xml, "applies to VTK XML output only");
     exclude_each_other({ascii_opt, no_compress_opt});
     require_meaningful(legacy_opt, !args->vtk_xml && format == FileFormat::VtkLegacy,
                        "applies to VTK legacy output (.vtk) only");
     require_meaningful(tolerance_opt, format == FileFormat::Vdb, "applies to OpenVDB output only");
     check_color_by(args->color_by, format);
+    const bool drc = !args->vtk_xml && format == FileFormat::Draco;
+    check_draco_options(*draco, drc, "applies to Draco output (.drc) only");
+    const DracoWriteOptions draco_options = draco_write_options(*draco);
+    if (drc) keep_freed_memory();
     check_writable(args->out);
     ReadOptions ro;
     ro.plot3d_q = args->q;
@@ -92,6 +113,24 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     const std::string colored = apply_color_by(args->color_by, ds);
     std::filesystem::path out = args->out;
     if (args->vtk_xml) out.replace_extension(vtk_xml_extension(ds));
+    if (drc) {
+      const auto* pd = std::get_if<PolyData>(&ds);
+      if (!pd) {
+        throw Error(out.string() + ": Draco holds polygonal data only, not " +
+                    std::string(dataset_type_name(ds)) + " (try .vtk or " +
+                    std::string(vtk_xml_extension(ds)) + ")");
+      }
+      bar.stage("writing");
+      DracoWriteOptions o = draco_options;
+      o.progress = bar.callback();
+      const DracoStats st = write_draco(*pd, out, o);
+      bar.finish();
+      if (!ctx.quiet) {
+        print_draco_stats(st, out.string());
+        if (!colored.empty()) fmt::print(stderr, "  {}\n", colored);
+      }
+      return;
+    }
     write_output(ds, out, bar, wo);
     bar.finish();
     if (!ctx.quiet) {

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "detail/progress.hpp"
+#include "isoforge/io/draco.hpp"
 #include "isoforge/io/off_obj.hpp"
 #include "isoforge/io/ply.hpp"
 #include "isoforge/io/plot3d.hpp"
@@ -51,9 +52,10 @@ FileFormat format_from_path(const std::filesystem::path& path) {
   if (ext == ".nhdr" || ext == ".nrrd") return FileFormat::Nrrd;
   if (ext == ".mhd" || ext == ".mha") return FileFormat::MetaImage;
   if (ext == ".vdb") return FileFormat::Vdb;
+  if (ext == ".drc") return FileFormat::Draco;
   throw Error(path.string() + ": unknown file extension '" + ext +
               "' (known: .vtk .vti .vts .vtp .vtu .ply .obj .off .xyz/.bin (PLOT3D) .nhdr .nrrd "
-              ".mhd .mha .vdb)");
+              ".mhd .mha .vdb .drc)");
 }
 
 std::string_view format_name(FileFormat format) {
@@ -70,6 +72,7 @@ std::string_view format_name(FileFormat format) {
     case FileFormat::Nrrd: return "NRRD";
     case FileFormat::MetaImage: return "MetaImage";
     case FileFormat::Vdb: return "OpenVDB";
+    case FileFormat::Draco: return "Draco";
   }
   return "?";
 }
@@ -137,6 +140,7 @@ Dataset read(const std::filesystem::path& path, const ReadOptions& options) {
       }
       return read_plot3d(path, options.plot3d_q, p);
     }
+    case FileFormat::Draco: return read_draco(path, progress);
     case FileFormat::Nrrd: return read_nrrd(path, progress);
     case FileFormat::MetaImage: return read_metaimage(path, progress);
     case FileFormat::Vdb: {
@@ -195,6 +199,12 @@ void write(DatasetRef ds, const std::filesystem::path& path, const WriteOptions&
       o.tolerance = static_cast<float>(options.vdb_tolerance);
       write_vdb(*image_to_vdb(*img, o), path);
       if (options.progress) (void)options.progress(1.0);  // done: too late to cancel
+      return;
+    }
+    case FileFormat::Draco: {
+      DracoWriteOptions o = options.draco;
+      if (options.progress) o.progress = options.progress;
+      (void)write_draco(require_poly(ds, path, "Draco"), path, o);
       return;
     }
     case FileFormat::Plot3d:
