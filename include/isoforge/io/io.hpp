@@ -13,6 +13,7 @@
 /// | .nhdr .nrrd | NRRD (raw) | image data | — |
 /// | .mhd .mha | MetaImage | image data | — |
 /// | .vdb | OpenVDB float grid | image data (densified) | image data |
+/// | .glb | glTF 2.0 binary | polydata (all meshes appended) | polydata |
 ///
 /// See docs/formats.md for the details of each reader and writer.
 
@@ -23,6 +24,7 @@
 
 #include "isoforge/core/dataset.hpp"
 #include "isoforge/core/progress.hpp"
+#include "isoforge/io/gltf.hpp"
 
 namespace isoforge {
 
@@ -39,6 +41,7 @@ enum class FileFormat {
   Nrrd,
   MetaImage,
   Vdb,
+  Glb,  ///< glTF 2.0 binary
 };
 
 /// Format for a path's extension (case-insensitive). \throw Error naming the path when the
@@ -71,6 +74,7 @@ struct WriteOptions {
   std::string vtk_legacy_version = "4.2";
   /// OpenVDB: voxels with |value - background| <= tolerance become inactive.
   double vdb_tolerance = 0.0;
+  GltfCodec gltf_codec = GltfCodec::None;  ///< glTF: how meshes are stored (io/gltf.hpp)
   /// Told the fraction written, about every megabyte of values (VTK legacy and XML, PLY; the
   /// other formats only at the end); false cancels (`Cancelled`, the target is not changed).
   ProgressCallback progress{};
