@@ -46,6 +46,12 @@ constexpr const char* kDraco = "KHR_draco_mesh_compression";
 
 std::size_t align4(std::size_t n) { return (n + 3) & ~std::size_t{3}; }
 
+// The sRGB transfer function (IEC 61966-2-1) and its inverse, on [0, 1].
+double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+double linear_to_srgb(double c) {
+  return c <= 0.0031308 ? c * 12.92 : 1.055 * std::pow(c, 1 / 2.4) - 0.055;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Writing
 
@@ -335,14 +341,23 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
   std::string scalars_written;  // the active scalars' name, when they are in the file
   if (colors && colors == pd.point_data.scalars()) scalars_written = colors->name();
   if (colors) {
+    // glTF's COLOR_0 is linear; uint8 colours (colour maps, PLY) are sRGB. Linear values in
+    // normalized uint16 map back to the same uint8 sRGB codes (the smallest step, at 0, is 20
+    // units). Always RGBA: glTF aligns every vertex element to 4 bytes.
     const int c = colors->components();
     const auto src = colors->values<std::uint8_t>();
-    std::vector<std::uint8_t> rgba(4 * n, 255);
-    for (std::size_t i = 0; i < n; ++i) {
-      for (int k = 0; k < c; ++k) rgba[4 * i + k] = src[c * i + k];
+    std::array<std::uint16_t, 256> linear{};
+    for (int v = 0; v < 256; ++v) {
+      linear[static_cast<std::size_t>(v)] = static_cast<std::uint16_t>(std::lround(srgb_to_linear(v / 255.0) * 65535.0));
     }
-    // Always RGBA: glTF aligns every vertex element to 4 bytes.
-    attributes["COLOR_0"] = glb.add_accessor(vertex_accessor(rgba.data(), 4, kUnsignedByte, "VEC4", true));
+    std::vector<std::uint16_t> rgba(4 * n, 65535);
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int k = 0; k < c; ++k) {
+        const std::uint8_t v = src[static_cast<std::size_t>(c) * i + static_cast<std::size_t>(k)];
+        rgba[4 * i + static_cast<std::size_t>(k)] = k < 3 ? linear[v] : static_cast<std::uint16_t>(v * 257);
+      }
+    }
+    attributes["COLOR_0"] = glb.add_accessor(vertex_accessor(rgba.data(), 8, kUnsignedShort, "VEC4", true));
     name_entry("COLOR_0", *colors);
   }
   if (options.arrays) {
@@ -809,11 +824,13 @@ class GlbReader {
       if (pd.point_data.has(name)) continue;  // a duplicate name: the first wins
       DataArray array(name, type, components, n);
       const bool color = semantic == "COLOR_0";
-      const bool scale = color && (info.component_type == kFloat || info.normalized);
       for (std::size_t i = 0; i < n; ++i) {
         for (int c = 0; c < components; ++c) {
           double v = values[i * static_cast<std::size_t>(info.components) + static_cast<std::size_t>(c)];
-          if (scale) v = std::round(std::clamp(v, 0.0, 1.0) * 255.0);
+          if (color) {  // linear [0, 1] (float or normalized) to sRGB codes; alpha is linear
+            v = std::clamp(v, 0.0, 1.0);
+            v = std::round((c < 3 ? linear_to_srgb(v) : v) * 255.0);
+          }
           array.set(i, c, v);
         }
       }

@@ -171,6 +171,31 @@ TEST(Gltf, MeshoptRoundTripIsLosslessAndSmaller) {
   expect_same_arrays(pd, back);
 }
 
+TEST(Gltf, EverySrgbColourCodeRoundTrips) {
+  // COLOR_0 is stored linear (uint16); each of the 256 sRGB codes must come back as itself.
+  PolyData pd;
+  std::vector<std::uint8_t> rgba;
+  for (int i = 0; i < 256; ++i) {
+    pd.points.push_back(Vec3{double(i), 0, 0});
+    pd.verts.add({i});
+    rgba.insert(rgba.end(), {std::uint8_t(i), std::uint8_t(255 - i), std::uint8_t(i / 2), std::uint8_t(i)});
+  }
+  pd.point_data.add(DataArray::from_vector<std::uint8_t>("RGBA", 4, rgba), AttributeRole::Scalars);
+  const auto dir = scratch("colours");
+  GltfWriteOptions meshopt;
+  meshopt.codec = GltfCodec::Meshopt;
+  for (const auto& [file, options] : {std::pair{"plain.glb", GltfWriteOptions{}}, std::pair{"meshopt.glb", meshopt}}) {
+    (void)write_gltf(pd, dir / file, options);
+    expect_valid(dir / file);
+    const PolyData back = read_gltf(dir / file).meshes.at(0).mesh;
+    const DataArray* colours = back.point_data.scalars();
+    ASSERT_NE(colours, nullptr);
+    EXPECT_EQ(colours->name(), "RGBA");
+    ASSERT_EQ(colours->type(), ScalarType::UInt8);
+    EXPECT_TRUE(std::ranges::equal(colours->values<std::uint8_t>(), rgba)) << file;
+  }
+}
+
 TEST(Gltf, SeveralNamedMeshesUnitsAndLegend) {
   PolyData tri;
   for (const Vec3 p : {Vec3{0, 0, 0}, Vec3{2, 0, 0}, Vec3{0, 3, 0}}) tri.points.push_back(p);

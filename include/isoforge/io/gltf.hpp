@@ -6,8 +6,8 @@
 /// Each `PolyData` becomes one glTF mesh (and one node of the scene) whose primitives share its
 /// vertices: polygons and strips (triangulated) as TRIANGLES, lines and polylines (as segments)
 /// as LINES, vertices as POINTS. Point attributes: the normals (NORMAL, unit length), one uint8
-/// RGB/RGBA array as COLOR_0, every other array of 1–4 components as the float custom attribute
-/// `_NAME`. Cell arrays and arrays of more than 4 components are left out (counted in the
+/// RGB/RGBA array (taken as sRGB) as COLOR_0 (linear, as glTF defines it; read back exactly),
+/// every other array of 1–4 components as the float custom attribute `_NAME`. Cell arrays and arrays of more than 4 components are left out (counted in the
 /// stats). Units and colour legends go to `extras`, and the original array names to each mesh's
 /// `extras`, so `read_gltf` restores them.
 
