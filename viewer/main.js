@@ -250,8 +250,7 @@ function regionPixels(region) {
   const ctx = canvas.getContext('2d');
   ctx.drawImage(src, Math.round(region.x0 * scale), Math.round(region.y0 * scale), w, h, 0, 0, w, h);
   const data = ctx.getImageData(0, 0, w, h).data;
-  const bg = new THREE.Color(BACKGROUND);
-  const [br, bgc, bb] = [bg.r, bg.g, bg.b].map((v) => Math.round(v * 255));
+  const [br, bgc, bb] = [(BACKGROUND >> 16) & 255, (BACKGROUND >> 8) & 255, BACKGROUND & 255];  // sRGB
   let differing = 0;
   for (let i = 0; i < data.length; i += 4) {
     if (Math.abs(data[i] - br) + Math.abs(data[i + 1] - bgc) + Math.abs(data[i + 2] - bb) > 24) ++differing;

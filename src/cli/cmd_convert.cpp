@@ -16,13 +16,14 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     std::string in, out, q, legacy_version = "4.2", grid;
     bool ascii = false, no_compress = false, vtk_xml = false;
     double vdb_tolerance = 0;
+    std::string codec;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("convert", "Convert a dataset between formats (chosen by the "
                                             "file extensions)");
   cmd->add_option("input", args->in, "Input file")->required();
   cmd->add_option("output", args->out,
-                  "Output file: .vtk .vti .vts .vtp .vtu .ply .obj .off .vdb")->required();
+                  "Output file: .vtk .vti .vts .vtp .vtu .ply .obj .off .vdb .glb")->required();
   auto* q_opt = add_q_option(*cmd, args->q);
   auto* grid_opt = add_grid_option(*cmd, args->grid);
   auto* ascii_opt = cmd->add_flag("--ascii", args->ascii,
@@ -41,6 +42,12 @@ void add_convert_command(CLI::App& app, Context& ctx) {
       cmd->add_option("--vdb-tolerance", args->vdb_tolerance,
                       "OpenVDB output: values within this of the background stay inactive (>= 0)")
           ->check(non_negative_number());
+  auto* codec_opt =
+      cmd->add_option("--codec", args->codec,
+                      "glTF output: how meshes are stored: draco, meshopt (lossless, fast to "
+                      "decode) or none (default: " +
+                          std::string(gltf_codec_name(WriteOptions{}.gltf_codec)) + ")")
+          ->check(CLI::IsMember({"draco", "meshopt", "none"}));
   cmd->footer(
       "The output is written atomically: a failed run leaves no partial file and keeps an\n"
       "existing file unchanged. A format that cannot hold the dataset is an error.\n"
@@ -49,9 +56,10 @@ void add_convert_command(CLI::App& app, Context& ctx) {
       "  isoforge convert data/post.vtk post --vtk-xml      (writes post.vtu)\n"
       "  isoforge convert data/combxyz.bin --q data/combq.bin combustor.vts\n"
       "  isoforge convert data/bunny.ply bunny.vtk --ascii --legacy-version 5.1\n"
-      "  isoforge convert data/HeadMRVolume.mhd head.vdb    (OpenVDB needs equal spacing on all axes)");
+      "  isoforge convert data/HeadMRVolume.mhd head.vdb    (OpenVDB needs equal spacing on all axes)\n"
+      "  isoforge convert data/bunny.ply bunny.glb --codec meshopt   (glTF binary; see isoforge view)");
   cmd->callback([args, &ctx, q_opt, grid_opt, ascii_opt, vtk_xml_opt, no_compress_opt, legacy_opt,
-                 tolerance_opt] {
+                 tolerance_opt, codec_opt] {
     require_plot3d_input(q_opt, args->in);
     require_vdb_input(grid_opt, args->in);
     // The output format: VTK XML of some kind with --vtk-xml, else by the extension. Fail on an
@@ -72,6 +80,7 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     require_meaningful(legacy_opt, !args->vtk_xml && format == FileFormat::VtkLegacy,
                        "applies to VTK legacy output (.vtk) only");
     require_meaningful(tolerance_opt, format == FileFormat::Vdb, "applies to OpenVDB output only");
+    require_meaningful(codec_opt, format == FileFormat::Glb, "applies to glTF output (.glb) only");
     check_writable(args->out);
     ReadOptions ro;
     ro.plot3d_q = args->q;
@@ -81,6 +90,7 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     wo.compress = !args->no_compress;
     wo.vtk_legacy_version = args->legacy_version;
     wo.vdb_tolerance = args->vdb_tolerance;
+    if (!args->codec.empty()) wo.gltf_codec = gltf_codec_from_name(args->codec);
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
     bar.stage("reading");
     const Dataset ds = read_input(args->in, bar, ro);

@@ -600,8 +600,8 @@ class GlbReader {
   }
 
   void parse_container() {
-    if (data_.size() < 20) fail("byte 0: truncated: a .glb starts with a 20-byte header");
-    if (u32(0) != kGlbMagic) fail("byte 0: not a binary glTF file (no 'glTF' magic)");
+    if (data_.size() < 4 || u32(0) != kGlbMagic) fail("byte 0: not a binary glTF file (no 'glTF' magic)");
+    if (data_.size() < 20) fail("byte 4: truncated: a .glb starts with a 20-byte header");
     if (u32(4) != 2) fail("byte 4: glTF container version " + std::to_string(u32(4)) + ", expected 2");
     const std::uint32_t length = u32(8);
     if (length > data_.size()) {
