@@ -4,6 +4,8 @@
 
 #include "commands.hpp"
 #include "common.hpp"
+#include "draco_options.hpp"
+#include "isoforge/io/draco.hpp"
 #include "isoforge/io/atomic_file.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/vtk_xml.hpp"
@@ -19,11 +21,12 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     std::string codec;
   };
   auto args = std::make_shared<Args>();
+  auto draco = std::make_shared<DracoCli>();
   auto* cmd = app.add_subcommand("convert", "Convert a dataset between formats (chosen by the "
                                             "file extensions)");
   cmd->add_option("input", args->in, "Input file")->required();
   cmd->add_option("output", args->out,
-                  "Output file: .vtk .vti .vts .vtp .vtu .ply .obj .off .vdb .glb")->required();
+                  "Output file: .vtk .vti .vts .vtp .vtu .ply .obj .off .vdb .drc .glb")->required();
   auto* q_opt = add_q_option(*cmd, args->q);
   auto* grid_opt = add_grid_option(*cmd, args->grid);
   auto* ascii_opt = cmd->add_flag("--ascii", args->ascii,
@@ -48,17 +51,26 @@ void add_convert_command(CLI::App& app, Context& ctx) {
                       "decode) or none (default: " +
                           std::string(gltf_codec_name(WriteOptions{}.gltf_codec)) + ")")
           ->check(CLI::IsMember({"draco", "meshopt", "none"}));
+  add_draco_options(*cmd, *draco);
   cmd->footer(
       "The output is written atomically: a failed run leaves no partial file and keeps an\n"
       "existing file unchanged. A format that cannot hold the dataset is an error.\n"
+      "Draco (.drc) output is decoded again after writing and measured: the size, the ratio to\n"
+      "raw float32/int32 data and the largest error of the positions and of every array are\n"
+      "printed; with --max-error(-rel) the quantization is the coarsest that meets it.\n"
       "Examples:\n"
       "  isoforge convert data/fran_cut.vtk fran.vtp\n"
       "  isoforge convert data/post.vtk post --vtk-xml      (writes post.vtu)\n"
       "  isoforge convert data/combxyz.bin --q data/combq.bin combustor.vts\n"
       "  isoforge convert data/bunny.ply bunny.vtk --ascii --legacy-version 5.1\n"
       "  isoforge convert data/HeadMRVolume.mhd head.vdb    (OpenVDB needs equal spacing on all axes)\n"
+      "  isoforge convert data/bunny.ply bunny.drc --max-error-rel 1e-4\n"
+      "  isoforge convert data/bunny.ply bunny16.drc --bits 16 --level 10\n"
+      "  isoforge convert bunny.drc bunny_back.vtp\n"
+      "  isoforge convert data/bunny.ply bunny_seq.drc --sequential --max-error 1e-5 \\\n"
+      "      --array-error confidence=0.001\n"
       "  isoforge convert data/bunny.ply bunny.glb --codec meshopt   (glTF binary; see isoforge view)");
-  cmd->callback([args, &ctx, q_opt, grid_opt, ascii_opt, vtk_xml_opt, no_compress_opt, legacy_opt,
+  cmd->callback([args, draco, &ctx, q_opt, grid_opt, ascii_opt, vtk_xml_opt, no_compress_opt, legacy_opt,
                  tolerance_opt, codec_opt] {
     require_plot3d_input(q_opt, args->in);
     require_vdb_input(grid_opt, args->in);
@@ -81,6 +93,9 @@ void add_convert_command(CLI::App& app, Context& ctx) {
                        "applies to VTK legacy output (.vtk) only");
     require_meaningful(tolerance_opt, format == FileFormat::Vdb, "applies to OpenVDB output only");
     require_meaningful(codec_opt, format == FileFormat::Glb, "applies to glTF output (.glb) only");
+    const bool drc = !args->vtk_xml && format == FileFormat::Draco;
+    check_draco_options(*draco, drc, "applies to Draco output (.drc) only");
+    const DracoWriteOptions draco_options = draco_write_options(*draco);
     check_writable(args->out);
     ReadOptions ro;
     ro.plot3d_q = args->q;
@@ -96,6 +111,21 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     const Dataset ds = read_input(args->in, bar, ro);
     std::filesystem::path out = args->out;
     if (args->vtk_xml) out.replace_extension(vtk_xml_extension(ds));
+    if (drc) {
+      const auto* pd = std::get_if<PolyData>(&ds);
+      if (!pd) {
+        throw Error(out.string() + ": Draco holds polygonal data only, not " +
+                    std::string(dataset_type_name(ds)) + " (try .vtk or " +
+                    std::string(vtk_xml_extension(ds)) + ")");
+      }
+      bar.stage("writing");
+      DracoWriteOptions o = draco_options;
+      o.progress = bar.callback();
+      const DracoStats st = write_draco(*pd, out, o);
+      bar.finish();
+      if (!ctx.quiet) print_draco_stats(st, out.string());
+      return;
+    }
     write_output(ds, out, bar, wo);
     bar.finish();
     if (!ctx.quiet) {

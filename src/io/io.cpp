@@ -8,6 +8,7 @@
 
 #include "detail/progress.hpp"
 #include "isoforge/core/append.hpp"
+#include "isoforge/io/draco.hpp"
 #include "isoforge/io/gltf.hpp"
 #include "isoforge/io/off_obj.hpp"
 #include "isoforge/io/ply.hpp"
@@ -54,9 +55,10 @@ FileFormat format_from_path(const std::filesystem::path& path) {
   if (ext == ".mhd" || ext == ".mha") return FileFormat::MetaImage;
   if (ext == ".vdb") return FileFormat::Vdb;
   if (ext == ".glb") return FileFormat::Glb;
+  if (ext == ".drc") return FileFormat::Draco;
   throw Error(path.string() + ": unknown file extension '" + ext +
               "' (known: .vtk .vti .vts .vtp .vtu .ply .obj .off .xyz/.bin (PLOT3D) .nhdr .nrrd "
-              ".mhd .mha .vdb .glb)");
+              ".mhd .mha .vdb .drc .glb)");
 }
 
 std::string_view format_name(FileFormat format) {
@@ -74,6 +76,7 @@ std::string_view format_name(FileFormat format) {
     case FileFormat::MetaImage: return "MetaImage";
     case FileFormat::Vdb: return "OpenVDB";
     case FileFormat::Glb: return "glTF binary";
+    case FileFormat::Draco: return "Draco";
   }
   return "?";
 }
@@ -141,6 +144,7 @@ Dataset read(const std::filesystem::path& path, const ReadOptions& options) {
       }
       return read_plot3d(path, options.plot3d_q, p);
     }
+    case FileFormat::Draco: return read_draco(path, progress);
     case FileFormat::Nrrd: return read_nrrd(path, progress);
     case FileFormat::MetaImage: return read_metaimage(path, progress);
     case FileFormat::Vdb: {
@@ -213,6 +217,12 @@ void write(DatasetRef ds, const std::filesystem::path& path, const WriteOptions&
       o.codec = options.gltf_codec;
       o.progress = options.progress;
       (void)write_gltf(require_poly(ds, path, "glTF"), path, o);
+      return;
+    }
+    case FileFormat::Draco: {
+      DracoWriteOptions o = options.draco;
+      if (options.progress) o.progress = options.progress;
+      (void)write_draco(require_poly(ds, path, "Draco"), path, o);
       return;
     }
     case FileFormat::Plot3d:

@@ -21,9 +21,10 @@ seed ply "$data"/bunny.ply
 seed plot3d "$data"/combxyz.bin "$data"/combq.bin
 seed nrrd "$data"/headsq/quarter.nhdr
 seed metaimage "$data"/HeadMRVolume.mhd
-mkdir -p "$corpus/off" "$corpus/vdb"
+mkdir -p "$corpus/off" "$corpus/vdb" "$corpus/drc"
 printf 'OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n3 0 1 2\n3 1 3 2\n' > "$corpus/off/quad.off"
-# Generated seeds: small XML, PLY and VDB files written by isoforge itself.
+# Generated seeds: small XML, PLY, VDB and Draco files written by isoforge itself (Draco: a
+# mesh with arrays by Edgebreaker and sequentially, a point cloud).
 cli=$build/src/isoforge
 if [ -x "$cli" ]; then
   "$cli" -q convert "$data/hello.vtk" "$corpus/vtk_xml/hello.vtp" || true
@@ -31,10 +32,15 @@ if [ -x "$cli" ]; then
   "$cli" -q convert "$data/hello.vtk" "$corpus/vtk_xml/hello_ascii.vtp" --ascii || true
   "$cli" -q convert "$data/fran_cut.vtk" "$corpus/ply/fran.ply" || true
   "$cli" -q convert "$data/HeadMRVolume.mhd" "$corpus/vdb/head.vdb" || true
+  "$cli" -q convert "$data/fran_cut.vtk" "$corpus/drc/fran.drc" --bits 12 || true
+  "$cli" -q convert "$data/fran_cut.vtk" "$corpus/drc/fran_seq.drc" --sequential || true
+  printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty float s\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n0 0 0 1\n1 0 0 2\n0 1 0 3\n0 0 1 4\n' > "$corpus/drc/cloud.ply"
+  "$cli" -q convert "$corpus/drc/cloud.ply" "$corpus/drc/cloud.drc" || true
+  rm -f "$corpus/drc/cloud.ply"
 fi
 
 status=0
-targets=${FUZZ_TARGETS:-vtk_legacy vtk_xml ply off plot3d nrrd metaimage vdb function vtk_xml_block}
+targets=${FUZZ_TARGETS:-vtk_legacy vtk_xml ply off plot3d nrrd metaimage vdb drc function vtk_xml_block}
 for target in $targets; do
   echo "== fuzz_$target for ${seconds}s"
   mkdir -p "$build/crashes/$target" "$corpus/$target"

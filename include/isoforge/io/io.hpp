@@ -14,6 +14,7 @@
 /// | .mhd .mha | MetaImage | image data | — |
 /// | .vdb | OpenVDB float grid | image data (densified) | image data |
 /// | .glb | glTF 2.0 binary | polydata (all meshes appended) | polydata |
+/// | .drc | Draco (compressed, quantized) | polydata | polydata: triangles or points |
 ///
 /// See docs/formats.md for the details of each reader and writer.
 
@@ -25,6 +26,7 @@
 #include "isoforge/core/dataset.hpp"
 #include "isoforge/core/progress.hpp"
 #include "isoforge/io/gltf.hpp"
+#include "isoforge/io/draco.hpp"
 
 namespace isoforge {
 
@@ -42,6 +44,7 @@ enum class FileFormat {
   MetaImage,
   Vdb,
   Glb,  ///< glTF 2.0 binary
+  Draco,  ///< .drc
 };
 
 /// Format for a path's extension (case-insensitive). \throw Error naming the path when the
@@ -75,6 +78,9 @@ struct WriteOptions {
   /// OpenVDB: voxels with |value - background| <= tolerance become inactive.
   double vdb_tolerance = 0.0;
   GltfCodec gltf_codec = GltfCodec::None;  ///< glTF: how meshes are stored (io/gltf.hpp)
+  /// Draco: quantization or error budget, compression level, method (the stats of the
+  /// verifying decode are returned by `write_draco` itself).
+  DracoWriteOptions draco{};
   /// Told the fraction written, about every megabyte of values (VTK legacy and XML, PLY; the
   /// other formats only at the end); false cancels (`Cancelled`, the target is not changed).
   ProgressCallback progress{};

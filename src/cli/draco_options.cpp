@@ -1,0 +1,104 @@
+// The Draco options of the isoforge command (see draco_options.hpp).
+
+#include "draco_options.hpp"
+
+#include <fmt/core.h>
+
+#include <cmath>
+#include <cstdlib>
+
+#include "common.hpp"
+
+namespace isoforge::cli {
+
+void add_draco_options(CLI::App& cmd, DracoCli& d) {
+  d.max_error_opt = cmd.add_option("--max-error", d.max_error,
+                                   "Draco: largest distance a point may move, in data units "
+                                   "(> 0; the quantization is chosen to meet it)")
+                        ->check(positive_number());
+  d.max_error_rel_opt =
+      cmd.add_option("--max-error-rel", d.max_error_rel,
+                     "Draco: the same as a fraction of the bounding-box diagonal (> 0)")
+          ->check(positive_number());
+  auto* array_opt = cmd.add_option("--array-error", d.array_errors,
+                                   "Draco: NAME=E, largest error of a float point array in its "
+                                   "units (repeatable; other arrays use the *-bits)");
+  d.bits_opt = cmd.add_option("--bits", d.bits, "Draco: position quantization bits (1-30, "
+                                                "default 11)")
+                   ->check(integer_in(1, 30));
+  auto* nb = cmd.add_option("--normal-bits", d.normal_bits, "Draco: normal bits (1-30, default 8)")
+                 ->check(integer_in(1, 30));
+  auto* cb = cmd.add_option("--color-bits", d.color_bits,
+                            "Draco: float colour bits (1-30, default 8)")
+                 ->check(integer_in(1, 30));
+  auto* tb = cmd.add_option("--texcoord-bits", d.texcoord_bits,
+                            "Draco: texture coordinate bits (1-30, default 10)")
+                 ->check(integer_in(1, 30));
+  auto* gb = cmd.add_option("--generic-bits", d.generic_bits,
+                            "Draco: bits of other float arrays (1-30, default 8)")
+                 ->check(integer_in(1, 30));
+  auto* level = cmd.add_option("--level", d.level,
+                               "Draco: compression level, 0 (fastest) to 10 (smallest), "
+                               "default 7")
+                    ->check(integer_in(0, 10));
+  auto* seq = cmd.add_flag("--sequential", d.sequential,
+                           "Draco: sequential coding, which keeps the order of points and faces "
+                           "(larger than the default Edgebreaker)");
+  d.options = {d.max_error_opt, d.max_error_rel_opt, array_opt, d.bits_opt, nb, cb, tb, gb,
+               level, seq};
+}
+
+void check_draco_options(const DracoCli& d, bool meaningful, const std::string& why) {
+  for (const CLI::Option* o : d.options) require_meaningful(o, meaningful, why);
+  exclude_each_other({d.max_error_opt, d.max_error_rel_opt});
+  exclude_each_other({d.bits_opt, d.max_error_opt});
+  exclude_each_other({d.bits_opt, d.max_error_rel_opt});
+}
+
+DracoWriteOptions draco_write_options(const DracoCli& d) {
+  DracoWriteOptions o;
+  o.bits = {d.bits, d.normal_bits, d.color_bits, d.texcoord_bits, d.generic_bits};
+  o.level = d.level;
+  o.method = d.sequential ? DracoMethod::Sequential : DracoMethod::Edgebreaker;
+  o.max_position_error = d.max_error;
+  o.max_position_error_relative = d.max_error_rel;
+  for (const std::string& a : d.array_errors) {
+    const auto eq = a.rfind('=');
+    const std::string name = eq == std::string::npos ? "" : a.substr(0, eq);
+    const std::string value = eq == std::string::npos ? "" : a.substr(eq + 1);
+    char* end = nullptr;
+    const double e = value.empty() ? NAN : std::strtod(value.c_str(), &end);
+    if (name.empty() || value.empty() || *end != '\0' || !std::isfinite(e) || e <= 0) {
+      throw UsageError("--array-error", "must be NAME=E with a finite E > 0, got '" + a + "'");
+    }
+    for (const auto& b : o.max_array_errors) {
+      if (b.name == name) throw UsageError("--array-error", "array '" + name + "' given twice");
+    }
+    o.max_array_errors.push_back({name, e});
+  }
+  return o;
+}
+
+void print_draco_stats(const DracoStats& st, const std::string& path) {
+  fmt::print(stderr,
+             "wrote {} ({} points, {} triangles): {} bytes, ratio {:.1f} to raw float32/int32 "
+             "({} bytes)\n",
+             path, st.points, st.triangles, st.bytes, st.ratio, st.raw_bytes);
+  for (const auto& a : st.attributes) {
+    std::string grid = a.bits == 0 ? "exact" : fmt::format("{} bits", a.bits);
+    if (a.step > 0) grid += fmt::format(", step {:.3g}", a.step);
+    const std::string budget = a.budget > 0 ? fmt::format(" (budget {:.3g})", a.budget) : "";
+    fmt::print(stderr, "  {}: {}, measured max error {:.3g}{}\n", a.name, grid, a.max_error,
+               budget);
+  }
+  fmt::print(stderr, "  decoded: {} points, {} triangles; lost triangles: {}", st.decoded_points,
+             st.decoded_triangles, st.lost_triangles);
+  if (st.unreferenced_points > 0) {
+    fmt::print(stderr, "; {} points in no triangle left out", st.unreferenced_points);
+  }
+  fmt::print(stderr, "\n");
+  if (!st.note.empty()) fmt::print(stderr, "  note: {}\n", st.note);
+  for (const auto& d : st.dropped) fmt::print(stderr, "  not stored (Draco has no place): {}\n", d);
+}
+
+}  // namespace isoforge::cli
