@@ -94,7 +94,10 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     require_meaningful(tolerance_opt, format == FileFormat::Vdb, "applies to OpenVDB output only");
     require_meaningful(codec_opt, format == FileFormat::Glb, "applies to glTF output (.glb) only");
     const bool drc = !args->vtk_xml && format == FileFormat::Draco;
-    check_draco_options(*draco, drc, "applies to Draco output (.drc) only");
+    const bool glb = !args->vtk_xml && format == FileFormat::Glb;
+    const GltfCodec codec = args->codec.empty() ? WriteOptions{}.gltf_codec : gltf_codec_from_name(args->codec);
+    check_draco_options(*draco, drc || (glb && codec == GltfCodec::Draco),
+                        "applies to Draco output (.drc, or .glb with the draco codec) only");
     const DracoWriteOptions draco_options = draco_write_options(*draco);
     check_writable(args->out);
     ReadOptions ro;
@@ -105,7 +108,7 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     wo.compress = !args->no_compress;
     wo.vtk_legacy_version = args->legacy_version;
     wo.vdb_tolerance = args->vdb_tolerance;
-    if (!args->codec.empty()) wo.gltf_codec = gltf_codec_from_name(args->codec);
+    wo.gltf_codec = codec;
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
     bar.stage("reading");
     const Dataset ds = read_input(args->in, bar, ro);
@@ -124,6 +127,23 @@ void add_convert_command(CLI::App& app, Context& ctx) {
       const DracoStats st = write_draco(*pd, out, o);
       bar.finish();
       if (!ctx.quiet) print_draco_stats(st, out.string());
+      return;
+    }
+    if (glb) {  // glTF: the stats of each mesh (Draco: measured errors) are printed
+      const auto* pd = std::get_if<PolyData>(&ds);
+      if (!pd) {
+        throw Error(out.string() + ": glTF holds polygonal data only, not " +
+                    std::string(dataset_type_name(ds)) + " (try .vtk or " +
+                    std::string(vtk_xml_extension(ds)) + ")");
+      }
+      bar.stage("writing");
+      GltfWriteOptions o;
+      o.codec = codec;
+      o.draco = draco_options;
+      o.progress = bar.callback();
+      const GltfWriteStats st = write_gltf(*pd, out, o);
+      bar.finish();
+      if (!ctx.quiet) print_gltf_stats(st, out.string());
       return;
     }
     write_output(ds, out, bar, wo);

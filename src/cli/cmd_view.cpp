@@ -154,8 +154,8 @@ void add_view_command(CLI::App& app, Context& ctx) {
       ->required();
   cmd->add_option("--port", args->port, "TCP port on 127.0.0.1 (0: a free one)")
       ->transform(integer_in(0, 65535));
-  cmd->add_option("--codec", args->codec, "Codec of the converted files: none or meshopt")
-      ->check(CLI::IsMember({"none", "meshopt"}));
+  cmd->add_option("--codec", args->codec, "Codec of the converted files: none (fastest to load), meshopt or draco")
+      ->check(CLI::IsMember({"none", "meshopt", "draco"}));
   cmd->footer(
       "Prints the page's URL on stdout (open it in a browser) and serves the viewer and the\n"
       "files until Ctrl-C (SIGINT) or SIGTERM, then removes the converted files and exits 0.\n"

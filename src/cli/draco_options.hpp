@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "isoforge/io/draco.hpp"
+#include "isoforge/io/gltf.hpp"
 
 namespace isoforge::cli {
 
@@ -35,5 +36,7 @@ void check_draco_options(const DracoCli& d, bool meaningful, const std::string& 
 
 /// Prints what the verifying decode measured (stderr, unless quiet).
 void print_draco_stats(const DracoStats& st, const std::string& path);
+/// Prints what a glTF write did: counts, size, codec stats (Draco: per mesh as above).
+void print_gltf_stats(const GltfWriteStats& st, const std::string& path);
 
 }  // namespace isoforge::cli

@@ -18,6 +18,7 @@
 #include <map>
 #include <set>
 
+#include "detail/draco_codec.hpp"
 #include "detail/json.hpp"
 #include "isoforge/core/append.hpp"
 #include "isoforge/core/normals.hpp"
@@ -245,6 +246,103 @@ const DataArray* color_array(const GltfMesh& m, const std::string& where) {
   return suitable(s) ? s : nullptr;
 }
 
+constexpr const char* kTypes[] = {"SCALAR", "VEC2", "VEC3", "VEC4"};
+
+// One vertex attribute's data as written (plain) or handed to Draco.
+struct Stream {
+  std::string semantic;
+  std::vector<std::byte> bytes;
+  std::size_t elem_bytes = 0;
+  int component_type = kFloat;
+  int components = 1;
+  bool normalized = false;
+  std::string array;  // the array's name ("" for positions and computed normals)
+};
+
+// A KHR_draco_mesh_compression TRIANGLES primitive of `triangles` over the vertex `streams`:
+// positions, normals (unit), colours (linear, as uint8: Draco's colour attribute) and the
+// float arrays, encoded (and verified) by the Draco codec of io/draco.cpp. Its accessors
+// declare what a decoder gets (the decoded point and triangle counts, the decoded bounds).
+Json draco_primitive(GlbBuilder& glb, const std::vector<Stream>& streams, std::size_t n,
+                     const std::vector<std::uint32_t>& triangles, const std::string& where,
+                     const GltfWriteOptions& options, GltfWriteStats& stats) {
+  PolyData tri;
+  io_detail::DracoRoles roles;
+  std::map<std::string, std::string> semantic_of;  // array name in `tri` -> glTF semantic
+  for (const Stream& st : streams) {
+    if (st.semantic == "POSITION") {
+      tri.points = Points(n);
+      std::memcpy(tri.points.floats().data(), st.bytes.data(), st.bytes.size());
+      continue;
+    }
+    std::string name = st.array.empty() ? "Normals" : st.array;
+    while (tri.point_data.has(name)) name += "_";
+    DataArray a;
+    if (st.semantic == "COLOR_0") {
+      a = DataArray(name, ScalarType::UInt8, 4, n);
+      auto out = a.values<std::uint8_t>();
+      for (std::size_t i = 0; i < 4 * n; ++i) {
+        std::uint16_t v;
+        std::memcpy(&v, st.bytes.data() + 2 * i, 2);
+        out[i] = static_cast<std::uint8_t>((v + 128) / 257);
+      }
+      roles.colors = name;
+    } else {
+      a = DataArray(name, ScalarType::Float32, st.components, n);
+      std::memcpy(a.bytes(), st.bytes.data(), st.bytes.size());
+      if (st.semantic == "NORMAL") roles.normals = name;
+    }
+    semantic_of[name] = st.semantic;
+    tri.point_data.add(std::move(a));
+  }
+  tri.polys.reserve(triangles.size() / 3, triangles.size());
+  for (std::size_t k = 0; k < triangles.size(); k += 3) {
+    tri.polys.add({Index{triangles[k]}, Index{triangles[k + 1]}, Index{triangles[k + 2]}});
+  }
+  io_detail::DracoEncodedMesh enc = io_detail::encode_draco_mesh(tri, options.draco, roles, where);
+  const PolyData& dec = enc.decoded;
+  const std::size_t m = dec.num_points();
+  Json prim, attributes, ext, ids;  // (built apart: a reference into an object moves as it grows)
+  ext["bufferView"] = glb.add_blob(enc.bytes.data(), enc.bytes.size());
+  for (const io_detail::DracoAttributeId& id : enc.attributes) {
+    Json acc;
+    acc["count"] = m;
+    std::string semantic;
+    if (id.kind == io_detail::DracoKind::Position) {
+      semantic = "POSITION";
+      acc["componentType"] = kFloat;
+      acc["type"] = "VEC3";
+      Json lo = Json::array(), hi = Json::array();
+      const Bounds b = dec.bounds();
+      for (const double v : {b.min.x, b.min.y, b.min.z}) lo.push(Json(double{static_cast<float>(v)}));
+      for (const double v : {b.max.x, b.max.y, b.max.z}) hi.push(Json(double{static_cast<float>(v)}));
+      acc["min"] = std::move(lo);
+      acc["max"] = std::move(hi);
+    } else {
+      const auto it = semantic_of.find(id.name);
+      check_invariant(it != semantic_of.end(), "every Draco attribute is one of the streams");
+      semantic = it->second;
+      const DataArray& a = dec.point_data.get(id.name);
+      acc["componentType"] = a.type() == ScalarType::UInt8 ? kUnsignedByte : kFloat;
+      if (a.type() == ScalarType::UInt8) acc["normalized"] = true;
+      acc["type"] = kTypes[a.components() - 1];
+    }
+    attributes[semantic] = glb.add_accessor(std::move(acc));
+    ids[semantic] = id.unique_id;
+  }
+  ext["attributes"] = std::move(ids);
+  prim["attributes"] = std::move(attributes);
+  prim["extensions"][kDraco] = std::move(ext);
+  Json indices;
+  indices["count"] = 3 * dec.polys.size();
+  indices["componentType"] = m <= 0xFFFF ? kUnsignedShort : kUnsignedInt;
+  indices["type"] = "SCALAR";
+  prim["indices"] = glb.add_accessor(std::move(indices));
+  prim["mode"] = kModeTriangles;
+  stats.draco.push_back(std::move(enc.stats));
+  return prim;
+}
+
 // Writes one mesh's vertex data and primitives; returns the glTF mesh object.
 Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
                 const GltfWriteOptions& options, GltfWriteStats& stats) {
@@ -281,19 +379,17 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
   stats.triangles += prims.triangles.size() / 3;
   stats.segments += prims.segments.size() / 2;
 
-  Json attributes;
-  Json names = Json::array();  // extras: which attribute holds which array
-  auto vertex_accessor = [&](const void* data, std::size_t elem_bytes, int component_type,
-                             const char* type, bool normalized) {
-    const std::size_t view = glb.add_view(data, n * elem_bytes, n, elem_bytes, true, false);
-    Json acc;
-    acc["bufferView"] = view;
-    acc["componentType"] = component_type;
-    if (normalized) acc["normalized"] = true;
-    acc["count"] = n;
-    acc["type"] = type;
-    return acc;
+  // Vertex streams in memory first: the plain accessors are made from them when a primitive
+  // needs them (Draco-coded triangles do not).
+  std::vector<Stream> streams;
+  auto add_stream = [&](std::string semantic, const void* data, std::size_t elem_bytes,
+                        int component_type, int components, bool normalized, std::string array) {
+    Stream st{std::move(semantic), std::vector<std::byte>(n * elem_bytes), elem_bytes,
+              component_type, components, normalized, std::move(array)};
+    std::memcpy(st.bytes.data(), data, st.bytes.size());
+    streams.push_back(std::move(st));
   };
+  Json names = Json::array();  // extras: which attribute holds which array
   auto name_entry = [&](const std::string& semantic, const DataArray& a) {
     Json e;
     e["attribute"] = semantic;
@@ -302,12 +398,7 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
     e["type"] = scalar_type_name(a.type());
     names.push(std::move(e));
   };
-  {
-    Json acc = vertex_accessor(positions.data(), 12, kFloat, "VEC3", false);
-    acc["min"] = Json(Json::Array{Json(double{lo[0]}), Json(double{lo[1]}), Json(double{lo[2]})});
-    acc["max"] = Json(Json::Array{Json(double{hi[0]}), Json(double{hi[1]}), Json(double{hi[2]})});
-    attributes["POSITION"] = glb.add_accessor(std::move(acc));
-  }
+  add_stream("POSITION", positions.data(), 12, kFloat, 3, false, "");
   const DataArray* normals_array = nullptr;
   if (options.normals) {
     const DataArray* given = pd.point_data.normals();
@@ -330,7 +421,7 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
         }
         for (int k = 0; k < 3; ++k) normals[3 * i + k] = static_cast<float>(v[k]);
       }
-      attributes["NORMAL"] = glb.add_accessor(vertex_accessor(normals.data(), 12, kFloat, "VEC3", false));
+      add_stream("NORMAL", normals.data(), 12, kFloat, 3, false, given != &computed ? given->name() : "");
       if (given != &computed) {
         normals_array = given;
         name_entry("NORMAL", *given);
@@ -357,7 +448,7 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
         rgba[4 * i + static_cast<std::size_t>(k)] = k < 3 ? linear[v] : static_cast<std::uint16_t>(v * 257);
       }
     }
-    attributes["COLOR_0"] = glb.add_accessor(vertex_accessor(rgba.data(), 8, kUnsignedShort, "VEC4", true));
+    add_stream("COLOR_0", rgba.data(), 8, kUnsignedShort, 4, true, colors->name());
     name_entry("COLOR_0", *colors);
   }
   if (options.arrays) {
@@ -381,10 +472,8 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
                                        " (non-finite values; glTF accessors hold finite floats)");
         continue;
       }
-      static constexpr const char* kTypes[] = {"SCALAR", "VEC2", "VEC3", "VEC4"};
       const std::string semantic = custom_semantic(a.name(), used);
-      attributes[semantic] = glb.add_accessor(
-          vertex_accessor(values.data(), 4 * static_cast<std::size_t>(c), kFloat, kTypes[c - 1], false));
+      add_stream(semantic, values.data(), 4 * static_cast<std::size_t>(c), kFloat, c, false, a.name());
       name_entry(semantic, a);
       if (&a == pd.point_data.scalars()) scalars_written = a.name();
     }
@@ -393,12 +482,39 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
     stats.arrays_skipped.push_back(where + ": " + a.name() + " (cell data; glTF has point attributes only)");
   }
 
+  // What the plain layout takes (the ratio's denominator, whatever the codec).
+  for (const Stream& st : streams) stats.raw_bytes += align4(st.bytes.size());
+  const std::size_t index_bytes = n <= 0xFFFF ? 2 : 4;
+  for (const auto* idx : {&prims.triangles, &prims.segments, &prims.points}) {
+    stats.raw_bytes += align4(index_bytes * idx->size());
+  }
+  // The plain accessors of the streams, made once when a primitive first needs them.
+  Json attributes;
+  auto plain_attributes = [&]() -> const Json& {
+    if (attributes.is_object()) return attributes;
+    for (const Stream& st : streams) {
+      const std::size_t view = glb.add_view(st.bytes.data(), st.bytes.size(), n, st.elem_bytes, true, false);
+      Json acc;
+      acc["bufferView"] = view;
+      acc["componentType"] = st.component_type;
+      if (st.normalized) acc["normalized"] = true;
+      acc["count"] = n;
+      acc["type"] = kTypes[st.components - 1];
+      if (st.semantic == "POSITION") {
+        acc["min"] = Json(Json::Array{Json(double{lo[0]}), Json(double{lo[1]}), Json(double{lo[2]})});
+        acc["max"] = Json(Json::Array{Json(double{hi[0]}), Json(double{hi[1]}), Json(double{hi[2]})});
+      }
+      attributes[st.semantic] = glb.add_accessor(std::move(acc));
+    }
+    return attributes;
+  };
+
   // Primitives sharing the vertex accessors.
   Json primitives = Json::array();
   const bool short_indices = n <= 0xFFFF;  // 65535 itself is the restart value: not allowed
   auto add_primitive = [&](const std::vector<std::uint32_t>& indices, int mode) {
     Json prim;
-    prim["attributes"] = attributes;
+    prim["attributes"] = plain_attributes();
     if (!indices.empty()) {
       std::vector<std::uint16_t> shorts;
       const void* data = indices.data();
@@ -420,7 +536,13 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
     prim["mode"] = mode;
     primitives.push(std::move(prim));
   };
-  if (!prims.triangles.empty()) add_primitive(prims.triangles, kModeTriangles);
+  if (!prims.triangles.empty()) {
+    if (options.codec == GltfCodec::Draco) {
+      primitives.push(draco_primitive(glb, streams, n, prims.triangles, where, options, stats));
+    } else {
+      add_primitive(prims.triangles, kModeTriangles);
+    }
+  }
   if (!prims.segments.empty()) add_primitive(prims.segments, kModeLines);
   if (!prims.points.empty()) {
     stats.points += prims.points.size();
@@ -463,7 +585,7 @@ GltfCodec gltf_codec_from_name(std::string_view name) {
   throw Error("glTF codec '" + std::string(name) + "' is not one of none, meshopt, draco");
 }
 
-bool gltf_codec_available(GltfCodec codec) { return codec != GltfCodec::Draco; }
+bool gltf_codec_available(GltfCodec) { return true; }
 
 GltfWriteStats write_gltf(std::span<const GltfMesh> meshes, const std::filesystem::path& path,
                           const GltfWriteOptions& options) {
@@ -505,6 +627,10 @@ GltfWriteStats write_gltf(std::span<const GltfMesh> meshes, const std::filesyste
   Json bin_buffer;
   bin_buffer["byteLength"] = glb.bin().size();
   buffers.push(std::move(bin_buffer));
+  if (options.codec == GltfCodec::Draco && !stats.draco.empty()) {
+    gltf["extensionsUsed"] = Json(Json::Array{Json(kDraco)});
+    gltf["extensionsRequired"] = Json(Json::Array{Json(kDraco)});
+  }
   if (options.codec == GltfCodec::Meshopt) {
     Json fallback;
     fallback["byteLength"] = glb.raw_bytes();
@@ -514,7 +640,6 @@ GltfWriteStats write_gltf(std::span<const GltfMesh> meshes, const std::filesyste
     gltf["extensionsRequired"] = Json(Json::Array{Json(kMeshopt)});
   }
   gltf["buffers"] = std::move(buffers);
-  stats.raw_bytes = glb.raw_bytes();
 
   std::string json = gltf.dump();
   json.resize(align4(json.size()), ' ');  // the JSON chunk is padded with spaces
@@ -567,7 +692,7 @@ class GlbReader {
     parse_container();
     if (const Json* required = gltf_.find("extensionsRequired"); required && required->is_array()) {
       for (const Json& e : required->as_array()) {
-        if (!e.is_string() || e.as_string() != kMeshopt) {
+        if (!e.is_string() || (e.as_string() != kMeshopt && e.as_string() != kDraco)) {
           fail("requires the extension " + (e.is_string() ? e.as_string() : std::string("?")) +
                ", which this reader does not support");
         }
@@ -783,6 +908,56 @@ class GlbReader {
     PolyData pd;
   };
 
+  // Adds the array of attribute `semantic` (`values`: n tuples of `value_components` doubles,
+  // colours linear in [0, 1]) to `pd` under the name, components and type isoforge's extras
+  // give, with its role.
+  void add_array(PolyData& pd, const std::string& semantic, const std::vector<double>& values,
+                 int value_components, const std::string& what, const Json* names,
+                 const std::string& scalars_name) const {
+    const std::size_t n = pd.num_points();
+    std::string name = semantic == "NORMAL" ? "Normals" : semantic == "COLOR_0" ? "Colors" : semantic;
+    int components = value_components;
+    ScalarType type = semantic == "COLOR_0" ? ScalarType::UInt8 : ScalarType::Float32;
+    if (names && names->is_array()) {
+      for (const Json& e : names->as_array()) {
+        const Json* a = e.find("attribute");
+        if (!a || !a->is_string() || a->as_string() != semantic) continue;
+        if (const Json* nm = e.find("name"); nm && nm->is_string()) name = nm->as_string();
+        if (const Json* c = e.find("components"); c && c->is_number() && c->as_number() >= 1 &&
+                                                  c->as_number() <= value_components) {
+          components = static_cast<int>(c->as_number());
+        }
+        if (const Json* t = e.find("type"); t && t->is_string()) {
+          try {
+            type = scalar_type_from_name(t->as_string());
+          } catch (const Error&) {
+            fail(what + ": unknown array type '" + t->as_string() + "'");
+          }
+        }
+      }
+    }
+    if (pd.point_data.has(name)) return;  // a duplicate name: the first wins
+    DataArray array(name, type, components, n);
+    const bool color = semantic == "COLOR_0";
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int c = 0; c < components; ++c) {
+        double v = values[i * static_cast<std::size_t>(value_components) + static_cast<std::size_t>(c)];
+        if (color) {  // linear [0, 1] (float or normalized) to sRGB codes; alpha is linear
+          v = std::clamp(v, 0.0, 1.0);
+          v = std::round((c < 3 ? linear_to_srgb(v) : v) * 255.0);
+        }
+        array.set(i, c, v);
+      }
+    }
+    if (semantic == "NORMAL") {
+      pd.point_data.add(std::move(array), AttributeRole::Normals);
+    } else if ((color && scalars_name.empty()) || (!scalars_name.empty() && name == scalars_name)) {
+      pd.point_data.add(std::move(array), AttributeRole::Scalars);
+    } else {
+      pd.point_data.add(std::move(array));
+    }
+  }
+
   PolyData read_vertices(const Json& attributes, const std::string& what, const Json* names,
                          const std::string& scalars_name) {
     PolyData pd;
@@ -799,48 +974,39 @@ class GlbReader {
       const auto values = read_accessor(index(attributes, semantic, what, std::size_t{1} << 32), info);
       if (info.count != n) fail(what + ": attribute " + semantic + " has " + std::to_string(info.count) +
                                 " elements, POSITION " + std::to_string(n));
-      // The array's name, components and type as written by isoforge, if it says.
-      std::string name = semantic == "NORMAL" ? "Normals" : semantic == "COLOR_0" ? "Colors" : semantic;
-      int components = info.components;
-      ScalarType type = semantic == "COLOR_0" ? ScalarType::UInt8 : ScalarType::Float32;
-      if (names && names->is_array()) {
-        for (const Json& e : names->as_array()) {
-          const Json* a = e.find("attribute");
-          if (!a || !a->is_string() || a->as_string() != semantic) continue;
-          if (const Json* nm = e.find("name"); nm && nm->is_string()) name = nm->as_string();
-          if (const Json* c = e.find("components"); c && c->is_number() && c->as_number() >= 1 &&
-                                                    c->as_number() <= info.components) {
-            components = static_cast<int>(c->as_number());
-          }
-          if (const Json* t = e.find("type"); t && t->is_string()) {
-            try {
-              type = scalar_type_from_name(t->as_string());
-            } catch (const Error&) {
-              fail(what + ": unknown array type '" + t->as_string() + "'");
-            }
-          }
-        }
+      add_array(pd, semantic, values, info.components, what, names, scalars_name);
+    }
+    return pd;
+  }
+
+  // A KHR_draco_mesh_compression primitive: decoded by the Draco codec, its attributes named
+  // through the extension's semantic -> unique id map and isoforge's extras.
+  PolyData read_draco_primitive(const Json& ext, const std::string& what, const Json* names,
+                                const std::string& scalars_name) {
+    const std::string w = what + ": " + kDraco;
+    const auto bytes = view(index(ext, "bufferView", w, std::size_t{1} << 32));
+    io_detail::DracoDecodedMesh decoded = io_detail::decode_draco_mesh(bytes, name_ + ": " + w);
+    PolyData pd;
+    pd.points = std::move(decoded.mesh.points);
+    pd.polys = std::move(decoded.mesh.polys);
+    const Json& ids = member(ext, "attributes", w);
+    if (!ids.is_object()) fail(w + ": 'attributes' is not an object");
+    for (const auto& [semantic, id] : ids.as_object()) {
+      if (semantic == "POSITION") continue;
+      const std::size_t uid = index(ids, semantic, w, std::size_t{1} << 31);
+      const DataArray* a = nullptr;
+      for (const auto& attribute : decoded.attributes) {
+        if (attribute.unique_id == static_cast<int>(uid)) a = decoded.mesh.point_data.find(attribute.name);
       }
-      if (pd.point_data.has(name)) continue;  // a duplicate name: the first wins
-      DataArray array(name, type, components, n);
-      const bool color = semantic == "COLOR_0";
-      for (std::size_t i = 0; i < n; ++i) {
-        for (int c = 0; c < components; ++c) {
-          double v = values[i * static_cast<std::size_t>(info.components) + static_cast<std::size_t>(c)];
-          if (color) {  // linear [0, 1] (float or normalized) to sRGB codes; alpha is linear
-            v = std::clamp(v, 0.0, 1.0);
-            v = std::round((c < 3 ? linear_to_srgb(v) : v) * 255.0);
-          }
-          array.set(i, c, v);
-        }
+      if (!a) fail(w + ": no attribute with unique id " + std::to_string(uid) + " for " + semantic);
+      std::vector<double> values(a->size());
+      const int c = a->components();
+      const bool normalized = semantic == "COLOR_0" && a->type() == ScalarType::UInt8;
+      for (std::size_t i = 0; i < values.size(); ++i) {
+        values[i] = a->get(i / static_cast<std::size_t>(c), static_cast<int>(i % static_cast<std::size_t>(c)));
+        if (normalized) values[i] /= 255.0;
       }
-      if (semantic == "NORMAL") {
-        pd.point_data.add(std::move(array), AttributeRole::Normals);
-      } else if ((color && scalars_name.empty()) || (!scalars_name.empty() && name == scalars_name)) {
-        pd.point_data.add(std::move(array), AttributeRole::Scalars);
-      } else {
-        pd.point_data.add(std::move(array));
-      }
+      add_array(pd, semantic, values, c, w, names, scalars_name);
     }
     return pd;
   }
@@ -866,7 +1032,12 @@ class GlbReader {
       const Json& prim = prims.as_array()[p];
       const std::string pw = what + " primitive " + std::to_string(p);
       if (const Json* ext = prim.find("extensions"); ext && ext->find(kDraco)) {
-        fail(pw + ": " + kDraco + " cannot be decoded by this build");
+        sets.push_back({std::numeric_limits<std::size_t>::max(),
+                        read_draco_primitive(*ext->find(kDraco), pw, names, scalars_name)});
+        polys.push_back(std::move(sets.back().pd.polys));
+        verts.emplace_back();
+        lines.emplace_back();
+        continue;
       }
       const Json& attributes = member(prim, "attributes", pw);
       if (!attributes.is_object()) fail(pw + ": 'attributes' is not an object");

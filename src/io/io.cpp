@@ -215,6 +215,7 @@ void write(DatasetRef ds, const std::filesystem::path& path, const WriteOptions&
     case FileFormat::Glb: {
       GltfWriteOptions o;
       o.codec = options.gltf_codec;
+      o.draco = options.draco;
       o.progress = options.progress;
       (void)write_gltf(require_poly(ds, path, "glTF"), path, o);
       return;

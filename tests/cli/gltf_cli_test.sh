@@ -34,11 +34,12 @@ valid() {  # valid FILE: 0 errors from the Khronos validator
 }
 
 # ---- convert to .glb with each codec; read back with info; validate ----
-expect_ok glb_default "wrote .*fran.glb \(2205 points, 4224 cells\)" "$bin" convert "$data/fran_cut.vtk" "$tmp/fran.glb"
+# The default codec is Draco: its measured errors are printed.
+expect_ok glb_default "draco Points: 11 bits" "$bin" convert "$data/fran_cut.vtk" "$tmp/fran.glb"
 expect_ok glb_default_back "cells: 4224 \(4224 triangle\)" "$bin" info "$tmp/fran.glb"
 valid "$tmp/fran.glb"
 expect_ok glb_none "wrote" "$bin" convert "$data/bunny.ply" "$tmp/bunny_none.glb" --codec none
-expect_ok glb_meshopt "wrote" "$bin" convert "$data/bunny.ply" "$tmp/bunny_meshopt.glb" --codec meshopt
+expect_ok glb_meshopt "wrote .*bunny_meshopt.glb \(1 mesh, 35947 points, 69451 triangles\): [0-9]+ bytes" "$bin" convert "$data/bunny.ply" "$tmp/bunny_meshopt.glb" --codec meshopt
 expect_ok glb_meshopt_back "cells: 69451 \(69451 triangle\)" "$bin" info "$tmp/bunny_meshopt.glb"
 valid "$tmp/bunny_none.glb"
 valid "$tmp/bunny_meshopt.glb"
@@ -51,12 +52,19 @@ valid "$tmp/hello.glb"
 expect_ok glb_quads "wrote" "$bin" convert "$data/Torso.vtp" "$tmp/torso.glb" --codec meshopt
 expect_ok glb_quads_back "cells: 23762 \(23762 triangle\)" "$bin" info "$tmp/torso.glb"  # 1134 + 2 * 11314
 valid "$tmp/torso.glb"
+# Draco with an error budget (relative to the diagonal), as for .drc; the budget is met.
+expect_ok glb_draco_budget "draco Points: .*measured max error .* \(budget " "$bin" convert "$data/bunny.ply" "$tmp/bunny_draco.glb" --codec draco --max-error-rel 1e-4
+valid "$tmp/bunny_draco.glb"
+expect_ok glb_draco_back "cells: 69451 \(69451 triangle\)" "$bin" info "$tmp/bunny_draco.glb"
+[ "$(stat -c %s "$tmp/bunny_draco.glb")" -lt "$(stat -c %s "$tmp/bunny_meshopt.glb")" ] ||
+  fail "Draco file is not smaller than the meshopt one"
 # .glb back to .vtp keeps the points.
 expect_ok glb_to_vtp "wrote .*\(35947 points, 69451 cells\)" "$bin" convert "$tmp/bunny_meshopt.glb" "$tmp/bunny_back.vtp"
 
 # ---- errors ----
 expect_fail 2 codec_not_glb "--codec: applies to glTF output \(.glb\) only" "$bin" convert "$data/bunny.ply" "$tmp/x.vtp" --codec meshopt
 expect_fail 2 codec_bogus "--codec: bogus not in" "$bin" convert "$data/bunny.ply" "$tmp/x.glb" --codec bogus
+expect_fail 2 glb_bits_meshopt "--bits: applies to Draco output \(.drc, or .glb with the draco codec\) only" "$bin" convert "$data/bunny.ply" "$tmp/x.glb" --codec meshopt --bits 12
 expect_fail 1 glb_volume "glTF holds polygonal data only" "$bin" convert "$data/ironProt.vtk" "$tmp/x.glb"
 printf 'glTF\002\000\000\000\377\000\000\000\010\000\000\000JSON' > "$tmp/trunc.glb"
 expect_fail 1 glb_truncated "trunc.glb: byte 8: truncated" "$bin" info "$tmp/trunc.glb"
@@ -64,7 +72,7 @@ printf 'not a glb at all' > "$tmp/text.glb"
 expect_fail 1 glb_magic "text.glb: byte 0: not a binary glTF" "$bin" info "$tmp/text.glb"
 expect_fail 2 view_port "--port: must be an integer in \[0, 65535\], got 70000" "$bin" view "$tmp/fran.glb" --port 70000
 expect_fail 2 view_port_negative "--port" "$bin" view "$tmp/fran.glb" --port -1
-expect_fail 2 view_codec "--codec: draco not in" "$bin" view "$tmp/fran.glb" --codec draco
+expect_fail 2 view_codec "--codec: bogus not in" "$bin" view "$tmp/fran.glb" --codec bogus
 expect_fail 1 view_missing "nosuch.vtp" "$bin" view "$tmp/nosuch.vtp"
 expect_fail 1 view_volume "view: .*ironProt.vtk is image data; only polygonal data can be shown" "$bin" view "$data/ironProt.vtk"
 expect_fail 1 view_bad_glb "text.glb: byte 0: not a binary glTF" "$bin" view "$tmp/text.glb"

@@ -25,6 +25,13 @@ namespace {
 
 fs::path scratch(const std::string& name) { return isoforge::test::scratch_dir("gltf", name); }
 
+GltfWriteOptions with_codec(GltfCodec codec) {
+  GltfWriteOptions o;
+  o.codec = codec;
+  return o;
+}
+const GltfWriteOptions kPlain = with_codec(GltfCodec::None);
+
 // Runs the Khronos validator on `path`; fails the test unless it reports 0 errors. No node or
 // no validator is a failure, not a skip: `make test` installs them (make deps).
 void expect_valid(const fs::path& path) {
@@ -103,7 +110,7 @@ void expect_same_arrays(const PolyData& a, const PolyData& b) {
 TEST(Gltf, CountsOfATinyMesh) {
   const PolyData pd = sample_mesh();
   const auto path = scratch("tiny") / "tiny.glb";
-  const GltfWriteStats stats = write_gltf(pd, path);
+  const GltfWriteStats stats = write_gltf(pd, path, kPlain);
   EXPECT_EQ(stats.meshes, 1u);
   EXPECT_EQ(stats.vertices, 7u);
   EXPECT_EQ(stats.triangles, 2u);  // the quad, fan-triangulated
@@ -119,7 +126,7 @@ TEST(Gltf, CountsOfATinyMesh) {
 TEST(Gltf, PlainRoundTripKeepsValuesNamesAndCells) {
   const PolyData pd = sample_mesh();
   const auto path = scratch("plain") / "mesh.glb";
-  (void)write_gltf(pd, path);
+  (void)write_gltf(pd, path, kPlain);
   expect_valid(path);
   const GltfContent content = read_gltf(path);
   ASSERT_EQ(content.meshes.size(), 1u);
@@ -143,8 +150,7 @@ TEST(Gltf, PlainRoundTripKeepsValuesNamesAndCells) {
 TEST(Gltf, MeshoptRoundTripIsLosslessAndSmaller) {
   const PolyData bunny = read_ply(isoforge::test::data_path("bunny.ply"));
   const auto dir = scratch("meshopt");
-  GltfWriteOptions plain, meshopt;
-  meshopt.codec = GltfCodec::Meshopt;
+  const GltfWriteOptions plain = kPlain, meshopt = with_codec(GltfCodec::Meshopt);
   const auto a = write_gltf(bunny, dir / "plain.glb", plain);
   const auto b = write_gltf(bunny, dir / "meshopt.glb", meshopt);
   expect_valid(dir / "plain.glb");
@@ -182,9 +188,7 @@ TEST(Gltf, EverySrgbColourCodeRoundTrips) {
   }
   pd.point_data.add(DataArray::from_vector<std::uint8_t>("RGBA", 4, rgba), AttributeRole::Scalars);
   const auto dir = scratch("colours");
-  GltfWriteOptions meshopt;
-  meshopt.codec = GltfCodec::Meshopt;
-  for (const auto& [file, options] : {std::pair{"plain.glb", GltfWriteOptions{}}, std::pair{"meshopt.glb", meshopt}}) {
+  for (const auto& [file, options] : {std::pair{"plain.glb", kPlain}, std::pair{"meshopt.glb", with_codec(GltfCodec::Meshopt)}}) {
     (void)write_gltf(pd, dir / file, options);
     expect_valid(dir / file);
     const PolyData back = read_gltf(dir / file).meshes.at(0).mesh;
@@ -206,7 +210,7 @@ TEST(Gltf, SeveralNamedMeshesUnitsAndLegend) {
                     {{{68, 1, 84, 255}}, {{33, 145, 140, 255}}, {{253, 231, 37, 255}}}};
   const std::vector<GltfMesh> meshes = {{"triangle", tri, legend}, {"cloud", cloud}};
   const auto path = scratch("named") / "two.glb";
-  GltfWriteOptions options;
+  GltfWriteOptions options = kPlain;
   options.units = "mm";
   const auto stats = write_gltf(meshes, path, options);
   EXPECT_EQ(stats.meshes, 2u);
@@ -232,6 +236,46 @@ TEST(Gltf, SeveralNamedMeshesUnitsAndLegend) {
   EXPECT_EQ(num_cells(ds), 6u);
 }
 
+TEST(Gltf, DracoRoundTripMeetsTheBudget) {
+  // Draco (the default codec) with a position budget of 1e-4 of the diagonal, sequential
+  // connectivity (keeps the point order, so points compare one to one).
+  const PolyData bunny = read_ply(isoforge::test::data_path("bunny.ply"));
+  const auto dir = scratch("draco");
+  GltfWriteOptions o;
+  EXPECT_EQ(o.codec, GltfCodec::Draco);
+  o.draco.max_position_error_relative = 1e-4;
+  o.draco.method = DracoMethod::Sequential;
+  const auto stats = write_gltf(bunny, dir / "bunny.glb", o);
+  expect_valid(dir / "bunny.glb");
+  ASSERT_EQ(stats.draco.size(), 1u);
+  const Bounds b = bunny.bounds();
+  const double budget = 1e-4 * norm(b.max - b.min);
+  EXPECT_LE(stats.draco[0].max_position_error, budget);
+  EXPECT_LT(stats.bytes, write_gltf(bunny, dir / "meshopt.glb", with_codec(GltfCodec::Meshopt)).bytes);
+  const PolyData back = read_gltf(dir / "bunny.glb").meshes.at(0).mesh;
+  ASSERT_EQ(back.num_points(), bunny.num_points());
+  EXPECT_EQ(back.polys.size(), 69451u - stats.draco[0].lost_triangles);
+  EXPECT_EQ(stats.draco[0].lost_triangles, 0u);  // the budget refines until none is lost
+  double worst = 0;
+  for (std::size_t i = 0; i < bunny.num_points(); ++i) worst = std::max(worst, norm(back.points[i] - bunny.points[i]));
+  EXPECT_LE(worst, budget);
+  EXPECT_NE(back.point_data.find("confidence"), nullptr);  // names kept
+  EXPECT_NE(back.point_data.find("intensity"), nullptr);
+
+  // Lines and points stay plain beside the Draco triangles; colours and names survive.
+  const PolyData pd = sample_mesh();
+  const auto s2 = write_gltf(pd, dir / "tiny.glb", GltfWriteOptions{});
+  expect_valid(dir / "tiny.glb");
+  EXPECT_EQ(s2.triangles, 2u);
+  const PolyData tiny = read_gltf(dir / "tiny.glb").meshes.at(0).mesh;
+  EXPECT_EQ(tiny.polys.size(), 2u);
+  EXPECT_EQ(tiny.lines.size(), 2u);
+  EXPECT_EQ(tiny.verts.size(), 1u);
+  for (const char* name : {"Elevation", "Velocity", "Label", "Colors"}) {
+    EXPECT_NE(tiny.point_data.find(name), nullptr) << name;
+  }
+}
+
 TEST(Gltf, DispatchByExtension) {
   const PolyData pd = sample_mesh();
   const auto path = scratch("dispatch") / "x.glb";
@@ -249,11 +293,11 @@ TEST(Gltf, DispatchByExtension) {
 TEST(Gltf, BadInputsAreErrors) {
   const auto dir = scratch("bad");
   PolyData empty;
-  EXPECT_THROW((void)write_gltf(empty, dir / "e.glb"), Error);
+  EXPECT_THROW((void)write_gltf(empty, dir / "e.glb", kPlain), Error);
   PolyData nan = sample_mesh();
   nan.points.set(2, Vec3{0, std::nan(""), 0});
   try {
-    (void)write_gltf(nan, dir / "n.glb");
+    (void)write_gltf(nan, dir / "n.glb", kPlain);
     ADD_FAILURE() << "no error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("point 2 has a non-finite coordinate"), std::string::npos) << e.what();
@@ -261,7 +305,7 @@ TEST(Gltf, BadInputsAreErrors) {
   EXPECT_FALSE(fs::exists(dir / "n.glb"));
   const PolyData good_mesh = sample_mesh();
   GltfMesh bad_colors{"m", good_mesh, std::nullopt, "Elevation"};  // a float array
-  EXPECT_THROW((void)write_gltf(std::span(&bad_colors, 1), dir / "c.glb"), Error);
+  EXPECT_THROW((void)write_gltf(std::span(&bad_colors, 1), dir / "c.glb", kPlain), Error);
   EXPECT_THROW((void)gltf_codec_from_name("zip"), Error);
 
   auto expect_read_error = [](std::vector<std::byte> bytes, const std::string& part) {
@@ -272,7 +316,7 @@ TEST(Gltf, BadInputsAreErrors) {
       EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
     }
   };
-  (void)write_gltf(sample_mesh(), dir / "ok.glb");
+  (void)write_gltf(sample_mesh(), dir / "ok.glb", kPlain);
   const auto good = read_file_bytes(dir / "ok.glb");
   expect_read_error({good.begin(), good.begin() + 10}, "f.glb: byte 4: truncated");
   auto magic = good;
@@ -284,13 +328,12 @@ TEST(Gltf, BadInputsAreErrors) {
 TEST(Gltf, CorruptFilesGiveErrorsOnly) {
   // Random damage to plain and meshopt files: an Error or a valid result, nothing else.
   const auto dir = scratch("fuzz");
-  GltfWriteOptions meshopt;
-  meshopt.codec = GltfCodec::Meshopt;
-  (void)write_gltf(sample_mesh(), dir / "a.glb");
-  (void)write_gltf(sample_mesh(), dir / "b.glb", meshopt);
+  (void)write_gltf(sample_mesh(), dir / "a.glb", kPlain);
+  (void)write_gltf(sample_mesh(), dir / "b.glb", with_codec(GltfCodec::Meshopt));
+  (void)write_gltf(sample_mesh(), dir / "c.glb", with_codec(GltfCodec::Draco));
   std::mt19937 rng(13);
   int rejected = 0;
-  for (const char* f : {"a.glb", "b.glb"}) {
+  for (const char* f : {"a.glb", "b.glb", "c.glb"}) {
     const auto good = read_file_bytes(dir / f);
     for (int i = 0; i < 300; ++i) {
       const auto bad = isoforge::test::mutate(good, rng, 1 + i % 4, "{}[]\":,0123456789");

@@ -23,6 +23,7 @@
 
 #include "isoforge/core/dataset.hpp"
 #include "isoforge/core/progress.hpp"
+#include "isoforge/io/draco.hpp"
 
 namespace isoforge {
 
@@ -36,7 +37,7 @@ enum class GltfCodec {
 [[nodiscard]] std::string_view gltf_codec_name(GltfCodec codec);
 /// The codec named `name` ("none", "meshopt", "draco"). \throw Error naming it otherwise.
 [[nodiscard]] GltfCodec gltf_codec_from_name(std::string_view name);
-/// Whether this build can write `codec` (Draco needs the Draco export).
+/// Whether this build can write `codec` (all three: Draco is a dependency).
 [[nodiscard]] bool gltf_codec_available(GltfCodec codec);
 
 /// The colour legend of a mesh coloured by a colour map, stored in the mesh's `extras.legend`
@@ -61,7 +62,10 @@ struct GltfMesh {
 };
 
 struct GltfWriteOptions {
-  GltfCodec codec = GltfCodec::None;  ///< see GltfCodec
+  GltfCodec codec = GltfCodec::Draco;  ///< see GltfCodec
+  /// Draco: quantization bits or error budgets, level, method (io/draco.hpp); every mesh's
+  /// triangles are encoded, decoded and measured against them.
+  DracoWriteOptions draco{};
   std::string units;                  ///< length unit of the coordinates ("mm"); empty = unknown
   /// Write NORMAL: the active normals, or area-weighted normals of the triangles when there are
   /// none. Zero or non-finite normals become (0, 0, 1) (glTF needs unit length; counted).
@@ -78,9 +82,10 @@ struct GltfWriteStats {
   std::size_t segments = 0;   ///< line segments (a polyline of n points gives n-1)
   std::size_t points = 0;     ///< POINTS primitive vertices
   std::size_t bytes = 0;      ///< the file's size
-  std::size_t raw_bytes = 0;  ///< what the same data takes as plain glTF buffers
+  std::size_t raw_bytes = 0;  ///< what the vertex and index data take as plain glTF buffers
   std::size_t normals_replaced = 0;  ///< zero/non-finite normals written as (0, 0, 1)
   std::vector<std::string> arrays_skipped;  ///< "mesh: array (why)"
+  std::vector<DracoStats> draco;  ///< Draco codec: per mesh with triangles, the measured errors
 };
 
 /// Writes `meshes` as one `.glb` atomically. Names need not be unique (glTF allows it).
@@ -103,10 +108,10 @@ struct GltfContent {
   std::string units;         ///< from extras; empty if absent
 };
 
-/// Reads a `.glb` (plain or EXT_meshopt_compression; KHR_draco_mesh_compression when this build
-/// has the Draco export): every mesh with its TRIANGLES, LINES and POINTS primitives (strips
-/// and fans are triangulated), NORMAL, COLOR_0, and the other attributes as float arrays (names
-/// restored from isoforge's extras, else the attribute name). Node transforms are not applied.
+/// Reads a `.glb` (plain, EXT_meshopt_compression or KHR_draco_mesh_compression): every mesh
+/// with its TRIANGLES, LINES and POINTS primitives (strips and fans are triangulated), NORMAL,
+/// COLOR_0, and the other attributes as float arrays (names, types and roles restored from
+/// isoforge's extras, else named after the attribute). Node transforms are not applied.
 /// \throw Error naming the file, the byte offset or JSON place, and the problem.
 [[nodiscard]] GltfContent read_gltf(const std::filesystem::path& path);
 /// The same from the bytes of a file; `name` is used in error messages.

@@ -77,7 +77,8 @@ struct WriteOptions {
   std::string vtk_legacy_version = "4.2";
   /// OpenVDB: voxels with |value - background| <= tolerance become inactive.
   double vdb_tolerance = 0.0;
-  GltfCodec gltf_codec = GltfCodec::None;  ///< glTF: how meshes are stored (io/gltf.hpp)
+  /// glTF: how meshes are stored (io/gltf.hpp); the Draco codec uses `draco` below.
+  GltfCodec gltf_codec = GltfCodec::Draco;
   /// Draco: quantization or error budget, compression level, method (the stats of the
   /// verifying decode are returned by `write_draco` itself).
   DracoWriteOptions draco{};
