@@ -30,6 +30,7 @@
 #include "isoforge/core/subset.hpp"
 #include "isoforge/core/union_find.hpp"
 #include "isoforge/core/vec.hpp"
+#include "isoforge/filters/colormap.hpp"
 #include "isoforge/filters/shrink.hpp"
 #include "isoforge/fit/fit_primitive.hpp"
 #include "isoforge/fit/refine.hpp"

@@ -25,6 +25,7 @@ void add_contour_command(CLI::App& app, Context& ctx) {
     std::vector<double> values, range, closest;
     bool flip = false, largest = false;
     std::int64_t largest_n = 0;
+    ColorBy color_by;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("contour", "Isosurfaces (3D data) or isolines (2D data, surfaces) "
@@ -56,6 +57,7 @@ void add_contour_command(CLI::App& app, Context& ctx) {
   auto* q_opt = add_q_option(*cmd, args->q);
   auto* grid_opt = add_grid_option(*cmd, args->grid);
   cmd->add_option("-o,--output", args->out, "Output: " + std::string(kSurfaceExtensions))->required();
+  add_color_by_options(*cmd, args->color_by);
   cmd->footer(
       "Values at or above an isovalue count as inside its surface; NaN counts as below.\n"
       "Examples:\n"
@@ -64,6 +66,8 @@ void add_contour_command(CLI::App& app, Context& ctx) {
       "  isoforge sample -f 'sphere(r=1)' -b -1.5 1.5 -1.5 1.5 -1.5 1.5 -d 64 -o sphere.vti\n"
       "  isoforge contour sphere.vti -v -0.25 -v 0 -v 0.25 -o shells.vtp\n"
       "  isoforge contour data/bunny.ply -a intensity --range 0.05 0.45 9 -o lines.vtp   (isolines on a surface)\n"
+      "  isoforge contour data/combxyz.bin --q data/combq.bin -a Density -v 0.3 --color-by Velocity \\\n"
+      "      --colormap cool-warm -o density.vtp                              (coloured by speed)\n"
       "  isoforge sample -f 'icecream()' -b -0.1 2 -0.7 0.7 -0.7 0.7 -d 1024 -o icecream.vdb\n"
       "  isoforge contour icecream.vdb -v 0 -o icecream.ply                  (sparse, no densifying)");
   cmd->callback([args, &ctx, largest_opt, largest_n_opt, closest_opt, q_opt, grid_opt] {
@@ -71,6 +75,10 @@ void add_contour_command(CLI::App& app, Context& ctx) {
     require_plot3d_input(q_opt, args->in);
     require_vdb_input(grid_opt, args->in);
     exclude_each_other({largest_opt, largest_n_opt, closest_opt});
+    check_color_by(args->color_by, format_of(args->out));
+    if (!args->color_by.array.empty() && format_of(args->in) == FileFormat::Vdb) {
+      throw UsageError("--color-by: the contour of an OpenVDB grid carries no arrays to colour");
+    }
     ContourOptions o;
     o.values = args->values;
     if (!args->range.empty()) {
@@ -107,6 +115,7 @@ void add_contour_command(CLI::App& app, Context& ctx) {
       ReadOptions ro;
       ro.plot3d_q = args->q;
       const Dataset ds = read_input(args->in, bar, ro);
+      require_color_array(args->color_by, ds, false);
       bar.stage("contouring");
       o.progress = bar.callback();
       auto r = contour(ds, o);
@@ -136,12 +145,14 @@ void add_contour_command(CLI::App& app, Context& ctx) {
       components = r.stats.components;
       surface = std::move(r.output);
     }
+    const std::string colored = apply_color_by(args->color_by, surface);
     write_output(surface, args->out, bar);
     bar.finish();
     if (!ctx.quiet) {
       fmt::print(stderr, "wrote {}: {} points, {} cells", args->out, surface.num_points(), surface.num_cells());
       if (selections == 1) fmt::print(stderr, " (kept from {} connected pieces)", components);
       fmt::print(stderr, "\n");
+      if (!colored.empty()) fmt::print(stderr, "  {}\n", colored);
     }
   });
 }

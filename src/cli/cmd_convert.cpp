@@ -2,10 +2,15 @@
 
 #include <fmt/core.h>
 
+#include <cmath>
+#include <optional>
+
 #include "commands.hpp"
 #include "common.hpp"
 #include "draco_options.hpp"
+#include "isoforge/filters/colormap.hpp"
 #include "isoforge/io/draco.hpp"
+#include "isoforge/io/gltf.hpp"
 #include "isoforge/io/atomic_file.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/vtk_xml.hpp"
@@ -19,6 +24,7 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     bool ascii = false, no_compress = false, vtk_xml = false;
     double vdb_tolerance = 0;
     std::string codec;
+    ColorBy color_by;
   };
   auto args = std::make_shared<Args>();
   auto draco = std::make_shared<DracoCli>();
@@ -52,6 +58,7 @@ void add_convert_command(CLI::App& app, Context& ctx) {
                           std::string(gltf_codec_name(WriteOptions{}.gltf_codec)) + ")")
           ->check(CLI::IsMember({"draco", "meshopt", "none"}));
   add_draco_options(*cmd, *draco);
+  add_color_by_options(*cmd, args->color_by);
   cmd->footer(
       "The output is written atomically: a failed run leaves no partial file and keeps an\n"
       "existing file unchanged. A format that cannot hold the dataset is an error.\n"
@@ -69,7 +76,9 @@ void add_convert_command(CLI::App& app, Context& ctx) {
       "  isoforge convert bunny.drc bunny_back.vtp\n"
       "  isoforge convert data/bunny.ply bunny_seq.drc --sequential --max-error 1e-5 \\\n"
       "      --array-error confidence=0.001\n"
-      "  isoforge convert data/bunny.ply bunny.glb --codec meshopt   (glTF binary; see isoforge view)");
+      "  isoforge convert data/bunny.ply bunny.glb --codec meshopt   (glTF binary; see isoforge view)\n"
+      "  isoforge convert data/bunny.ply bunny_c.glb --color-by intensity --colormap plasma\n"
+      "  isoforge convert data/post.vtk post.vtu --color-by Pressure --colormap black-body");
   cmd->callback([args, draco, &ctx, q_opt, grid_opt, ascii_opt, vtk_xml_opt, no_compress_opt, legacy_opt,
                  tolerance_opt, codec_opt] {
     require_plot3d_input(q_opt, args->in);
@@ -99,6 +108,7 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     check_draco_options(*draco, drc || (glb && codec == GltfCodec::Draco),
                         "applies to Draco output (.drc, or .glb with the draco codec) only");
     const DracoWriteOptions draco_options = draco_write_options(*draco);
+    check_color_by(args->color_by, format);
     check_writable(args->out);
     ReadOptions ro;
     ro.plot3d_q = args->q;
@@ -111,7 +121,26 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     wo.gltf_codec = codec;
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
     bar.stage("reading");
-    const Dataset ds = read_input(args->in, bar, ro);
+    Dataset ds = read_input(args->in, bar, ro);
+    require_color_array(args->color_by, ds, false);
+    // .glb: the colours come with a legend (the map, its range) that the viewer draws.
+    std::optional<GltfLegend> legend;
+    std::string colored;
+    if (glb && !args->color_by.array.empty() && std::holds_alternative<PolyData>(ds)) {
+      ColormapOptions co;
+      co.map = colormap_from_name(args->color_by.map);
+      co.range = parse_color_range(args->color_by.range, "--color-range");
+      const ColormapStats cs = add_colors(std::get<PolyData>(ds), args->color_by.array, co);
+      if (std::isfinite(cs.range[0]) && std::isfinite(cs.range[1])) {
+        constexpr std::size_t kLegendColors = 32;  // a smooth bar; 128 bytes of JSON per mesh
+        legend = GltfLegend{args->color_by.array, args->color_by.map, cs.range[0], cs.range[1],
+                            false, colormap_table(co.map, kLegendColors)};
+      }
+      colored = fmt::format("coloured by '{}' ({}, range {:g} .. {:g})", args->color_by.array,
+                            args->color_by.map, cs.range[0], cs.range[1]);
+    } else {
+      colored = apply_color_by(args->color_by, ds);
+    }
     std::filesystem::path out = args->out;
     if (args->vtk_xml) out.replace_extension(vtk_xml_extension(ds));
     if (drc) {
@@ -141,9 +170,14 @@ void add_convert_command(CLI::App& app, Context& ctx) {
       o.codec = codec;
       o.draco = draco_options;
       o.progress = bar.callback();
-      const GltfWriteStats st = write_gltf(*pd, out, o);
+      const GltfMesh mesh{std::filesystem::path(args->in).stem().string(), *pd, legend,
+                          legend && pd->point_data.has("Colors") ? "Colors" : ""};
+      const GltfWriteStats st = write_gltf(std::span(&mesh, 1), out, o);
       bar.finish();
-      if (!ctx.quiet) print_gltf_stats(st, out.string());
+      if (!ctx.quiet) {
+        print_gltf_stats(st, out.string());
+        if (!colored.empty()) fmt::print(stderr, "  {}\n", colored);
+      }
       return;
     }
     write_output(ds, out, bar, wo);
@@ -151,6 +185,7 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     if (!ctx.quiet) {
       fmt::print(stderr, "wrote {} ({} points, {} cells)\n", out.string(), num_points(ds),
                  num_cells(ds));
+      if (!colored.empty()) fmt::print(stderr, "  {}\n", colored);
     }
   });
 }

@@ -23,6 +23,7 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
            attribute_weight = 0;
     bool relative = false, preserve_boundary = true, preserve_topology = true, refine = false,
          no_measure = false, no_intersection_check = false;
+    ColorBy color_by;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
@@ -75,6 +76,7 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
                 "Hausdorff distance, never folds)");
   cmd->add_flag("--no-measure", args->no_measure,
                 "Do not measure the Hausdorff and RMS distance to the input");
+  add_color_by_options(*cmd, args->color_by);
   cmd->footer(
       "Prints the achieved triangle count, the time and the Hausdorff and RMS distances between\n"
       "the output and the input (relative to the input's bounding-box diagonal).\n"
@@ -83,14 +85,16 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
       "  isoforge decimate data/bunny.ply -t 1000 --refine -o bunny1k.vtp\n"
       "  isoforge decimate data/bunny.ply -t 5000 -m vertex-removal --feature-angle 60 -o "
       "bunny5k.vtp\n"
-      "  isoforge decimate data/bunny.ply -e 0.001 --relative -o bunny_err.vtp");
+      "  isoforge decimate data/bunny.ply -e 0.001 --relative -o bunny_err.vtp\n"
+      "  isoforge decimate data/bunny.ply -r 0.5 --color-by intensity --colormap inferno -o bunny_colored.ply");
   cmd->callback([args, &ctx, target_opt, reduction_opt, error_opt, relative_opt] {
-    (void)output_format(args->out, kSurfaceFormats, kSurfaceExtensions);
+    const FileFormat format = output_format(args->out, kSurfaceFormats, kSurfaceExtensions);
     exclude_each_other({target_opt, reduction_opt});
     if (target_opt->count() == 0 && reduction_opt->count() == 0 && error_opt->count() == 0) {
       throw UsageError("give a stop: --target-triangles N, --reduction R or --max-error E");
     }
     require_meaningful(relative_opt, error_opt->count() > 0, "applies to --max-error only");
+    check_color_by(args->color_by, format);
     if (args->reduction >= 1) {
       throw UsageError("--reduction: must be below 1 (1 would remove every triangle), got " +
                        fmt::format("{}", args->reduction));
@@ -116,6 +120,7 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
     bar.stage("reading");
     const PolyData input =
         read_polydata(args->in, bar, "decimate: only polygonal data can be decimated");
+    require_color_array(args->color_by, input, true);  // decimation keeps point data only
     bar.stage("decimating");
     o.progress = bar.callback();
     const auto t0 = std::chrono::steady_clock::now();
@@ -141,6 +146,7 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
       mo.progress = bar.callback();
       distance = mesh_distance(input, surface, mo);
     }
+    const std::string colored = apply_color_by(args->color_by, surface);
     write_output(surface, args->out, bar);
     bar.finish();
     if (!ctx.quiet) {
@@ -152,6 +158,7 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
                  "{} self-intersection; {} vertices locked\n",
                  stats.operations, stats.max_error, stats.refused_topology, stats.refused_flip,
                  stats.refused_intersection, stats.locked_vertices);
+      if (!colored.empty()) fmt::print(stderr, "  {}\n", colored);
       if (args->refine) {
         fmt::print(stderr,
                    "  refined in {:.3f} s: RMS {:.4g} -> {:.4g}, Hausdorff {:.4g} -> {:.4g} "

@@ -289,6 +289,97 @@ Bounds grown(const Bounds& b, double pad) {
   return r;
 }
 
+CLI::Option* add_colormap_option(CLI::App& cmd, std::string& map) {
+  return cmd.add_option("--colormap", map, "Colour map (default viridis; docs/algorithms/colormaps.md)")
+      ->check(CLI::IsMember(colormap_names()));
+}
+
+CLI::Option* add_color_range_option(CLI::App& cmd, const std::string& name,
+                                    std::vector<double>& range) {
+  return cmd
+      .add_option(name, range,
+                  "Values mapped to the ends of the colour map: MIN MAX (default: the array's "
+                  "range, NaNs ignored)")
+      ->expected(2)
+      ->check(finite_number());
+}
+
+std::optional<std::array<double, 2>> parse_color_range(const std::vector<double>& range,
+                                                       const char* option, bool log) {
+  if (range.empty()) return std::nullopt;
+  if (!(range[0] < range[1])) {
+    throw UsageError(fmt::format("{}: MIN must be below MAX, got {:g} {:g}", option, range[0],
+                                 range[1]));
+  }
+  if (log && range[0] <= 0) {
+    throw UsageError(fmt::format("{}: --log needs a positive range, got {:g} {:g}", option,
+                                 range[0], range[1]));
+  }
+  return std::array{range[0], range[1]};
+}
+
+void add_color_by_options(CLI::App& cmd, ColorBy& color_by) {
+  cmd.add_option("--color-by", color_by.array,
+                 "Colour the output by this point (or cell) array: adds 8-bit RGB 'Colors' "
+                 "(a vector is coloured by its magnitude)");
+  color_by.map_option = add_colormap_option(cmd, color_by.map);
+  color_by.range_option = add_color_range_option(cmd, "--color-range", color_by.range);
+}
+
+void check_color_by(const ColorBy& color_by, FileFormat output) {
+  const bool on = !color_by.array.empty();
+  require_meaningful(color_by.map_option, on, "applies with --color-by only");
+  require_meaningful(color_by.range_option, on, "applies with --color-by only");
+  (void)parse_color_range(color_by.range, "--color-range");
+  if (on && (output == FileFormat::Obj || output == FileFormat::Off || output == FileFormat::Vdb)) {
+    throw UsageError(fmt::format("--color-by: {} files do not store colours (write .vtp, .vtk or "
+                                 ".ply)",
+                                 format_name(output)));
+  }
+}
+
+namespace {
+std::string array_names(const Attributes& a) {
+  if (a.empty()) return "none";
+  std::string s;
+  for (const DataArray& x : a) s += (s.empty() ? "'" : ", '") + x.name() + "'";
+  return s;
+}
+}  // namespace
+
+void require_color_array(const ColorBy& color_by, DatasetRef input, bool points_only) {
+  if (color_by.array.empty() || point_data(input).has(color_by.array)) return;
+  if (points_only) {
+    throw Error(fmt::format("--color-by: no point array '{}' (point arrays: {})", color_by.array,
+                            array_names(point_data(input))));
+  }
+  if (cell_data(input).has(color_by.array)) return;
+  throw Error(fmt::format("--color-by: no array '{}' (point arrays: {}; cell arrays: {})",
+                          color_by.array, array_names(point_data(input)),
+                          array_names(cell_data(input))));
+}
+
+namespace {
+template <class D>
+std::string color_output(const ColorBy& color_by, D& output) {
+  if (color_by.array.empty() || (num_points(output) == 0 && num_cells(output) == 0)) return {};
+  ColormapOptions o;
+  o.map = colormap_from_name(color_by.map);
+  o.range = parse_color_range(color_by.range, "--color-range");
+  const ColormapStats s = add_colors(output, color_by.array, o);
+  return fmt::format("coloured by '{}' ({}, range {:g} .. {:g}{})", color_by.array, color_by.map,
+                     s.range[0], s.range[1],
+                     s.nan_count > 0 ? fmt::format(", {} NaN", s.nan_count) : std::string());
+}
+}  // namespace
+
+std::string apply_color_by(const ColorBy& color_by, Dataset& output) {
+  return color_output(color_by, output);
+}
+std::string apply_color_by(const ColorBy& color_by, PolyData& output) {
+  return color_output(color_by, output);
+}
+
 double elapsed_ms(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }

@@ -3,14 +3,17 @@
 // conversion and small geometry/timing helpers.
 
 #include <CLI/CLI.hpp>
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <initializer_list>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "isoforge/core/dataset.hpp"
+#include "isoforge/filters/colormap.hpp"
 #include "isoforge/implicit/function.hpp"
 #include "isoforge/implicit/sample.hpp"
 #include "isoforge/io/io.hpp"
@@ -125,6 +128,42 @@ void require_band_memory(const PolyData& input, const GridSpec& grid, double ban
 
 /// `b` grown by `pad` on every side.
 Bounds grown(const Bounds& b, double pad);
+
+/// "--colormap NAME": one of the colour maps (colormap_names()), viridis by default.
+CLI::Option* add_colormap_option(CLI::App& cmd, std::string& map);
+/// A colour-map range option `name` taking MIN MAX (two finite numbers).
+CLI::Option* add_color_range_option(CLI::App& cmd, const std::string& name,
+                                    std::vector<double>& range);
+/// The range given to `option` (nullopt when not given). \throw UsageError naming `option` when
+/// MIN is not below MAX, or when `log` and MIN is not positive.
+std::optional<std::array<double, 2>> parse_color_range(const std::vector<double>& range,
+                                                       const char* option, bool log = false);
+
+/// "--color-by ARRAY [--colormap NAME] [--color-range MIN MAX]" of the subcommands that write a
+/// mesh: the output gets a point (or cell) array "Colors" of 8-bit RGB (isoforge colormap does
+/// the rest). The range option is --color-range because contour's --range means isovalues.
+struct ColorBy {
+  std::string array;            ///< "" = no colouring
+  std::string map = "viridis";  ///< --colormap
+  std::vector<double> range;    ///< --color-range (empty: the output's own range)
+  CLI::Option* map_option = nullptr;
+  CLI::Option* range_option = nullptr;
+};
+/// Adds the three options to `cmd`, filling `color_by`.
+void add_color_by_options(CLI::App& cmd, ColorBy& color_by);
+/// Checks them before any work. \throw UsageError for --colormap or --color-range without
+/// --color-by, a range whose MIN is not below MAX, or an `output` format that stores no colours
+/// (OBJ, OFF, OpenVDB).
+void check_color_by(const ColorBy& color_by, FileFormat output);
+/// After reading `input`: \throw Error naming the array and listing the arrays when --color-by
+/// names none of `input`'s point arrays (nor cell arrays, unless `points_only`: the subcommand
+/// drops cell data).
+void require_color_array(const ColorBy& color_by, DatasetRef input, bool points_only);
+/// Colours `output` by --color-by (nothing when it was not given or `output` is empty).
+/// Returns what was done, for the summary ("coloured by 'T' (viridis, range 0 .. 1)"), or "".
+/// \throw Error as add_colors.
+std::string apply_color_by(const ColorBy& color_by, Dataset& output);
+std::string apply_color_by(const ColorBy& color_by, PolyData& output);
 
 /// Milliseconds since `t0`.
 double elapsed_ms(std::chrono::steady_clock::time_point t0);

@@ -350,9 +350,58 @@ for opt in "--bits 12" "--level 3" "--sequential" "--max-error 1" "--max-error-r
   # shellcheck disable=SC2086
   expect_usage "drc_meaningless_${opt%% *}" "${opt%% *}: applies to Draco output \(.drc\) only" "$bin" convert "$data/bunny.ply" "$tmp/x.vtp" $opt
 done
+# ---- colormap: exact colours on a tiny input (info prints each component's range), every
+# dataset type's point or cell data, --color-by on the commands that write meshes ----
+printf '# vtk DataFile Version 3.0\nramp\nASCII\nDATASET POLYDATA\nPOINTS 4 float\n0 0 0 1 0 0 2 0 0 3 0 0\nVERTICES 4 8\n1 0\n1 1\n1 2\n1 3\nPOINT_DATA 4\nSCALARS s float\nLOOKUP_TABLE default\n0 10 nan 20\n' > "$tmp/ramp.vtk"
+# Rainbow over 0 .. 10: red, blue, grey (NaN), blue (20 is above, clamped to the last colour).
+expect_ok colormap_stats "range 0 .. 10 \(given\); 1 NaN, 0 below and 1 above the range" "$bin" colormap "$tmp/ramp.vtk" -a s --colormap rainbow --range 0 10 -o "$tmp/ramp_rainbow.vtp"
+expect_ok colormap_rainbow_colours "'Colors' +UInt8 +x3 .*\[0, 255\], \[0, 128\], \[0, 255\]" "$bin" info "$tmp/ramp_rainbow.vtp"
+# The data's range (0 .. 20, NaN ignored) with viridis: 0, 10, 20 take 68 1 84, 33 144 140 and
+# 253 231 37, NaN the given 0 0 0; RGBA with opacity 0.5 -> alpha 128 (the NaN colour keeps 255).
+expect_ok colormap_auto "range 0 .. 20 \(of the data\); 1 NaN" "$bin" colormap "$tmp/ramp.vtk" -a s --nan-color 0,0,0 --rgba --opacity 0.5 -o "$tmp/ramp_viridis.vtp"
+expect_ok colormap_viridis_colours "'Colors' +UInt8 +x4 .*\[0, 253\], \[0, 231\], \[0, 140\], \[128, 255\]" "$bin" info "$tmp/ramp_viridis.vtp"
+expect_ok colormap_above_color "1 above" "$bin" colormap "$tmp/ramp.vtk" -a s --colormap grayscale --range 0 10 --above-color 0,255,0 --nan-color 9,9,9 -o "$tmp/ramp_above.vtp"
+expect_ok colormap_above_colours "'Colors' +UInt8 +x3 .*\[0, 255\], \[0, 255\], \[0, 255\]" "$bin" info "$tmp/ramp_above.vtp"
+expect_ok colormap_ply "wrote .*'Colors' \(RGB, 35947 point colours\) from 'intensity' by plasma" "$bin" colormap "$data/bunny.ply" -a intensity --colormap plasma -o "$tmp/bunny_plasma.ply"
+expect_ok colormap_ply_back "'Colors' +UInt8 +x3" "$bin" info "$tmp/bunny_plasma.ply"
+expect_ok colormap_cells "'Colors' \(RGB, [0-9]+ cell colours\) from 'OriginalCellIds'" "$bin" colormap "$tmp/inside.vtu" -a OriginalCellIds --bands 4 -o "$tmp/inside_colors.vtu"
+"$bin" info "$tmp/inside_colors.vtu" | awk '/^cell data/ { c = 1 } c && /Colors/' | grep -q UInt8 || fail "colormap: no cell array 'Colors' in inside_colors.vtu"
+expect_ok colormap_grid "47025 point colours" "$bin" colormap "$data/combxyz.bin" --q "$data/combq.bin" -a Velocity --magnitude --log --range 1 2000 -o "$tmp/speed.vts"
+expect_ok colormap_quiet "^$" "$bin" --quiet colormap "$tmp/ramp.vtk" -a s -o "$tmp/ramp_q.vtp"
+expect_error colormap_unknown_array "no array 'nosuch' \(point arrays: 'confidence', 'intensity'; cell arrays: none\)" "$bin" colormap "$data/bunny.ply" -a nosuch -o "$tmp/x.vtp"
+expect_error colormap_component_range "'intensity': component 3 is out of range \(the array has 1 component\)" "$bin" colormap "$data/bunny.ply" -a intensity --component 3 -o "$tmp/x.vtp"
+expect_error colormap_log_data "'intensity': log scale needs positive values, but they range \[0, 0.5\]" "$bin" colormap "$data/bunny.ply" -a intensity --log -o "$tmp/x.vtp"
+expect_usage colormap_range_order "--range: MIN must be below MAX, got 5 1" "$bin" colormap "$data/bunny.ply" -a intensity --range 5 1 -o "$tmp/x.vtp"
+expect_usage colormap_range_nan "--range: .*nan" "$bin" colormap "$data/bunny.ply" -a intensity --range 0 nan -o "$tmp/x.vtp"
+expect_usage colormap_range_log "--range: --log needs a positive range, got 0 1" "$bin" colormap "$data/bunny.ply" -a intensity --log --range 0 1 -o "$tmp/x.vtp"
+expect_usage colormap_two_sources "exclude each other" "$bin" colormap "$data/bunny.ply" -a intensity --component 0 --magnitude -o "$tmp/x.vtp"
+expect_usage colormap_unknown_map "--colormap: jet not in" "$bin" colormap "$data/bunny.ply" -a intensity --colormap jet -o "$tmp/x.vtp"
+expect_usage colormap_short_color "--nan-color: expected R,G,B or R,G,B,A with integers 0..255, got '1,2'" "$bin" colormap "$data/bunny.ply" -a intensity --nan-color 1,2 -o "$tmp/x.vtp"
+expect_usage colormap_big_color "--below-color: expected .*got '300,0,0'" "$bin" colormap "$data/bunny.ply" -a intensity --below-color 300,0,0 -o "$tmp/x.vtp"
+expect_usage colormap_opacity_rgb "--opacity: applies to --rgba output only" "$bin" colormap "$data/bunny.ply" -a intensity --opacity 0.5 -o "$tmp/x.vtp"
+expect_usage colormap_bands_zero "--bands: must be an integer in \[1, " "$bin" colormap "$data/bunny.ply" -a intensity --bands 0 -o "$tmp/x.vtp"
+expect_usage colormap_component_negative "--component: must be an integer in \[0, 2147483647\], got -1" "$bin" colormap "$data/bunny.ply" -a intensity --component -1 -o "$tmp/x.vtp"
+expect_usage colormap_empty_name "--name: the colour array needs a name" "$bin" colormap "$data/bunny.ply" -a intensity --name '' -o "$tmp/x.vtp"
+expect_ok contour_color_by "coloured by 'Velocity' \(cool-warm, range" "$bin" contour "$data/combxyz.bin" --q "$data/combq.bin" -a Density -v 0.3 --color-by Velocity --colormap cool-warm -o "$tmp/density.vtp"
+expect_ok contour_color_by_back "'Colors' +UInt8 +x3" "$bin" info "$tmp/density.vtp"
+expect_ok contour_color_by_cells "coloured by 'OriginalCellIds' \(rainbow, range" "$bin" contour "$tmp/inside.vtu" -v -0.5 --color-by OriginalCellIds --colormap rainbow -o "$tmp/inside_contour.vtp"
+expect_ok contour_color_by_empty "warning: contour: no surface at value 0" "$bin" contour "$tmp/inside.vtu" -v 0 --color-by OriginalCellIds -o "$tmp/inside_empty.vtp"
+expect_ok decimate_color_by "coloured by 'intensity' \(viridis, range 0 .. 0.5\)" "$bin" decimate "$data/bunny.ply" -r 0.9 --no-measure --color-by intensity -o "$tmp/bunny10_colors.ply"
+expect_ok decimate_color_by_back "'Colors' +UInt8 +x3" "$bin" info "$tmp/bunny10_colors.ply"
+expect_ok convert_color_by "coloured by 'Pressure' \(black-body, range 1 .. 1.5\)" "$bin" convert "$data/post.vtk" "$tmp/post_colors.vtu" --color-by Pressure --colormap black-body --color-range 1 1.5
+expect_ok convert_color_by_back "'Colors' +UInt8 +x3" "$bin" info "$tmp/post_colors.vtu"
+expect_usage color_by_map_alone "--colormap: applies with --color-by only" "$bin" contour "$tmp/sphere.vti" -v 0 --colormap plasma -o "$tmp/x.vtp"
+expect_usage color_by_range_alone "--color-range: applies with --color-by only" "$bin" convert "$data/post.vtk" "$tmp/x.vtu" --color-range 0 1
+expect_usage color_by_range_order "--color-range: MIN must be below MAX, got 1 1" "$bin" convert "$data/post.vtk" "$tmp/x.vtu" --color-by Pressure --color-range 1 1
+expect_usage color_by_vdb "--color-by: OpenVDB files do not store colours" "$bin" convert "$data/HeadMRVolume.mhd" "$tmp/x.vdb" --color-by MetaImage
+expect_usage color_by_obj "--color-by: OBJ files do not store colours" "$bin" decimate "$data/bunny.ply" -r 0.5 --color-by intensity -o "$tmp/x.obj"
+expect_usage colormap_obj "x.off: this subcommand writes .vtk .vti .vts .vtp .vtu .ply, not OFF" "$bin" colormap "$data/bunny.ply" -a intensity -o "$tmp/x.off"
+expect_usage colormap_component_huge "--component: must be an integer in \[0, 2147483647\], got 4294967296" "$bin" colormap "$data/bunny.ply" -a intensity --component 4294967296 -o "$tmp/x.vtp"
+expect_error color_by_unknown "--color-by: no point array 'nosuch' \(point arrays: 'confidence', 'intensity'\)" "$bin" decimate "$data/bunny.ply" -r 0.5 --color-by nosuch -o "$tmp/x.vtp"
+expect_error color_by_unknown_convert "--color-by: no array 'nosuch' \(point arrays: 'Pressure'; cell arrays: none\)" "$bin" convert "$data/post.vtk" "$tmp/x.vtu" --color-by nosuch
 
 # ---- help: every subcommand has examples ----
-for sub in info convert sample select contour distance offset csg attractor fit decimate; do
+for sub in info convert sample select contour distance offset csg attractor fit decimate colormap; do
   expect_ok "help_$sub" "Examples:" "$bin" "$sub" --help
 done
 
