@@ -58,6 +58,10 @@ valid "$tmp/bunny_draco.glb"
 expect_ok glb_draco_back "cells: 69451 \(69451 triangle\)" "$bin" info "$tmp/bunny_draco.glb"
 [ "$(stat -c %s "$tmp/bunny_draco.glb")" -lt "$(stat -c %s "$tmp/bunny_meshopt.glb")" ] ||
   fail "Draco file is not smaller than the meshopt one"
+# Colours from a colour map: COLOR_0 (read back as 'Colors') and the legend.
+expect_ok glb_color_by "coloured by 'intensity' \(plasma, range 0 .. 0.5\)" "$bin" convert "$data/bunny.ply" "$tmp/bunny_color.glb" --color-by intensity --colormap plasma --codec none
+expect_ok glb_color_back "'Colors' +UInt8 +x3" "$bin" info "$tmp/bunny_color.glb"
+valid "$tmp/bunny_color.glb"
 # .glb back to .vtp keeps the points.
 expect_ok glb_to_vtp "wrote .*\(35947 points, 69451 cells\)" "$bin" convert "$tmp/bunny_meshopt.glb" "$tmp/bunny_back.vtp"
 

@@ -27,7 +27,8 @@ mkdirSync(out, { recursive: true });
 const run = (...args) => execFileSync(isoforge, args, { encoding: 'utf8', stdio: ['ignore', 'pipe', 'pipe'] });
 const files = [
   { name: 'fran', input: path.join(data, 'fran_cut.vtk'), args: [] },
-  { name: 'bunny', input: path.join(data, 'bunny.ply'), args: ['--codec', 'meshopt'] },
+  { name: 'bunny', input: path.join(data, 'bunny.ply'),
+    args: ['--codec', 'meshopt', '--color-by', 'intensity', '--colormap', 'plasma'] },
 ];
 let triangles = 0;
 const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
@@ -86,14 +87,20 @@ try {
                              { timeout: 120000 });
   const state = await page.evaluate(() => {
     const s = window.isoforgeViewer;
-    return { error: s.error, triangles: s.triangles, bbox: s.bbox, meshes: s.meshes };
+    return { error: s.error, triangles: s.triangles, bbox: s.bbox, meshes: s.meshes,
+             legends: s.legends.map((l) => `${l.mesh}:${l.array}:${l.colormap}:${l.range}`),
+             legendBars: document.querySelectorAll('#legends .legend canvas').length };
   });
   if (state.error) fail(`the page reports an error: ${state.error}`);
   if (consoleErrors.length) fail(`console errors: ${consoleErrors.join(' | ')}`);
   if (foreign.length) fail(`requests outside the server: ${foreign.join(', ')}`);
   if (state.triangles !== triangles) fail(`page shows ${state.triangles} triangles, isoforge counts ${triangles}`);
+  // The coloured bunny carries a legend (plasma over intensity's range 0 .. 0.5), drawn once.
+  if (state.legends.join('|') !== 'bunny:intensity:plasma:0,0.5' || state.legendBars !== 1) {
+    fail(`legends ${JSON.stringify(state.legends)} (${state.legendBars} drawn), expected bunny's plasma legend`);
+  }
   const names = state.meshes.map((m) => m.name).join(',');
-  if (names !== 'fran,bunny') fail(`mesh names '${names}', expected 'fran,bunny'`);
+  if (names !== 'fran_cut,bunny') fail(`mesh names '${names}', expected 'fran_cut,bunny' (the inputs' names)`);
   if (!state.bbox) {
     fail('no bounding box');
   } else {
