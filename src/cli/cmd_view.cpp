@@ -145,6 +145,7 @@ void add_view_command(CLI::App& app, Context& ctx) {
     std::vector<std::string> files;
     std::int64_t port = 0;
     std::string codec = "none";
+    double seconds = 0;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("view", "Show meshes in the browser viewer (three.js), served "
@@ -156,6 +157,9 @@ void add_view_command(CLI::App& app, Context& ctx) {
       ->transform(integer_in(0, 65535));
   cmd->add_option("--codec", args->codec, "Codec of the converted files: none (fastest to load), meshopt or draco")
       ->check(CLI::IsMember({"none", "meshopt", "draco"}));
+  cmd->add_option("--for", args->seconds,
+                  "Stop by itself after this many seconds (> 0; for scripts); default: until Ctrl-C")
+      ->check(positive_number());
   cmd->footer(
       "Prints the page's URL on stdout (open it in a browser) and serves the viewer and the\n"
       "files until Ctrl-C (SIGINT) or SIGTERM, then removes the converted files and exits 0.\n"
@@ -163,8 +167,7 @@ void add_view_command(CLI::App& app, Context& ctx) {
       "mesh list with visibility toggles, orbit controls, a wireframe toggle, the colour\n"
       "legend of coloured meshes and a screenshot button (see docs/viewer.md).\n"
       "Examples:\n"
-      "  isoforge view data/bunny.ply data/fran_cut.vtk --port 0 & sleep 3; kill -INT $!; wait $!\n"
-      "                                                   (serves for 3 seconds, then stops)");
+      "  isoforge view data/bunny.ply data/fran_cut.vtk --for 2   (serves for 2 seconds, then stops)");
   cmd->callback([args, &ctx] {
     const fs::path assets = viewer_dir();
     StopSignals stop;
@@ -203,7 +206,7 @@ void add_view_command(CLI::App& app, Context& ctx) {
     fmt::print("http://127.0.0.1:{}/\n", port);
     std::fflush(stdout);
     if (!ctx.quiet) fmt::print(stderr, "serving {} file(s); Ctrl-C stops\n", args->files.size());
-    server.serve(g_stop_pipe[0]);
+    server.serve(g_stop_pipe[0], args->seconds);
     if (!ctx.quiet) fmt::print(stderr, "stopped after {} request(s)\n", server.requests());
   });
 }

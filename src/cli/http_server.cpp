@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <fstream>
 #include <vector>
@@ -97,10 +98,20 @@ int StaticServer::listen(const std::string& host, int port) {
   return ntohs(addr.sin_port);
 }
 
-void StaticServer::serve(int stop_fd) {
+void StaticServer::serve(int stop_fd, double seconds) {
+  const auto end = std::chrono::steady_clock::now() +
+                   std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                       std::chrono::duration<double>(seconds));
   for (;;) {
+    int timeout_ms = -1;
+    if (seconds > 0) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+          end - std::chrono::steady_clock::now());
+      if (left.count() <= 0) return;
+      timeout_ms = static_cast<int>(std::min<long long>(left.count(), 1 << 30));
+    }
     pollfd fds[2] = {{listen_fd_, POLLIN, 0}, {stop_fd, POLLIN, 0}};
-    const int n = ::poll(fds, 2, -1);
+    const int n = ::poll(fds, 2, timeout_ms);
     if (n < 0) {
       if (errno == EINTR) continue;  // the signal's byte is in the pipe: seen next round
       throw Error(std::string("poll failed: ") + std::strerror(errno));

@@ -28,9 +28,9 @@ class StaticServer {
   /// \throw Error naming the address if that fails. Returns the bound port.
   int listen(const std::string& host, int port);
 
-  /// Serves until a byte can be read from `stop_fd` (a self-pipe written by a signal handler).
-  /// \throw Error if the listening socket fails.
-  void serve(int stop_fd);
+  /// Serves until a byte can be read from `stop_fd` (a self-pipe written by a signal handler),
+  /// or for `seconds` when it is > 0. \throw Error if the listening socket fails.
+  void serve(int stop_fd, double seconds = 0);
 
   /// Number of requests answered (any status).
   [[nodiscard]] std::size_t requests() const { return requests_; }

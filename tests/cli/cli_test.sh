@@ -348,7 +348,7 @@ expect_usage drc_array_twice "--array-error: array 'confidence' given twice" "$b
 expect_error drc_array_missing "error budget for 'nope', which is not a point array" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --array-error nope=1
 for opt in "--bits 12" "--level 3" "--sequential" "--max-error 1" "--max-error-rel 0.1" "--array-error a=1" "--generic-bits 9"; do
   # shellcheck disable=SC2086
-  expect_usage "drc_meaningless_${opt%% *}" "${opt%% *}: applies to Draco output \(.drc\) only" "$bin" convert "$data/bunny.ply" "$tmp/x.vtp" $opt
+  expect_usage "drc_meaningless_${opt%% *}" "${opt%% *}: applies to Draco output \(.drc, or .glb with the draco codec\) only" "$bin" convert "$data/bunny.ply" "$tmp/x.vtp" $opt
 done
 # ---- colormap: exact colours on a tiny input (info prints each component's range), every
 # dataset type's point or cell data, --color-by on the commands that write meshes ----
@@ -401,7 +401,7 @@ expect_error color_by_unknown "--color-by: no point array 'nosuch' \(point array
 expect_error color_by_unknown_convert "--color-by: no array 'nosuch' \(point arrays: 'Pressure'; cell arrays: none\)" "$bin" convert "$data/post.vtk" "$tmp/x.vtu" --color-by nosuch
 
 # ---- help: every subcommand has examples ----
-for sub in info convert sample select contour distance offset csg attractor fit decimate colormap; do
+for sub in info convert sample select contour distance offset csg attractor fit decimate colormap view; do
   expect_ok "help_$sub" "Examples:" "$bin" "$sub" --help
 done
 

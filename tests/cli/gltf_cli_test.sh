@@ -81,6 +81,8 @@ expect_fail 1 view_missing "nosuch.vtp" "$bin" view "$tmp/nosuch.vtp"
 expect_fail 1 view_volume "view: .*ironProt.vtk is image data; only polygonal data can be shown" "$bin" view "$data/ironProt.vtk"
 expect_fail 1 view_bad_glb "text.glb: byte 0: not a binary glTF" "$bin" view "$tmp/text.glb"
 expect_fail 2 view_nothing "files is required" "$bin" view
+expect_fail 2 view_for_zero "--for: must be a finite number > 0" "$bin" view "$tmp/fran.glb" --for 0
+expect_ok view_for "stopped after 0 request" "$bin" view "$tmp/fran.glb" --for 0.5
 
 # ---- view: serves the page and the files, only those, and stops on SIGINT ----
 # http GET PATH: the raw response (status line, headers, body) from the server on $port.
