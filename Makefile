@@ -35,7 +35,7 @@ DEBIAN_PACKAGES := cmake ninja-build g++ make ccache pkg-config git \
   libcli11-dev libfmt-dev libpugixml-dev zlib1g-dev \
   libgtest-dev libgmock-dev libbenchmark-dev \
   python3 python3-vtk9 python3-numpy libmeshoptimizer-dev \
-  clang libclang-rt-14-dev
+  clang libclang-rt-14-dev chromium
 
 .PHONY: all deps configure build demo test verify bench fuzz sanitize install clean
 
@@ -51,6 +51,19 @@ deps:
 	  if [ "$$(id -u)" -eq 0 ]; then SUDO=""; else SUDO="sudo"; fi; \
 	  $$SUDO apt-get update -q && \
 	  DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -q --no-install-recommends $$missing; \
+	fi
+	@# Node.js and npm (the viewer's three.js, the glTF validator, playwright-core): Debian's
+	@# when missing; then the npm packages of viewer/package-lock.json when missing or stale.
+	@if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then \
+	  echo "installing Node.js and npm (Debian packages)"; \
+	  if [ "$$(id -u)" -eq 0 ]; then SUDO=""; else SUDO="sudo"; fi; \
+	  $$SUDO apt-get update -q && \
+	  DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -q --no-install-recommends nodejs npm; \
+	fi
+	@if [ ! -f viewer/node_modules/.package-lock.json ] || \
+	    [ viewer/package-lock.json -nt viewer/node_modules/.package-lock.json ]; then \
+	  echo "installing the viewer's npm packages (npm ci in viewer/)"; \
+	  cd viewer && npm ci --no-audit --no-fund; \
 	fi
 
 configure: deps

@@ -40,6 +40,7 @@
 #include "isoforge/implicit/select.hpp"
 #include "isoforge/io/atomic_file.hpp"
 #include "isoforge/io/draco.hpp"
+#include "isoforge/io/gltf.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/off_obj.hpp"
 #include "isoforge/io/plot3d.hpp"

@@ -2,11 +2,16 @@
 
 #include <fmt/core.h>
 
+#include <cmath>
+#include <optional>
+
 #include "commands.hpp"
 #include "common.hpp"
 #include "draco_options.hpp"
+#include "isoforge/filters/colormap.hpp"
 #include "isoforge/io/atomic_file.hpp"
 #include "isoforge/io/draco.hpp"
+#include "isoforge/io/gltf.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/vtk_xml.hpp"
 #include "progress_bar.hpp"
@@ -18,6 +23,7 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     std::string in, out, q, legacy_version = "4.2", grid;
     bool ascii = false, no_compress = false, vtk_xml = false;
     double vdb_tolerance = 0;
+    std::string codec;
     ColorBy color_by;
   };
   auto args = std::make_shared<Args>();
@@ -27,7 +33,7 @@ void add_convert_command(CLI::App& app, Context& ctx) {
                                  "file extensions)");
   cmd->add_option("input", args->in, "Input file")->required();
   cmd->add_option("output", args->out,
-                  "Output file: .vtk .vti .vts .vtp .vtu .ply .obj .off .vdb .drc")
+                  "Output file: .vtk .vti .vts .vtp .vtu .ply .obj .off .vdb .drc .glb")
       ->required();
   auto* q_opt = add_q_option(*cmd, args->q);
   auto* grid_opt = add_grid_option(*cmd, args->grid);
@@ -48,8 +54,14 @@ void add_convert_command(CLI::App& app, Context& ctx) {
       cmd->add_option("--vdb-tolerance", args->vdb_tolerance,
                       "OpenVDB output: values within this of the background stay inactive (>= 0)")
           ->check(non_negative_number());
-  add_color_by_options(*cmd, args->color_by);
+  auto* codec_opt =
+      cmd->add_option("--codec", args->codec,
+                      "glTF output: how meshes are stored: draco, meshopt (lossless, fast to "
+                      "decode) or none (default: " +
+                          std::string(gltf_codec_name(WriteOptions{}.gltf_codec)) + ")")
+          ->check(CLI::IsMember({"draco", "meshopt", "none"}));
   add_draco_options(*cmd, *draco);
+  add_color_by_options(*cmd, args->color_by);
   cmd->footer(
       "The output is written atomically: a failed run leaves no partial file and keeps an\n"
       "existing file unchanged. A format that cannot hold the dataset is an error.\n"
@@ -63,14 +75,17 @@ void add_convert_command(CLI::App& app, Context& ctx) {
       "  isoforge convert data/bunny.ply bunny.vtk --ascii --legacy-version 5.1\n"
       "  isoforge convert data/HeadMRVolume.mhd head.vdb    (OpenVDB needs equal spacing on all "
       "axes)\n"
-      "  isoforge convert data/post.vtk post.vtu --color-by Pressure --colormap black-body\n"
       "  isoforge convert data/bunny.ply bunny.drc --max-error-rel 1e-4\n"
       "  isoforge convert data/bunny.ply bunny16.drc --bits 16 --level 10\n"
       "  isoforge convert bunny.drc bunny_back.vtp\n"
       "  isoforge convert data/bunny.ply bunny_seq.drc --sequential --max-error 1e-5 \\\n"
-      "      --array-error confidence=0.001");
+      "      --array-error confidence=0.001\n"
+      "  isoforge convert data/bunny.ply bunny.glb --codec meshopt   (glTF binary; see isoforge "
+      "view)\n"
+      "  isoforge convert data/bunny.ply bunny_c.glb --color-by intensity --colormap plasma\n"
+      "  isoforge convert data/post.vtk post.vtu --color-by Pressure --colormap black-body");
   cmd->callback([args, draco, &ctx, q_opt, grid_opt, ascii_opt, vtk_xml_opt, no_compress_opt,
-                 legacy_opt, tolerance_opt] {
+                 legacy_opt, tolerance_opt, codec_opt] {
     require_plot3d_input(q_opt, args->in);
     require_vdb_input(grid_opt, args->in);
     // The output format: VTK XML of some kind with --vtk-xml, else by the extension. Fail on an
@@ -92,11 +107,16 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     require_meaningful(legacy_opt, !args->vtk_xml && format == FileFormat::VtkLegacy,
                        "applies to VTK legacy output (.vtk) only");
     require_meaningful(tolerance_opt, format == FileFormat::Vdb, "applies to OpenVDB output only");
-    check_color_by(args->color_by, format);
+    require_meaningful(codec_opt, format == FileFormat::Glb, "applies to glTF output (.glb) only");
     const bool drc = !args->vtk_xml && format == FileFormat::Draco;
-    check_draco_options(*draco, drc, "applies to Draco output (.drc) only");
+    const bool glb = !args->vtk_xml && format == FileFormat::Glb;
+    const GltfCodec codec =
+        args->codec.empty() ? WriteOptions{}.gltf_codec : gltf_codec_from_name(args->codec);
+    check_draco_options(*draco, drc || (glb && codec == GltfCodec::Draco),
+                        "applies to Draco output (.drc, or .glb with the draco codec) only");
     const DracoWriteOptions draco_options = draco_write_options(*draco);
-    if (drc) keep_freed_memory();
+    if (drc || (glb && codec == GltfCodec::Draco)) keep_freed_memory();
+    check_color_by(args->color_by, format);
     check_writable(args->out);
     ReadOptions ro;
     ro.plot3d_q = args->q;
@@ -106,11 +126,33 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     wo.compress = !args->no_compress;
     wo.vtk_legacy_version = args->legacy_version;
     wo.vdb_tolerance = args->vdb_tolerance;
+    wo.gltf_codec = codec;
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
     bar.stage("reading");
     Dataset ds = read_input(args->in, bar, ro);
     require_color_array(args->color_by, ds, false);
-    const std::string colored = apply_color_by(args->color_by, ds);
+    // .glb: the colours come with a legend (the map, its range) that the viewer draws.
+    std::optional<GltfLegend> legend;
+    std::string colored;
+    if (glb && !args->color_by.array.empty() && std::holds_alternative<PolyData>(ds)) {
+      ColormapOptions co;
+      co.map = colormap_from_name(args->color_by.map);
+      co.range = parse_color_range(args->color_by.range, "--color-range");
+      const ColormapStats cs = add_colors(std::get<PolyData>(ds), args->color_by.array, co);
+      if (std::isfinite(cs.range[0]) && std::isfinite(cs.range[1])) {
+        constexpr std::size_t kLegendColors = 32;  // a smooth bar; 128 bytes of JSON per mesh
+        legend = GltfLegend{args->color_by.array,
+                            args->color_by.map,
+                            cs.range[0],
+                            cs.range[1],
+                            false,
+                            colormap_table(co.map, kLegendColors)};
+      }
+      colored = fmt::format("coloured by '{}' ({}, range {:g} .. {:g})", args->color_by.array,
+                            args->color_by.map, cs.range[0], cs.range[1]);
+    } else {
+      colored = apply_color_by(args->color_by, ds);
+    }
     std::filesystem::path out = args->out;
     if (args->vtk_xml) out.replace_extension(vtk_xml_extension(ds));
     if (drc) {
@@ -125,8 +167,27 @@ void add_convert_command(CLI::App& app, Context& ctx) {
       o.progress = bar.callback();
       const DracoStats st = write_draco(*pd, out, o);
       bar.finish();
+      if (!ctx.quiet) print_draco_stats(st, out.string());
+      return;
+    }
+    if (glb) {  // glTF: the stats of each mesh (Draco: measured errors) are printed
+      const auto* pd = std::get_if<PolyData>(&ds);
+      if (!pd) {
+        throw Error(out.string() + ": glTF holds polygonal data only, not " +
+                    std::string(dataset_type_name(ds)) + " (try .vtk or " +
+                    std::string(vtk_xml_extension(ds)) + ")");
+      }
+      bar.stage("writing");
+      GltfWriteOptions o;
+      o.codec = codec;
+      o.draco = draco_options;
+      o.progress = bar.callback();
+      const GltfMesh mesh{std::filesystem::path(args->in).stem().string(), *pd, legend,
+                          legend && pd->point_data.has("Colors") ? "Colors" : ""};
+      const GltfWriteStats st = write_gltf(std::span(&mesh, 1), out, o);
+      bar.finish();
       if (!ctx.quiet) {
-        print_draco_stats(st, out.string());
+        print_gltf_stats(st, out.string());
         if (!colored.empty()) fmt::print(stderr, "  {}\n", colored);
       }
       return;

@@ -23,6 +23,7 @@ void add_csg_command(CLI::App& app, Context& ctx);
 void add_attractor_command(CLI::App& app, Context& ctx);
 void add_decimate_command(CLI::App& app, Context& ctx);
 void add_fit_command(CLI::App& app, Context& ctx);
+void add_view_command(CLI::App& app, Context& ctx);
 void add_colormap_command(CLI::App& app, Context& ctx);
 
 }  // namespace isoforge::cli

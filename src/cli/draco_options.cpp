@@ -117,4 +117,32 @@ void print_draco_stats(const DracoStats& st, const std::string& path) {
   for (const auto& d : st.dropped) fmt::print(stderr, "  not stored (Draco has no place): {}\n", d);
 }
 
+void print_gltf_stats(const GltfWriteStats& st, const std::string& path) {
+  std::string counts = fmt::format("{} mesh{}, {} points", st.meshes, st.meshes == 1 ? "" : "es",
+                                   st.vertices);
+  if (st.triangles) counts += fmt::format(", {} triangles", st.triangles);
+  if (st.segments) counts += fmt::format(", {} line segments", st.segments);
+  if (st.points) counts += fmt::format(", {} points drawn", st.points);
+  fmt::print(stderr, "wrote {} ({}): {} bytes, ratio {:.2f} to plain glTF buffers ({} bytes)\n",
+             path, counts, st.bytes,
+             st.bytes ? static_cast<double>(st.raw_bytes) / static_cast<double>(st.bytes) : 0.0,
+             st.raw_bytes);
+  for (const auto& d : st.draco) {
+    for (const auto& a : d.attributes) {
+      std::string grid = a.bits == 0 ? "exact" : fmt::format("{} bits", a.bits);
+      if (a.step > 0) grid += fmt::format(", step {:.3g}", a.step);
+      const std::string budget = a.budget > 0 ? fmt::format(" (budget {:.3g})", a.budget) : "";
+      fmt::print(stderr, "  draco {}: {}, measured max error {:.3g}{}\n", a.name, grid, a.max_error,
+                 budget);
+    }
+    fmt::print(stderr, "  draco decoded: {} points, {} triangles; lost triangles: {}\n",
+               d.decoded_points, d.decoded_triangles, d.lost_triangles);
+    if (!d.note.empty()) fmt::print(stderr, "  note: {}\n", d.note);
+  }
+  if (st.normals_replaced > 0) {
+    fmt::print(stderr, "  {} zero normals written as (0, 0, 1)\n", st.normals_replaced);
+  }
+  for (const auto& s : st.arrays_skipped) fmt::print(stderr, "  not stored: {}\n", s);
+}
+
 }  // namespace isoforge::cli

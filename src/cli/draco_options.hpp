@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "isoforge/io/draco.hpp"
+#include "isoforge/io/gltf.hpp"
 
 namespace isoforge::cli {
 
@@ -39,5 +40,7 @@ void keep_freed_memory();
 
 /// Prints what the verifying decode measured (stderr, unless quiet).
 void print_draco_stats(const DracoStats& st, const std::string& path);
+/// Prints what a glTF write did: counts, size, codec stats (Draco: per mesh as above).
+void print_gltf_stats(const GltfWriteStats& st, const std::string& path);
 
 }  // namespace isoforge::cli

@@ -124,6 +124,7 @@ int main(int argc, char** argv) {
   add_attractor_command(app, ctx);
   add_decimate_command(app, ctx);
   add_fit_command(app, ctx);
+  add_view_command(app, ctx);
   add_colormap_command(app, ctx);
   try {
     app.parse(argc, argv);

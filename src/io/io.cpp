@@ -7,7 +7,9 @@
 #include <fstream>
 
 #include "detail/progress.hpp"
+#include "isoforge/core/append.hpp"
 #include "isoforge/io/draco.hpp"
+#include "isoforge/io/gltf.hpp"
 #include "isoforge/io/off_obj.hpp"
 #include "isoforge/io/ply.hpp"
 #include "isoforge/io/plot3d.hpp"
@@ -52,10 +54,11 @@ FileFormat format_from_path(const std::filesystem::path& path) {
   if (ext == ".nhdr" || ext == ".nrrd") return FileFormat::Nrrd;
   if (ext == ".mhd" || ext == ".mha") return FileFormat::MetaImage;
   if (ext == ".vdb") return FileFormat::Vdb;
+  if (ext == ".glb") return FileFormat::Glb;
   if (ext == ".drc") return FileFormat::Draco;
   throw Error(path.string() + ": unknown file extension '" + ext +
               "' (known: .vtk .vti .vts .vtp .vtu .ply .obj .off .xyz/.bin (PLOT3D) .nhdr .nrrd "
-              ".mhd .mha .vdb .drc)");
+              ".mhd .mha .vdb .drc .glb)");
 }
 
 std::string_view format_name(FileFormat format) {
@@ -72,6 +75,7 @@ std::string_view format_name(FileFormat format) {
     case FileFormat::Nrrd: return "NRRD";
     case FileFormat::MetaImage: return "MetaImage";
     case FileFormat::Vdb: return "OpenVDB";
+    case FileFormat::Glb: return "glTF binary";
     case FileFormat::Draco: return "Draco";
   }
   return "?";
@@ -148,6 +152,13 @@ Dataset read(const std::filesystem::path& path, const ReadOptions& options) {
       report_progress(progress, 1.0, "reading");
       return img;
     }
+    case FileFormat::Glb: {
+      GltfContent content = read_gltf(path);
+      std::vector<PolyData> parts;
+      for (auto& m : content.meshes) parts.push_back(std::move(m.mesh));
+      report_progress(progress, 1.0, "reading");
+      return parts.empty() ? PolyData{} : append(std::move(parts));
+    }
   }
   throw Error(path.string() + ": unsupported format");
 }
@@ -199,6 +210,14 @@ void write(DatasetRef ds, const std::filesystem::path& path, const WriteOptions&
       o.tolerance = static_cast<float>(options.vdb_tolerance);
       write_vdb(*image_to_vdb(*img, o), path);
       if (options.progress) (void)options.progress(1.0);  // done: too late to cancel
+      return;
+    }
+    case FileFormat::Glb: {
+      GltfWriteOptions o;
+      o.codec = options.gltf_codec;
+      o.draco = options.draco;
+      o.progress = options.progress;
+      (void)write_gltf(require_poly(ds, path, "glTF"), path, o);
       return;
     }
     case FileFormat::Draco: {

@@ -317,6 +317,39 @@ expect_error decimate_volume "decimate: .*ironProt.vtk is image data; only polyg
 expect_error decimate_lock_missing "lock array 'Nope'" "$bin" decimate "$data/bunny.ply" -t 100 --lock Nope -o "$tmp/x.vtp"
 expect_error decimate_no_triangles "no triangle" "$bin" decimate "$data/hello.vtk" -t 10 -o "$tmp/x.vtp"
 
+# ---- convert to Draco (.drc): measured errors within the budget, options validated ----
+expect_ok drc_budget "Points: [0-9]+ bits, step [0-9.e-]+, measured max error [0-9.e-]+ \(budget 2\.5e-05\)" "$bin" convert "$data/bunny.ply" "$tmp/bunny.drc" --max-error-rel 1e-4
+expect_ok drc_bits "Points: 16 bits" "$bin" convert "$data/bunny.ply" "$tmp/bunny16.drc" --bits 16 --level 10
+expect_ok drc_sequential "decoded: 35947 points, 69451 triangles; lost triangles: 0" "$bin" convert "$data/bunny.ply" "$tmp/bunny_seq.drc" --sequential --max-error 1e-5 --array-error confidence=0.001
+expect_ok drc_array_budget "confidence: [0-9]+ bits, .*\(budget 0\.001\)" "$bin" convert "$data/bunny.ply" "$tmp/bunny_seq.drc" --sequential --max-error 1e-5 --array-error confidence=0.001
+expect_ok drc_back "points: 35947" "$bin" info "$tmp/bunny_seq.drc"
+expect_ok drc_back_arrays "'confidence' +Float32" "$bin" info "$tmp/bunny_seq.drc"
+expect_ok drc_to_vtp "wrote .*b.vtp \(34834 points, 69451 cells\)" "$bin" convert "$tmp/bunny.drc" "$tmp/b.vtp"
+# The measured error printed never exceeds the budget (parsed from the output).
+out=$("$bin" convert "$data/fran_cut.vtk" "$tmp/fran.drc" --max-error 0.0005 2>&1)
+awk '/Points:/ { for (i = 1; i <= NF; ++i) if ($i == "error") e = $(i + 1) } END { exit !(e + 0 <= 0.0005 && e + 0 > 0) }' <<<"$out" || fail "drc_fran: measured error above the budget: $out"
+expect_error drc_lines "Draco has no lines" "$bin" convert "$data/hello.vtk" "$tmp/x.drc"
+expect_error drc_volume "Draco holds polygonal data only" "$bin" convert "$data/ironProt.vtk" "$tmp/x.drc"
+head -c 100 "$tmp/bunny.drc" > "$tmp/trunc.drc"
+expect_error drc_truncated "trunc.drc: .*(corrupt|truncated)" "$bin" info "$tmp/trunc.drc"
+printf 'not draco at all' > "$tmp/junk.drc"
+expect_error drc_junk "junk.drc: not a Draco file" "$bin" convert "$tmp/junk.drc" "$tmp/x.vtp"
+expect_usage drc_bits_zero "--bits: must be an integer in \[1, 30\], got 0" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --bits 0
+expect_usage drc_bits_big "--bits: must be an integer in \[1, 30\], got 31" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --bits 31
+expect_usage drc_normal_bits "--normal-bits: must be an integer in \[1, 30\]" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --normal-bits -1
+expect_usage drc_level "--level: must be an integer in \[0, 10\], got 11" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --level 11
+expect_usage drc_error_nan "--max-error: must be a finite number > 0, got 'nan'" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --max-error nan
+expect_usage drc_error_negative "--max-error-rel: must be a finite number > 0" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --max-error-rel -1
+expect_usage drc_error_zero "--max-error: must be a finite number > 0" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --max-error 0
+expect_usage drc_two_budgets "--max-error and --max-error-rel exclude each other" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --max-error 1 --max-error-rel 0.1
+expect_usage drc_bits_budget "--bits and --max-error-rel exclude each other" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --bits 12 --max-error-rel 0.1
+expect_usage drc_array_malformed "--array-error: must be NAME=E with a finite E > 0, got 'confidence=-1'" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --array-error confidence=-1
+expect_usage drc_array_twice "--array-error: array 'confidence' given twice" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --array-error confidence=1 --array-error confidence=2
+expect_error drc_array_missing "error budget for 'nope', which is not a point array" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --array-error nope=1
+for opt in "--bits 12" "--level 3" "--sequential" "--max-error 1" "--max-error-rel 0.1" "--array-error a=1" "--generic-bits 9"; do
+  # shellcheck disable=SC2086
+  expect_usage "drc_meaningless_${opt%% *}" "${opt%% *}: applies to Draco output \(.drc, or .glb with the draco codec\) only" "$bin" convert "$data/bunny.ply" "$tmp/x.vtp" $opt
+done
 # ---- colormap: exact colours on a tiny input (info prints each component's range), every
 # dataset type's point or cell data, --color-by on the commands that write meshes ----
 printf '# vtk DataFile Version 3.0\nramp\nASCII\nDATASET POLYDATA\nPOINTS 4 float\n0 0 0 1 0 0 2 0 0 3 0 0\nVERTICES 4 8\n1 0\n1 1\n1 2\n1 3\nPOINT_DATA 4\nSCALARS s float\nLOOKUP_TABLE default\n0 10 nan 20\n' > "$tmp/ramp.vtk"
@@ -366,42 +399,9 @@ expect_usage colormap_obj "x.off: this subcommand writes .vtk .vti .vts .vtp .vt
 expect_usage colormap_component_huge "--component: must be an integer in \[0, 2147483647\], got 4294967296" "$bin" colormap "$data/bunny.ply" -a intensity --component 4294967296 -o "$tmp/x.vtp"
 expect_error color_by_unknown "--color-by: no point array 'nosuch' \(point arrays: 'confidence', 'intensity'\)" "$bin" decimate "$data/bunny.ply" -r 0.5 --color-by nosuch -o "$tmp/x.vtp"
 expect_error color_by_unknown_convert "--color-by: no array 'nosuch' \(point arrays: 'Pressure'; cell arrays: none\)" "$bin" convert "$data/post.vtk" "$tmp/x.vtu" --color-by nosuch
-# ---- convert to Draco (.drc): measured errors within the budget, options validated ----
-expect_ok drc_budget "Points: [0-9]+ bits, step [0-9.e-]+, measured max error [0-9.e-]+ \(budget 2\.5e-05\)" "$bin" convert "$data/bunny.ply" "$tmp/bunny.drc" --max-error-rel 1e-4
-expect_ok drc_bits "Points: 16 bits" "$bin" convert "$data/bunny.ply" "$tmp/bunny16.drc" --bits 16 --level 10
-expect_ok drc_sequential "decoded: 35947 points, 69451 triangles; lost triangles: 0" "$bin" convert "$data/bunny.ply" "$tmp/bunny_seq.drc" --sequential --max-error 1e-5 --array-error confidence=0.001
-expect_ok drc_array_budget "confidence: [0-9]+ bits, .*\(budget 0\.001\)" "$bin" convert "$data/bunny.ply" "$tmp/bunny_seq.drc" --sequential --max-error 1e-5 --array-error confidence=0.001
-expect_ok drc_back "points: 35947" "$bin" info "$tmp/bunny_seq.drc"
-expect_ok drc_back_arrays "'confidence' +Float32" "$bin" info "$tmp/bunny_seq.drc"
-expect_ok drc_to_vtp "wrote .*b.vtp \(34834 points, 69451 cells\)" "$bin" convert "$tmp/bunny.drc" "$tmp/b.vtp"
-# The measured error printed never exceeds the budget (parsed from the output).
-out=$("$bin" convert "$data/fran_cut.vtk" "$tmp/fran.drc" --max-error 0.0005 2>&1)
-awk '/Points:/ { for (i = 1; i <= NF; ++i) if ($i == "error") e = $(i + 1) } END { exit !(e + 0 <= 0.0005 && e + 0 > 0) }' <<<"$out" || fail "drc_fran: measured error above the budget: $out"
-expect_error drc_lines "Draco has no lines" "$bin" convert "$data/hello.vtk" "$tmp/x.drc"
-expect_error drc_volume "Draco holds polygonal data only" "$bin" convert "$data/ironProt.vtk" "$tmp/x.drc"
-head -c 100 "$tmp/bunny.drc" > "$tmp/trunc.drc"
-expect_error drc_truncated "trunc.drc: .*(corrupt|truncated)" "$bin" info "$tmp/trunc.drc"
-printf 'not draco at all' > "$tmp/junk.drc"
-expect_error drc_junk "junk.drc: not a Draco file" "$bin" convert "$tmp/junk.drc" "$tmp/x.vtp"
-expect_usage drc_bits_zero "--bits: must be an integer in \[1, 30\], got 0" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --bits 0
-expect_usage drc_bits_big "--bits: must be an integer in \[1, 30\], got 31" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --bits 31
-expect_usage drc_normal_bits "--normal-bits: must be an integer in \[1, 30\]" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --normal-bits -1
-expect_usage drc_level "--level: must be an integer in \[0, 10\], got 11" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --level 11
-expect_usage drc_error_nan "--max-error: must be a finite number > 0, got 'nan'" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --max-error nan
-expect_usage drc_error_negative "--max-error-rel: must be a finite number > 0" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --max-error-rel -1
-expect_usage drc_error_zero "--max-error: must be a finite number > 0" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --max-error 0
-expect_usage drc_two_budgets "--max-error and --max-error-rel exclude each other" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --max-error 1 --max-error-rel 0.1
-expect_usage drc_bits_budget "--bits and --max-error-rel exclude each other" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --bits 12 --max-error-rel 0.1
-expect_usage drc_array_malformed "--array-error: must be NAME=E with a finite E > 0, got 'confidence=-1'" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --array-error confidence=-1
-expect_usage drc_array_twice "--array-error: array 'confidence' given twice" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --array-error confidence=1 --array-error confidence=2
-expect_error drc_array_missing "error budget for 'nope', which is not a point array" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --array-error nope=1
-for opt in "--bits 12" "--level 3" "--sequential" "--max-error 1" "--max-error-rel 0.1" "--array-error a=1" "--generic-bits 9"; do
-  # shellcheck disable=SC2086
-  expect_usage "drc_meaningless_${opt%% *}" "${opt%% *}: applies to Draco output \(.drc\) only" "$bin" convert "$data/bunny.ply" "$tmp/x.vtp" $opt
-done
 
 # ---- help: every subcommand has examples ----
-for sub in info convert sample select contour distance offset csg attractor fit decimate colormap; do
+for sub in info convert sample select contour distance offset csg attractor fit decimate colormap view; do
   expect_ok "help_$sub" "Examples:" "$bin" "$sub" --help
 done
 

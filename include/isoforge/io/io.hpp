@@ -13,6 +13,7 @@
 /// | .nhdr .nrrd | NRRD (raw) | image data | — |
 /// | .mhd .mha | MetaImage | image data | — |
 /// | .vdb | OpenVDB float grid | image data (densified) | image data |
+/// | .glb | glTF 2.0 binary | polydata (all meshes appended) | polydata |
 /// | .drc | Draco (compressed, quantized) | polydata | polydata: triangles or points |
 ///
 /// See docs/formats.md for the details of each reader and writer.
@@ -24,6 +25,7 @@
 
 #include "isoforge/core/dataset.hpp"
 #include "isoforge/core/progress.hpp"
+#include "isoforge/io/gltf.hpp"
 #include "isoforge/io/draco.hpp"
 
 namespace isoforge {
@@ -41,6 +43,7 @@ enum class FileFormat {
   Nrrd,
   MetaImage,
   Vdb,
+  Glb,  ///< glTF 2.0 binary
   Draco,  ///< .drc
 };
 
@@ -74,6 +77,8 @@ struct WriteOptions {
   std::string vtk_legacy_version = "4.2";
   /// OpenVDB: voxels with |value - background| <= tolerance become inactive.
   double vdb_tolerance = 0.0;
+  /// glTF: how meshes are stored (io/gltf.hpp); the Draco codec uses `draco` below.
+  GltfCodec gltf_codec = GltfCodec::Draco;
   /// Draco: quantization or error budget, compression level, method (the stats of the
   /// verifying decode are returned by `write_draco` itself).
   DracoWriteOptions draco{};

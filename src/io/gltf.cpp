@@ -1,0 +1,1160 @@
+// glTF 2.0 binary (.glb) writer and reader.
+//
+// Khronos Group, "glTF 2.0 Specification" (2021), sections 4.4 (buffers, accessors), 4.7
+// (meshes) and 4.4.4 (GLB); the extensions EXT_meshopt_compression (A. Kapoulkine, 2021) and
+// KHR_draco_mesh_compression (2019). The meshopt codecs are meshoptimizer's
+// (meshopt_encodeVertexBuffer, meshopt_encodeIndexBuffer/-Sequence). Layout and choices:
+// docs/algorithms/gltf.md.
+
+#include "isoforge/io/gltf.hpp"
+
+#include <meshoptimizer.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <set>
+
+#include "detail/draco_codec.hpp"
+#include "detail/json.hpp"
+#include "isoforge/core/append.hpp"
+#include "isoforge/core/normals.hpp"
+#include "isoforge/io/atomic_file.hpp"
+#include "isoforge/io/io.hpp"
+
+namespace isoforge {
+
+using io_detail::Json;
+
+namespace {
+
+constexpr std::uint32_t kGlbMagic = 0x46546C67;      // "glTF"
+constexpr std::uint32_t kChunkJson = 0x4E4F534A;     // "JSON"
+constexpr std::uint32_t kChunkBin = 0x004E4942;      // "BIN\0"
+constexpr int kArrayBuffer = 34962;                  // bufferView targets
+constexpr int kElementArrayBuffer = 34963;
+constexpr int kUnsignedByte = 5121;                  // accessor component types
+constexpr int kUnsignedShort = 5123;
+constexpr int kUnsignedInt = 5125;
+constexpr int kFloat = 5126;
+constexpr int kModePoints = 0, kModeLines = 1, kModeLineLoop = 2, kModeLineStrip = 3,
+              kModeTriangles = 4, kModeTriangleStrip = 5, kModeTriangleFan = 6;
+constexpr const char* kMeshopt = "EXT_meshopt_compression";
+constexpr const char* kDraco = "KHR_draco_mesh_compression";
+
+std::size_t align4(std::size_t n) { return (n + 3) & ~std::size_t{3}; }
+
+// The sRGB transfer function (IEC 61966-2-1) and its inverse, on [0, 1].
+double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+double linear_to_srgb(double c) {
+  return c <= 0.0031308 ? c * 12.92 : 1.055 * std::pow(c, 1 / 2.4) - 0.055;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Writing
+
+// The binary chunk and the glTF objects that describe it.
+class GlbBuilder {
+ public:
+  explicit GlbBuilder(GltfCodec codec) : codec_(codec) {}
+
+  // A bufferView of `bytes` holding `count` elements of `stride` bytes: vertex data
+  // (`vertex`), or indices (triangles when `triangles`). Returns the bufferView index.
+  std::size_t add_view(const void* bytes, std::size_t size, std::size_t count, std::size_t stride,
+                       bool vertex, bool triangles) {
+    Json view;
+    raw_bytes_ = align4(raw_bytes_);
+    if (codec_ == GltfCodec::Meshopt) {
+      // The plain data lives in the fallback buffer 1, which holds no bytes; the compressed
+      // data in buffer 0 (the BIN chunk). Readers must support the extension (required).
+      view["buffer"] = 1;
+      view["byteOffset"] = raw_bytes_;
+      view["byteLength"] = size;
+      std::vector<unsigned char> encoded;
+      std::string mode;
+      const auto* u8 = static_cast<const unsigned char*>(bytes);
+      if (vertex) {
+        encoded.resize(meshopt_encodeVertexBufferBound(count, stride));
+        encoded.resize(meshopt_encodeVertexBuffer(encoded.data(), encoded.size(), u8, count, stride));
+        mode = "ATTRIBUTES";
+      } else {
+        std::vector<unsigned> indices(count);
+        if (stride == 2) {
+          for (std::size_t i = 0; i < count; ++i) {
+            std::uint16_t v;
+            std::memcpy(&v, u8 + 2 * i, 2);
+            indices[i] = v;
+          }
+        } else {
+          std::memcpy(indices.data(), u8, 4 * count);
+        }
+        const std::size_t max_vertex =
+            count ? *std::max_element(indices.begin(), indices.end()) + 1 : 0;
+        if (triangles) {
+          encoded.resize(meshopt_encodeIndexBufferBound(count, max_vertex));
+          encoded.resize(meshopt_encodeIndexBuffer(encoded.data(), encoded.size(), indices.data(), count));
+          mode = "TRIANGLES";
+        } else {
+          encoded.resize(meshopt_encodeIndexSequenceBound(count, max_vertex));
+          encoded.resize(meshopt_encodeIndexSequence(encoded.data(), encoded.size(), indices.data(), count));
+          mode = "INDICES";
+        }
+      }
+      check_invariant(!encoded.empty(), "meshopt encoding fits its bound");
+      const std::size_t at = append_bin(encoded.data(), encoded.size());
+      Json& ext = view["extensions"][kMeshopt];
+      ext["buffer"] = 0;
+      ext["byteOffset"] = at;
+      ext["byteLength"] = encoded.size();
+      ext["byteStride"] = stride;
+      ext["mode"] = mode;
+      ext["count"] = count;
+    } else {
+      view["buffer"] = 0;
+      view["byteOffset"] = append_bin(bytes, size);
+      view["byteLength"] = size;
+    }
+    raw_bytes_ += size;
+    if (vertex) view["byteStride"] = stride;
+    view["target"] = vertex ? kArrayBuffer : kElementArrayBuffer;
+    return buffer_views_.push(std::move(view));
+  }
+
+  // A bufferView of opaque bytes (a Draco stream) in the BIN chunk.
+  std::size_t add_blob(const void* bytes, std::size_t size) {
+    Json view;
+    view["buffer"] = 0;
+    view["byteOffset"] = append_bin(bytes, size);
+    view["byteLength"] = size;
+    raw_bytes_ = align4(raw_bytes_) + size;
+    return buffer_views_.push(std::move(view));
+  }
+
+  std::size_t add_accessor(Json accessor) { return accessors_.push(std::move(accessor)); }
+
+  Json& buffer_views() { return buffer_views_; }
+  Json& accessors() { return accessors_; }
+  [[nodiscard]] const std::vector<std::byte>& bin() const { return bin_; }
+  [[nodiscard]] std::size_t raw_bytes() const { return raw_bytes_; }
+
+ private:
+  std::size_t append_bin(const void* bytes, std::size_t size) {
+    bin_.resize(align4(bin_.size()));
+    const std::size_t at = bin_.size();
+    bin_.resize(at + size);
+    if (size) std::memcpy(bin_.data() + at, bytes, size);
+    return at;
+  }
+
+  GltfCodec codec_;
+  std::vector<std::byte> bin_;
+  std::size_t raw_bytes_ = 0;  // the plain layout's size (meshopt: the fallback buffer)
+  Json buffer_views_ = Json::array();
+  Json accessors_ = Json::array();
+};
+
+// "_NAME" for an array name: letters, digits and '_' upper-cased, anything else '_', unique
+// among `used`.
+std::string custom_semantic(std::string_view name, std::set<std::string>& used) {
+  std::string s = "_";
+  for (const char c : name) {
+    const auto u = static_cast<unsigned char>(c);
+    s += std::isalnum(u) ? static_cast<char>(std::toupper(u)) : '_';
+  }
+  if (s == "_") s = "_ARRAY";
+  std::string unique = s;
+  for (int i = 2; used.count(unique); ++i) unique = s + "_" + std::to_string(i);
+  used.insert(unique);
+  return unique;
+}
+
+// Indices of one primitive kind, from a mesh's cells.
+struct Primitives {
+  std::vector<std::uint32_t> triangles, segments, points;
+};
+
+Primitives collect_primitives(const PolyData& pd) {
+  Primitives p;
+  auto id = [](Index i) { return static_cast<std::uint32_t>(i); };
+  for (std::size_t c = 0; c < pd.polys.size(); ++c) {
+    const auto cell = pd.polys.cell(c);
+    for (std::size_t k = 1; k + 1 < cell.size(); ++k) {
+      p.triangles.insert(p.triangles.end(), {id(cell[0]), id(cell[k]), id(cell[k + 1])});
+    }
+  }
+  for (std::size_t c = 0; c < pd.strips.size(); ++c) {
+    const auto cell = pd.strips.cell(c);
+    for (std::size_t k = 0; k + 2 < cell.size(); ++k) {
+      if (k % 2 == 0) {
+        p.triangles.insert(p.triangles.end(), {id(cell[k]), id(cell[k + 1]), id(cell[k + 2])});
+      } else {
+        p.triangles.insert(p.triangles.end(), {id(cell[k + 1]), id(cell[k]), id(cell[k + 2])});
+      }
+    }
+  }
+  for (std::size_t c = 0; c < pd.lines.size(); ++c) {
+    const auto cell = pd.lines.cell(c);
+    for (std::size_t k = 0; k + 1 < cell.size(); ++k) {
+      p.segments.insert(p.segments.end(), {id(cell[k]), id(cell[k + 1])});
+    }
+  }
+  for (std::size_t c = 0; c < pd.verts.size(); ++c) {
+    for (const Index i : pd.verts.cell(c)) p.points.push_back(id(i));
+  }
+  return p;
+}
+
+Json legend_json(const GltfLegend& legend, const std::string& where) {
+  if (legend.colors.size() < 2) throw Error(where + ": a colour legend needs at least 2 colours");
+  if (!std::isfinite(legend.min) || !std::isfinite(legend.max) || legend.min > legend.max) {
+    throw Error(where + ": colour legend range must be finite with min <= max");
+  }
+  if (legend.log_scale && legend.min <= 0) {
+    throw Error(where + ": a logarithmic colour legend needs min > 0");
+  }
+  Json j;
+  j["array"] = legend.array;
+  j["colormap"] = legend.colormap;
+  j["range"] = Json(Json::Array{Json(legend.min), Json(legend.max)});
+  j["log"] = legend.log_scale;
+  Json colors = Json::array();
+  for (const auto& c : legend.colors) {
+    colors.push(Json(Json::Array{Json(int{c[0]}), Json(int{c[1]}), Json(int{c[2]}), Json(int{c[3]})}));
+  }
+  j["colors"] = std::move(colors);
+  return j;
+}
+
+// The uint8 array written as COLOR_0, or nullptr.
+const DataArray* color_array(const GltfMesh& m, const std::string& where) {
+  auto suitable = [](const DataArray* a) {
+    return a && a->type() == ScalarType::UInt8 && (a->components() == 3 || a->components() == 4);
+  };
+  if (!m.colors.empty()) {
+    const DataArray* a = m.mesh.point_data.find(m.colors);
+    if (!a) throw Error(where + ": no point array '" + m.colors + "' for the colours");
+    if (!suitable(a)) {
+      throw Error(where + ": colour array '" + m.colors +
+                  "' must be UInt8 with 3 or 4 components (RGB/RGBA)");
+    }
+    return a;
+  }
+  const DataArray* s = m.mesh.point_data.scalars();
+  return suitable(s) ? s : nullptr;
+}
+
+constexpr const char* kTypes[] = {"SCALAR", "VEC2", "VEC3", "VEC4"};
+
+// One vertex attribute's data as written (plain) or handed to Draco.
+struct Stream {
+  std::string semantic;
+  std::vector<std::byte> bytes;
+  std::size_t elem_bytes = 0;
+  int component_type = kFloat;
+  int components = 1;
+  bool normalized = false;
+  std::string array;  // the array's name ("" for positions and computed normals)
+};
+
+// A KHR_draco_mesh_compression TRIANGLES primitive of `triangles` over the vertex `streams`:
+// positions, normals (unit), colours (linear, as uint8: Draco's colour attribute) and the
+// float arrays, encoded (and verified) by the Draco codec of io/draco.cpp. Its accessors
+// declare what a decoder gets (the decoded point and triangle counts, the decoded bounds).
+Json draco_primitive(GlbBuilder& glb, const std::vector<Stream>& streams, std::size_t n,
+                     const std::vector<std::uint32_t>& triangles, const std::string& where,
+                     const GltfWriteOptions& options, GltfWriteStats& stats) {
+  PolyData tri;
+  io_detail::DracoRoles roles;
+  std::map<std::string, std::string> semantic_of;  // array name in `tri` -> glTF semantic
+  for (const Stream& st : streams) {
+    if (st.semantic == "POSITION") {
+      tri.points = Points(n);
+      std::memcpy(tri.points.floats().data(), st.bytes.data(), st.bytes.size());
+      continue;
+    }
+    std::string name = st.array.empty() ? "Normals" : st.array;
+    while (tri.point_data.has(name)) name += "_";
+    DataArray a;
+    if (st.semantic == "COLOR_0") {
+      a = DataArray(name, ScalarType::UInt8, 4, n);
+      auto out = a.values<std::uint8_t>();
+      for (std::size_t i = 0; i < 4 * n; ++i) {
+        std::uint16_t v;
+        std::memcpy(&v, st.bytes.data() + 2 * i, 2);
+        out[i] = static_cast<std::uint8_t>((v + 128) / 257);
+      }
+      roles.colors = name;
+    } else {
+      a = DataArray(name, ScalarType::Float32, st.components, n);
+      std::memcpy(a.bytes(), st.bytes.data(), st.bytes.size());
+      if (st.semantic == "NORMAL") roles.normals = name;
+    }
+    semantic_of[name] = st.semantic;
+    tri.point_data.add(std::move(a));
+  }
+  tri.polys.reserve(triangles.size() / 3, triangles.size());
+  for (std::size_t k = 0; k < triangles.size(); k += 3) {
+    tri.polys.add({Index{triangles[k]}, Index{triangles[k + 1]}, Index{triangles[k + 2]}});
+  }
+  io_detail::DracoEncodedMesh enc = io_detail::encode_draco_mesh(tri, options.draco, roles, where);
+  const PolyData& dec = enc.decoded;
+  const std::size_t m = dec.num_points();
+  Json prim, attributes, ext, ids;  // (built apart: a reference into an object moves as it grows)
+  ext["bufferView"] = glb.add_blob(enc.bytes.data(), enc.bytes.size());
+  for (const io_detail::DracoAttributeId& id : enc.attributes) {
+    Json acc;
+    acc["count"] = m;
+    std::string semantic;
+    if (id.kind == io_detail::DracoKind::Position) {
+      semantic = "POSITION";
+      acc["componentType"] = kFloat;
+      acc["type"] = "VEC3";
+      Json lo = Json::array(), hi = Json::array();
+      const Bounds b = dec.bounds();
+      for (const double v : {b.min.x, b.min.y, b.min.z}) lo.push(Json(double{static_cast<float>(v)}));
+      for (const double v : {b.max.x, b.max.y, b.max.z}) hi.push(Json(double{static_cast<float>(v)}));
+      acc["min"] = std::move(lo);
+      acc["max"] = std::move(hi);
+    } else {
+      const auto it = semantic_of.find(id.name);
+      check_invariant(it != semantic_of.end(), "every Draco attribute is one of the streams");
+      semantic = it->second;
+      const DataArray& a = dec.point_data.get(id.name);
+      acc["componentType"] = a.type() == ScalarType::UInt8 ? kUnsignedByte : kFloat;
+      if (a.type() == ScalarType::UInt8) acc["normalized"] = true;
+      acc["type"] = kTypes[a.components() - 1];
+    }
+    attributes[semantic] = glb.add_accessor(std::move(acc));
+    ids[semantic] = id.unique_id;
+  }
+  ext["attributes"] = std::move(ids);
+  prim["attributes"] = std::move(attributes);
+  prim["extensions"][kDraco] = std::move(ext);
+  Json indices;
+  indices["count"] = 3 * dec.polys.size();
+  indices["componentType"] = m <= 0xFFFF ? kUnsignedShort : kUnsignedInt;
+  indices["type"] = "SCALAR";
+  prim["indices"] = glb.add_accessor(std::move(indices));
+  prim["mode"] = kModeTriangles;
+  stats.draco.push_back(std::move(enc.stats));
+  return prim;
+}
+
+// Writes one mesh's vertex data and primitives; returns the glTF mesh object.
+Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
+                const GltfWriteOptions& options, GltfWriteStats& stats) {
+  const PolyData& pd = m.mesh;
+  const std::size_t n = pd.num_points();
+  if (n == 0) throw Error(where + ": a glTF mesh needs at least one point");
+  if (n > std::size_t{0xFFFFFFFE}) throw Error(where + ": more than 2^32 - 2 points");
+  if (const std::size_t bad = pd.points.first_non_finite(); bad < n) {
+    throw Error(where + ": point " + std::to_string(bad) + " has a non-finite coordinate");
+  }
+  // The plain data layout (positions, normals, colours, arrays), built first; Draco may
+  // replace the triangles' share of it.
+  std::vector<float> positions(3 * n);
+  float lo[3], hi[3];
+  for (int k = 0; k < 3; ++k) {
+    lo[k] = std::numeric_limits<float>::max();
+    hi[k] = std::numeric_limits<float>::lowest();
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 p = pd.points[i];
+    const double c[3] = {p.x, p.y, p.z};
+    for (int k = 0; k < 3; ++k) {
+      const auto f = static_cast<float>(c[k]);
+      if (!std::isfinite(f)) {
+        throw Error(where + ": point " + std::to_string(i) + " is beyond the float32 range");
+      }
+      positions[3 * i + k] = f;
+      lo[k] = std::min(lo[k], f);
+      hi[k] = std::max(hi[k], f);
+    }
+  }
+  Primitives prims = collect_primitives(pd);
+  stats.vertices += n;
+  stats.triangles += prims.triangles.size() / 3;
+  stats.segments += prims.segments.size() / 2;
+
+  // Vertex streams in memory first: the plain accessors are made from them when a primitive
+  // needs them (Draco-coded triangles do not).
+  std::vector<Stream> streams;
+  auto add_stream = [&](std::string semantic, const void* data, std::size_t elem_bytes,
+                        int component_type, int components, bool normalized, std::string array) {
+    Stream st{std::move(semantic), std::vector<std::byte>(n * elem_bytes), elem_bytes,
+              component_type, components, normalized, std::move(array)};
+    std::memcpy(st.bytes.data(), data, st.bytes.size());
+    streams.push_back(std::move(st));
+  };
+  Json names = Json::array();  // extras: which attribute holds which array
+  auto name_entry = [&](const std::string& semantic, const DataArray& a) {
+    Json e;
+    e["attribute"] = semantic;
+    e["name"] = a.name();
+    e["components"] = a.components();
+    e["type"] = scalar_type_name(a.type());
+    names.push(std::move(e));
+  };
+  add_stream("POSITION", positions.data(), 12, kFloat, 3, false, "");
+  const DataArray* normals_array = nullptr;
+  if (options.normals) {
+    const DataArray* given = pd.point_data.normals();
+    if (given && (given->components() != 3 || given->tuples() != n)) given = nullptr;
+    DataArray computed;
+    if (!given && !prims.triangles.empty()) {
+      computed = point_normals(pd);
+      given = &computed;
+    }
+    if (given) {
+      std::vector<float> normals(3 * n);
+      for (std::size_t i = 0; i < n; ++i) {
+        double v[3] = {given->get(i, 0), given->get(i, 1), given->get(i, 2)};
+        const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        if (!(len > 0) || !std::isfinite(len)) {
+          v[0] = 0, v[1] = 0, v[2] = 1;
+          ++stats.normals_replaced;
+        } else {
+          for (double& c : v) c /= len;
+        }
+        for (int k = 0; k < 3; ++k) normals[3 * i + k] = static_cast<float>(v[k]);
+      }
+      add_stream("NORMAL", normals.data(), 12, kFloat, 3, false, given != &computed ? given->name() : "");
+      if (given != &computed) {
+        normals_array = given;
+        name_entry("NORMAL", *given);
+      }
+    }
+  }
+  const DataArray* colors = color_array(m, where);
+  std::string scalars_written;  // the active scalars' name, when they are in the file
+  if (colors && colors == pd.point_data.scalars()) scalars_written = colors->name();
+  if (colors) {
+    // glTF's COLOR_0 is linear; uint8 colours (colour maps, PLY) are sRGB. Linear values in
+    // normalized uint16 map back to the same uint8 sRGB codes (the smallest step, at 0, is 20
+    // units). Always RGBA: glTF aligns every vertex element to 4 bytes.
+    const int c = colors->components();
+    const auto src = colors->values<std::uint8_t>();
+    std::array<std::uint16_t, 256> linear{};
+    for (int v = 0; v < 256; ++v) {
+      linear[static_cast<std::size_t>(v)] = static_cast<std::uint16_t>(std::lround(srgb_to_linear(v / 255.0) * 65535.0));
+    }
+    std::vector<std::uint16_t> rgba(4 * n, 65535);
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int k = 0; k < c; ++k) {
+        const std::uint8_t v = src[static_cast<std::size_t>(c) * i + static_cast<std::size_t>(k)];
+        rgba[4 * i + static_cast<std::size_t>(k)] = k < 3 ? linear[v] : static_cast<std::uint16_t>(v * 257);
+      }
+    }
+    add_stream("COLOR_0", rgba.data(), 8, kUnsignedShort, 4, true, colors->name());
+    name_entry("COLOR_0", *colors);
+  }
+  if (options.arrays) {
+    std::set<std::string> used;
+    for (const DataArray& a : pd.point_data) {
+      if (&a == normals_array || &a == colors) continue;
+      const int c = a.components();
+      if (c > 4) {
+        stats.arrays_skipped.push_back(where + ": " + a.name() + " (" + std::to_string(c) +
+                                       " components; glTF attributes have at most 4)");
+        continue;
+      }
+      std::vector<float> values(a.size());
+      bool finite = true;
+      for (std::size_t i = 0; i < values.size(); ++i) {
+        values[i] = static_cast<float>(a.get(i / c, static_cast<int>(i % c)));
+        finite = finite && std::isfinite(values[i]);
+      }
+      if (!finite) {
+        stats.arrays_skipped.push_back(where + ": " + a.name() +
+                                       " (non-finite values; glTF accessors hold finite floats)");
+        continue;
+      }
+      const std::string semantic = custom_semantic(a.name(), used);
+      add_stream(semantic, values.data(), 4 * static_cast<std::size_t>(c), kFloat, c, false, a.name());
+      name_entry(semantic, a);
+      if (&a == pd.point_data.scalars()) scalars_written = a.name();
+    }
+  }
+  for (const DataArray& a : pd.cell_data) {
+    stats.arrays_skipped.push_back(where + ": " + a.name() + " (cell data; glTF has point attributes only)");
+  }
+
+  // What the plain layout takes (the ratio's denominator, whatever the codec).
+  for (const Stream& st : streams) stats.raw_bytes += align4(st.bytes.size());
+  const std::size_t index_bytes = n <= 0xFFFF ? 2 : 4;
+  for (const auto* idx : {&prims.triangles, &prims.segments, &prims.points}) {
+    stats.raw_bytes += align4(index_bytes * idx->size());
+  }
+  // The plain accessors of the streams, made once when a primitive first needs them.
+  Json attributes;
+  auto plain_attributes = [&]() -> const Json& {
+    if (attributes.is_object()) return attributes;
+    for (const Stream& st : streams) {
+      const std::size_t view = glb.add_view(st.bytes.data(), st.bytes.size(), n, st.elem_bytes, true, false);
+      Json acc;
+      acc["bufferView"] = view;
+      acc["componentType"] = st.component_type;
+      if (st.normalized) acc["normalized"] = true;
+      acc["count"] = n;
+      acc["type"] = kTypes[st.components - 1];
+      if (st.semantic == "POSITION") {
+        acc["min"] = Json(Json::Array{Json(double{lo[0]}), Json(double{lo[1]}), Json(double{lo[2]})});
+        acc["max"] = Json(Json::Array{Json(double{hi[0]}), Json(double{hi[1]}), Json(double{hi[2]})});
+      }
+      attributes[st.semantic] = glb.add_accessor(std::move(acc));
+    }
+    return attributes;
+  };
+
+  // Primitives sharing the vertex accessors.
+  Json primitives = Json::array();
+  const bool short_indices = n <= 0xFFFF;  // 65535 itself is the restart value: not allowed
+  auto add_primitive = [&](const std::vector<std::uint32_t>& indices, int mode) {
+    Json prim;
+    prim["attributes"] = plain_attributes();
+    if (!indices.empty()) {
+      std::vector<std::uint16_t> shorts;
+      const void* data = indices.data();
+      std::size_t bytes = 4 * indices.size();
+      if (short_indices) {
+        shorts.assign(indices.begin(), indices.end());
+        data = shorts.data();
+        bytes = 2 * shorts.size();
+      }
+      const std::size_t view = glb.add_view(data, bytes, indices.size(), short_indices ? 2 : 4,
+                                            false, mode == kModeTriangles);
+      Json acc;
+      acc["bufferView"] = view;
+      acc["componentType"] = short_indices ? kUnsignedShort : kUnsignedInt;
+      acc["count"] = indices.size();
+      acc["type"] = "SCALAR";
+      prim["indices"] = glb.add_accessor(std::move(acc));
+    }
+    prim["mode"] = mode;
+    primitives.push(std::move(prim));
+  };
+  if (!prims.triangles.empty()) {
+    if (options.codec == GltfCodec::Draco) {
+      primitives.push(draco_primitive(glb, streams, n, prims.triangles, where, options, stats));
+    } else {
+      add_primitive(prims.triangles, kModeTriangles);
+    }
+  }
+  if (!prims.segments.empty()) add_primitive(prims.segments, kModeLines);
+  if (!prims.points.empty()) {
+    stats.points += prims.points.size();
+    add_primitive(prims.points, kModePoints);
+  }
+  if (primitives.size() == 0) {  // points and no cells: every point is drawn
+    stats.points += n;
+    add_primitive({}, kModePoints);
+  }
+
+  Json mesh;
+  if (!m.name.empty()) mesh["name"] = m.name;
+  mesh["primitives"] = std::move(primitives);
+  Json& extras = mesh["extras"];
+  extras["isoforge_arrays"] = std::move(names);
+  if (!scalars_written.empty()) extras["isoforge_scalars"] = scalars_written;
+  if (m.legend) extras["legend"] = legend_json(*m.legend, where);
+  return mesh;
+}
+
+void put_u32(std::string& out, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) out += static_cast<char>((v >> (8 * i)) & 0xFF);
+}
+
+}  // namespace
+
+std::string_view gltf_codec_name(GltfCodec codec) {
+  switch (codec) {
+    case GltfCodec::None: return "none";
+    case GltfCodec::Meshopt: return "meshopt";
+    case GltfCodec::Draco: return "draco";
+  }
+  return "?";
+}
+
+GltfCodec gltf_codec_from_name(std::string_view name) {
+  if (name == "none") return GltfCodec::None;
+  if (name == "meshopt") return GltfCodec::Meshopt;
+  if (name == "draco") return GltfCodec::Draco;
+  throw Error("glTF codec '" + std::string(name) + "' is not one of none, meshopt, draco");
+}
+
+bool gltf_codec_available(GltfCodec) { return true; }
+
+GltfWriteStats write_gltf(std::span<const GltfMesh> meshes, const std::filesystem::path& path,
+                          const GltfWriteOptions& options) {
+  const std::string file = path.string();
+  if (!gltf_codec_available(options.codec)) {
+    throw Error(file + ": the glTF codec '" + std::string(gltf_codec_name(options.codec)) +
+                "' is not available in this build");
+  }
+  if (meshes.empty()) throw Error(file + ": a glTF file needs at least one mesh");
+  GltfWriteStats stats;
+  GlbBuilder glb(options.codec);
+  Json gltf;
+  gltf["asset"]["version"] = "2.0";
+  gltf["asset"]["generator"] = "isoforge";
+  Json json_meshes = Json::array();
+  Json nodes = Json::array();
+  Json scene_nodes = Json::array();
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    const std::string where =
+        file + ": mesh " + std::to_string(i) + (meshes[i].name.empty() ? "" : " '" + meshes[i].name + "'");
+    meshes[i].mesh.validate();
+    const std::size_t index = json_meshes.push(write_mesh(glb, meshes[i], where, options, stats));
+    Json node;
+    node["mesh"] = index;
+    if (!meshes[i].name.empty()) node["name"] = meshes[i].name;
+    scene_nodes.push(nodes.push(std::move(node)));
+  }
+  stats.meshes = meshes.size();
+  Json scene;
+  scene["nodes"] = std::move(scene_nodes);
+  if (!options.units.empty()) scene["extras"]["units"] = options.units;
+  gltf["scene"] = 0;
+  gltf["scenes"] = Json(Json::Array{std::move(scene)});
+  gltf["nodes"] = std::move(nodes);
+  gltf["meshes"] = std::move(json_meshes);
+  gltf["accessors"] = std::move(glb.accessors());
+  gltf["bufferViews"] = std::move(glb.buffer_views());
+  Json buffers = Json::array();
+  Json bin_buffer;
+  bin_buffer["byteLength"] = glb.bin().size();
+  buffers.push(std::move(bin_buffer));
+  if (options.codec == GltfCodec::Draco && !stats.draco.empty()) {
+    gltf["extensionsUsed"] = Json(Json::Array{Json(kDraco)});
+    gltf["extensionsRequired"] = Json(Json::Array{Json(kDraco)});
+  }
+  if (options.codec == GltfCodec::Meshopt) {
+    Json fallback;
+    fallback["byteLength"] = glb.raw_bytes();
+    fallback["extensions"][kMeshopt]["fallback"] = true;
+    buffers.push(std::move(fallback));
+    gltf["extensionsUsed"] = Json(Json::Array{Json(kMeshopt)});
+    gltf["extensionsRequired"] = Json(Json::Array{Json(kMeshopt)});
+  }
+  gltf["buffers"] = std::move(buffers);
+
+  std::string json = gltf.dump();
+  json.resize(align4(json.size()), ' ');  // the JSON chunk is padded with spaces
+  const std::size_t bin_size = align4(glb.bin().size());
+  const std::size_t total = 12 + 8 + json.size() + (bin_size ? 8 + bin_size : 0);
+  if (total > std::size_t{0xFFFFFFFF}) throw Error(file + ": more than 4 GiB: too big for .glb");
+  report_progress(options.progress, 0.5, "writing");
+  std::string header;
+  put_u32(header, kGlbMagic);
+  put_u32(header, 2);
+  put_u32(header, static_cast<std::uint32_t>(total));
+  put_u32(header, static_cast<std::uint32_t>(json.size()));
+  put_u32(header, kChunkJson);
+  AtomicFile out(path);
+  auto& s = out.stream();
+  s.write(header.data(), static_cast<std::streamsize>(header.size()));
+  s.write(json.data(), static_cast<std::streamsize>(json.size()));
+  if (bin_size) {
+    std::string chunk;
+    put_u32(chunk, static_cast<std::uint32_t>(bin_size));
+    put_u32(chunk, kChunkBin);
+    s.write(chunk.data(), 8);
+    s.write(reinterpret_cast<const char*>(glb.bin().data()),
+            static_cast<std::streamsize>(glb.bin().size()));
+    static constexpr char kZeros[4] = {};
+    s.write(kZeros, static_cast<std::streamsize>(bin_size - glb.bin().size()));
+  }
+  out.commit();
+  stats.bytes = total;
+  report_progress(options.progress, 1.0, "writing");
+  return stats;
+}
+
+GltfWriteStats write_gltf(const PolyData& mesh, const std::filesystem::path& path,
+                          const GltfWriteOptions& options) {
+  const GltfMesh one{path.stem().string(), mesh};
+  return write_gltf(std::span<const GltfMesh>(&one, 1), path, options);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading
+
+namespace {
+
+class GlbReader {
+ public:
+  GlbReader(std::span<const std::byte> data, std::string_view name) : data_(data), name_(name) {}
+
+  GltfContent read() {
+    parse_container();
+    if (const Json* required = gltf_.find("extensionsRequired"); required && required->is_array()) {
+      for (const Json& e : required->as_array()) {
+        if (!e.is_string() || (e.as_string() != kMeshopt && e.as_string() != kDraco)) {
+          fail("requires the extension " + (e.is_string() ? e.as_string() : std::string("?")) +
+               ", which this reader does not support");
+        }
+      }
+    }
+    GltfContent content;
+    if (const Json* scenes = gltf_.find("scenes"); scenes && scenes->is_array()) {
+      for (const Json& scene : scenes->as_array()) {
+        const Json* extras = scene.find("extras");
+        const Json* units = extras ? extras->find("units") : nullptr;
+        if (units && units->is_string()) {
+          content.units = units->as_string();
+          break;
+        }
+      }
+    }
+    const Json& meshes = member(gltf_, "meshes", "the glTF");
+    if (!meshes.is_array()) fail("'meshes' is not an array");
+    for (std::size_t i = 0; i < meshes.size(); ++i) content.meshes.push_back(read_mesh(meshes.as_array()[i], i));
+    return content;
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const { throw Error(name_ + ": " + what); }
+
+  std::uint32_t u32(std::size_t at) const {
+    std::uint32_t v = 0;
+    for (int i = 0; i < 4; ++i) v |= static_cast<std::uint32_t>(data_[at + i]) << (8 * i);
+    return v;
+  }
+
+  void parse_container() {
+    if (data_.size() < 4 || u32(0) != kGlbMagic) fail("byte 0: not a binary glTF file (no 'glTF' magic)");
+    if (data_.size() < 20) fail("byte 4: truncated: a .glb starts with a 20-byte header");
+    if (u32(4) != 2) fail("byte 4: glTF container version " + std::to_string(u32(4)) + ", expected 2");
+    const std::uint32_t length = u32(8);
+    if (length > data_.size()) {
+      fail("byte 8: truncated: the header says " + std::to_string(length) + " bytes but the file has " +
+           std::to_string(data_.size()));
+    }
+    std::size_t at = 12;
+    bool first = true;
+    while (at + 8 <= length) {
+      const std::uint32_t size = u32(at), type = u32(at + 4);
+      if (size > length - at - 8) {
+        fail("byte " + std::to_string(at) + ": chunk of " + std::to_string(size) +
+             " bytes runs past the end of the file");
+      }
+      const auto bytes = data_.subspan(at + 8, size);
+      if (first && type != kChunkJson) fail("byte " + std::to_string(at) + ": the first chunk is not JSON");
+      if (type == kChunkJson && first) {
+        gltf_ = io_detail::parse_json(
+            std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), name_);
+        if (!gltf_.is_object()) fail("JSON chunk is not an object");
+      } else if (type == kChunkBin && !has_bin_) {
+        bin_ = bytes;
+        has_bin_ = true;
+      }
+      first = false;
+      at += 8 + size;
+    }
+    if (first) fail("byte 12: no JSON chunk");
+  }
+
+  const Json& member(const Json& object, std::string_view key, const std::string& what) const {
+    const Json* v = object.find(key);
+    if (!v) fail(what + ": missing '" + std::string(key) + "'");
+    return *v;
+  }
+  std::size_t index(const Json& object, std::string_view key, const std::string& what,
+                    std::size_t limit) const {
+    const Json& v = member(object, key, what);
+    if (!v.is_number() || v.as_number() < 0 || v.as_number() != std::floor(v.as_number()) ||
+        v.as_number() >= static_cast<double>(limit)) {
+      fail(what + ": '" + std::string(key) + "' is not an integer below " + std::to_string(limit));
+    }
+    return static_cast<std::size_t>(v.as_number());
+  }
+  std::size_t optional_index(const Json& object, std::string_view key, const std::string& what,
+                             std::size_t limit, std::size_t fallback) const {
+    return object.find(key) ? index(object, key, what, limit) : fallback;
+  }
+  const Json& element(std::string_view array, std::size_t i) const {
+    const Json* a = gltf_.find(array);
+    if (!a || !a->is_array() || i >= a->size()) {
+      fail(std::string(array) + " " + std::to_string(i) + " does not exist");
+    }
+    return a->as_array()[i];
+  }
+
+  // The bytes of buffer `b` (the BIN chunk; a meshopt fallback buffer has none).
+  std::span<const std::byte> buffer(std::size_t b) const {
+    const Json& buf = element("buffers", b);
+    const std::string what = "buffers " + std::to_string(b);
+    if (buf.find("uri")) fail(what + ": external buffers (uri) are not supported in a .glb");
+    if (b != 0 || !has_bin_) fail(what + ": no binary chunk holds this buffer");
+    const std::size_t length = index(buf, "byteLength", what, std::size_t{1} << 32);
+    if (length > bin_.size()) fail(what + ": byteLength " + std::to_string(length) + " exceeds the binary chunk");
+    return bin_.first(length);
+  }
+
+  // The bytes of bufferView `v`, decoded when it is meshopt-compressed.
+  std::span<const std::byte> view(std::size_t v) {
+    if (auto it = decoded_.find(v); it != decoded_.end()) return it->second;
+    const Json& bv = element("bufferViews", v);
+    const std::string what = "bufferViews " + std::to_string(v);
+    const std::size_t length = index(bv, "byteLength", what, std::size_t{1} << 32);
+    const Json* ext = bv.find("extensions");
+    const Json* mo = ext ? ext->find(kMeshopt) : nullptr;
+    if (mo) {
+      const std::string w = what + ": " + kMeshopt;
+      const auto src = buffer(index(*mo, "buffer", w, 1 << 20));
+      const std::size_t offset = optional_index(*mo, "byteOffset", w, std::size_t{1} << 32, 0);
+      const std::size_t size = index(*mo, "byteLength", w, std::size_t{1} << 32);
+      const std::size_t stride = index(*mo, "byteStride", w, 257);
+      const std::size_t count = index(*mo, "count", w, std::size_t{1} << 32);
+      const std::string mode = member(*mo, "mode", w).is_string() ? member(*mo, "mode", w).as_string() : "";
+      if (const Json* f = mo->find("filter"); f && !(f->is_string() && f->as_string() == "NONE")) {
+        fail(w + ": filters are not supported");
+      }
+      if (offset > src.size() || size > src.size() - offset) fail(w + ": data runs past the buffer");
+      if (stride == 0 || count * stride != length) fail(w + ": count * byteStride != byteLength");
+      // The codecs shrink data by at most about 64 times (2 header bits per 16 bytes), so a
+      // larger claim is corrupt: checked before allocating.
+      if (length > 256 * size + 65536) fail(w + ": " + std::to_string(length) +
+                                            " bytes cannot come from " + std::to_string(size));
+      std::vector<std::byte> out(length);
+      const auto* in = reinterpret_cast<const unsigned char*>(src.data() + offset);
+      int rc = -1;
+      if (mode == "ATTRIBUTES") {
+        if (stride % 4 != 0) fail(w + ": ATTRIBUTES byteStride must be a multiple of 4");
+        rc = meshopt_decodeVertexBuffer(out.data(), count, stride, in, size);
+      } else if (mode == "TRIANGLES" || mode == "INDICES") {
+        if (stride != 2 && stride != 4) fail(w + ": index byteStride must be 2 or 4");
+        if (mode == "TRIANGLES" && count % 3 != 0) fail(w + ": TRIANGLES count is not a multiple of 3");
+        rc = mode == "TRIANGLES" ? meshopt_decodeIndexBuffer(out.data(), count, stride, in, size)
+                                 : meshopt_decodeIndexSequence(out.data(), count, stride, in, size);
+      } else {
+        fail(w + ": unknown mode '" + mode + "'");
+      }
+      if (rc != 0) fail(w + ": corrupt compressed data (meshopt error " + std::to_string(rc) + ")");
+      return decoded_[v] = std::move(out);
+    }
+    const auto src = buffer(index(bv, "buffer", what, 1 << 20));
+    const std::size_t offset = optional_index(bv, "byteOffset", what, std::size_t{1} << 32, 0);
+    if (offset > src.size() || length > src.size() - offset) fail(what + ": runs past its buffer");
+    return src.subspan(offset, length);
+  }
+
+  struct Accessor {
+    int component_type = 0;
+    int components = 0;
+    std::size_t count = 0;
+    bool normalized = false;
+  };
+
+  // Reads accessor `a` as doubles (normalized integers mapped to [0, 1]), `count * components`.
+  std::vector<double> read_accessor(std::size_t a, Accessor& info) {
+    const Json& acc = element("accessors", a);
+    const std::string what = "accessors " + std::to_string(a);
+    info.component_type = static_cast<int>(index(acc, "componentType", what, 5127));
+    info.count = index(acc, "count", what, std::size_t{1} << 32);
+    const Json& type = member(acc, "type", what);
+    static const std::map<std::string, int> kComponents = {
+        {"SCALAR", 1}, {"VEC2", 2}, {"VEC3", 3}, {"VEC4", 4}, {"MAT2", 4}, {"MAT3", 9}, {"MAT4", 16}};
+    const auto it = type.is_string() ? kComponents.find(type.as_string()) : kComponents.end();
+    if (it == kComponents.end()) fail(what + ": unknown type");
+    info.components = it->second;
+    const Json* norm = acc.find("normalized");
+    info.normalized = norm && norm->is_bool() && norm->as_bool();
+    if (acc.find("sparse")) fail(what + ": sparse accessors are not supported");
+    std::size_t size = 0;
+    switch (info.component_type) {
+      case 5120: case kUnsignedByte: size = 1; break;
+      case 5122: case kUnsignedShort: size = 2; break;
+      case kUnsignedInt: case kFloat: size = 4; break;
+      default: fail(what + ": unknown componentType " + std::to_string(info.component_type));
+    }
+    std::vector<double> out;
+    if (!acc.find("bufferView")) fail(what + ": accessors without a bufferView are not supported");
+    const std::size_t v = index(acc, "bufferView", what, std::size_t{1} << 32);
+    const auto bytes = view(v);
+    const std::size_t offset = optional_index(acc, "byteOffset", what, std::size_t{1} << 32, 0);
+    const std::size_t elem = size * static_cast<std::size_t>(info.components);
+    const Json& bv = element("bufferViews", v);
+    std::size_t stride = optional_index(bv, "byteStride", "bufferViews " + std::to_string(v), 253, elem);
+    if (stride < elem) fail(what + ": byteStride is smaller than an element");
+    if (info.count > 0 && (offset > bytes.size() || (info.count - 1) * stride + elem > bytes.size() - offset)) {
+      fail(what + ": " + std::to_string(info.count) + " elements run past bufferView " + std::to_string(v));
+    }
+    out.resize(info.count * static_cast<std::size_t>(info.components));
+    for (std::size_t i = 0; i < info.count; ++i) {
+      const std::byte* p = bytes.data() + offset + i * stride;
+      for (int c = 0; c < info.components; ++c, p += size) {
+        double value = 0;
+        switch (info.component_type) {
+          case 5120: { std::int8_t x; std::memcpy(&x, p, 1); value = info.normalized ? std::max(x / 127.0, -1.0) : x; break; }
+          case kUnsignedByte: { std::uint8_t x; std::memcpy(&x, p, 1); value = info.normalized ? x / 255.0 : x; break; }
+          case 5122: { std::int16_t x; std::memcpy(&x, p, 2); value = info.normalized ? std::max(x / 32767.0, -1.0) : x; break; }
+          case kUnsignedShort: { std::uint16_t x; std::memcpy(&x, p, 2); value = info.normalized ? x / 65535.0 : x; break; }
+          case kUnsignedInt: { std::uint32_t x; std::memcpy(&x, p, 4); value = x; break; }
+          default: { float x; std::memcpy(&x, p, 4); value = x; }
+        }
+        out[i * static_cast<std::size_t>(info.components) + static_cast<std::size_t>(c)] = value;
+      }
+    }
+    return out;
+  }
+
+  // Vertices of one POSITION accessor and the arrays that go with them.
+  struct VertexSet {
+    std::size_t position = 0;
+    PolyData pd;
+  };
+
+  // Adds the array of attribute `semantic` (`values`: n tuples of `value_components` doubles,
+  // colours linear in [0, 1]) to `pd` under the name, components and type isoforge's extras
+  // give, with its role.
+  void add_array(PolyData& pd, const std::string& semantic, const std::vector<double>& values,
+                 int value_components, const std::string& what, const Json* names,
+                 const std::string& scalars_name) const {
+    const std::size_t n = pd.num_points();
+    std::string name = semantic == "NORMAL" ? "Normals" : semantic == "COLOR_0" ? "Colors" : semantic;
+    int components = value_components;
+    ScalarType type = semantic == "COLOR_0" ? ScalarType::UInt8 : ScalarType::Float32;
+    if (names && names->is_array()) {
+      for (const Json& e : names->as_array()) {
+        const Json* a = e.find("attribute");
+        if (!a || !a->is_string() || a->as_string() != semantic) continue;
+        if (const Json* nm = e.find("name"); nm && nm->is_string()) name = nm->as_string();
+        if (const Json* c = e.find("components"); c && c->is_number() && c->as_number() >= 1 &&
+                                                  c->as_number() <= value_components) {
+          components = static_cast<int>(c->as_number());
+        }
+        if (const Json* t = e.find("type"); t && t->is_string()) {
+          try {
+            type = scalar_type_from_name(t->as_string());
+          } catch (const Error&) {
+            fail(what + ": unknown array type '" + t->as_string() + "'");
+          }
+        }
+      }
+    }
+    if (pd.point_data.has(name)) return;  // a duplicate name: the first wins
+    DataArray array(name, type, components, n);
+    const bool color = semantic == "COLOR_0";
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int c = 0; c < components; ++c) {
+        double v = values[i * static_cast<std::size_t>(value_components) + static_cast<std::size_t>(c)];
+        if (color) {  // linear [0, 1] (float or normalized) to sRGB codes; alpha is linear
+          v = std::clamp(v, 0.0, 1.0);
+          v = std::round((c < 3 ? linear_to_srgb(v) : v) * 255.0);
+        }
+        array.set(i, c, v);
+      }
+    }
+    if (semantic == "NORMAL") {
+      pd.point_data.add(std::move(array), AttributeRole::Normals);
+    } else if ((color && scalars_name.empty()) || (!scalars_name.empty() && name == scalars_name)) {
+      pd.point_data.add(std::move(array), AttributeRole::Scalars);
+    } else {
+      pd.point_data.add(std::move(array));
+    }
+  }
+
+  PolyData read_vertices(const Json& attributes, const std::string& what, const Json* names,
+                         const std::string& scalars_name) {
+    PolyData pd;
+    Accessor info;
+    const auto positions = read_accessor(index(attributes, "POSITION", what, std::size_t{1} << 32), info);
+    if (info.components != 3) fail(what + ": POSITION is not VEC3");
+    const std::size_t n = info.count;
+    pd.points = Points(n);
+    auto floats = pd.points.floats();
+    for (std::size_t i = 0; i < 3 * n; ++i) floats[i] = static_cast<float>(positions[i]);
+    for (const auto& [semantic, value] : attributes.as_object()) {
+      if (semantic == "POSITION") continue;
+      if (!value.is_number()) fail(what + ": attribute " + semantic + " is not an accessor index");
+      const auto values = read_accessor(index(attributes, semantic, what, std::size_t{1} << 32), info);
+      if (info.count != n) fail(what + ": attribute " + semantic + " has " + std::to_string(info.count) +
+                                " elements, POSITION " + std::to_string(n));
+      add_array(pd, semantic, values, info.components, what, names, scalars_name);
+    }
+    return pd;
+  }
+
+  // A KHR_draco_mesh_compression primitive: decoded by the Draco codec, its attributes named
+  // through the extension's semantic -> unique id map and isoforge's extras.
+  PolyData read_draco_primitive(const Json& ext, const std::string& what, const Json* names,
+                                const std::string& scalars_name) {
+    const std::string w = what + ": " + kDraco;
+    const auto bytes = view(index(ext, "bufferView", w, std::size_t{1} << 32));
+    io_detail::DracoDecodedMesh decoded = io_detail::decode_draco_mesh(bytes, name_ + ": " + w);
+    PolyData pd;
+    pd.points = std::move(decoded.mesh.points);
+    pd.polys = std::move(decoded.mesh.polys);
+    const Json& ids = member(ext, "attributes", w);
+    if (!ids.is_object()) fail(w + ": 'attributes' is not an object");
+    for (const auto& [semantic, id] : ids.as_object()) {
+      if (semantic == "POSITION") continue;
+      const std::size_t uid = index(ids, semantic, w, std::size_t{1} << 31);
+      const DataArray* a = nullptr;
+      for (const auto& attribute : decoded.attributes) {
+        if (attribute.unique_id == static_cast<int>(uid)) a = decoded.mesh.point_data.find(attribute.name);
+      }
+      if (!a) fail(w + ": no attribute with unique id " + std::to_string(uid) + " for " + semantic);
+      std::vector<double> values(a->size());
+      const int c = a->components();
+      const bool normalized = semantic == "COLOR_0" && a->type() == ScalarType::UInt8;
+      for (std::size_t i = 0; i < values.size(); ++i) {
+        values[i] = a->get(i / static_cast<std::size_t>(c), static_cast<int>(i % static_cast<std::size_t>(c)));
+        if (normalized) values[i] /= 255.0;
+      }
+      add_array(pd, semantic, values, c, w, names, scalars_name);
+    }
+    return pd;
+  }
+
+  GltfContent::Mesh read_mesh(const Json& mesh, std::size_t m) {
+    const std::string what = "meshes " + std::to_string(m);
+    GltfContent::Mesh out;
+    if (const Json* nm = mesh.find("name"); nm && nm->is_string()) out.name = nm->as_string();
+    const Json* extras = mesh.find("extras");
+    const Json* names = extras ? extras->find("isoforge_arrays") : nullptr;
+    std::string scalars_name;
+    if (const Json* s = extras ? extras->find("isoforge_scalars") : nullptr; s && s->is_string()) {
+      scalars_name = s->as_string();
+    }
+    if (const Json* legend = extras ? extras->find("legend") : nullptr; legend && legend->is_object()) {
+      out.legend = read_legend(*legend, what);
+    }
+    const Json& prims = member(mesh, "primitives", what);
+    if (!prims.is_array()) fail(what + ": 'primitives' is not an array");
+    std::vector<VertexSet> sets;
+    std::vector<CellArray> verts, lines, polys;
+    for (std::size_t p = 0; p < prims.size(); ++p) {
+      const Json& prim = prims.as_array()[p];
+      const std::string pw = what + " primitive " + std::to_string(p);
+      if (const Json* ext = prim.find("extensions"); ext && ext->find(kDraco)) {
+        sets.push_back({std::numeric_limits<std::size_t>::max(),
+                        read_draco_primitive(*ext->find(kDraco), pw, names, scalars_name)});
+        polys.push_back(std::move(sets.back().pd.polys));
+        verts.emplace_back();
+        lines.emplace_back();
+        continue;
+      }
+      const Json& attributes = member(prim, "attributes", pw);
+      if (!attributes.is_object()) fail(pw + ": 'attributes' is not an object");
+      const std::size_t position = index(attributes, "POSITION", pw, std::size_t{1} << 32);
+      std::size_t set = sets.size();
+      for (std::size_t s = 0; s < sets.size(); ++s) {
+        if (sets[s].position == position) set = s;
+      }
+      if (set == sets.size()) {
+        sets.push_back({position, read_vertices(attributes, pw, names, scalars_name)});
+        verts.emplace_back();
+        lines.emplace_back();
+        polys.emplace_back();
+      }
+      const std::size_t n = sets[set].pd.num_points();
+      std::vector<std::uint32_t> idx;
+      if (prim.find("indices")) {
+        Accessor info;
+        const auto values = read_accessor(index(prim, "indices", pw, std::size_t{1} << 32), info);
+        if (info.components != 1 || info.component_type == kFloat) fail(pw + ": indices are not integer scalars");
+        idx.reserve(values.size());
+        for (const double v : values) {
+          if (v >= static_cast<double>(n)) {
+            fail(pw + ": index " + std::to_string(static_cast<std::uint64_t>(v)) + " >= " +
+                 std::to_string(n) + " vertices");
+          }
+          idx.push_back(static_cast<std::uint32_t>(v));
+        }
+      } else {
+        idx.resize(n);
+        for (std::size_t i = 0; i < n; ++i) idx[i] = static_cast<std::uint32_t>(i);
+      }
+      const int mode = static_cast<int>(optional_index(prim, "mode", pw, 7, kModeTriangles));
+      auto cell = [](CellArray& cells, std::initializer_list<std::uint32_t> ids) {
+        Index tmp[3];
+        std::size_t k = 0;
+        for (const auto i : ids) tmp[k++] = static_cast<Index>(i);
+        cells.add(std::span<const Index>(tmp, k));
+      };
+      const std::size_t c = idx.size();
+      switch (mode) {
+        case kModePoints: for (const auto i : idx) cell(verts[set], {i}); break;
+        case kModeLines:
+          for (std::size_t k = 0; k + 1 < c; k += 2) cell(lines[set], {idx[k], idx[k + 1]});
+          break;
+        case kModeLineStrip:
+        case kModeLineLoop:
+          for (std::size_t k = 0; k + 1 < c; ++k) cell(lines[set], {idx[k], idx[k + 1]});
+          if (mode == kModeLineLoop && c > 2) cell(lines[set], {idx[c - 1], idx[0]});
+          break;
+        case kModeTriangles:
+          for (std::size_t k = 0; k + 2 < c; k += 3) cell(polys[set], {idx[k], idx[k + 1], idx[k + 2]});
+          break;
+        case kModeTriangleStrip:
+          for (std::size_t k = 0; k + 2 < c; ++k) {
+            if (k % 2 == 0) cell(polys[set], {idx[k], idx[k + 1], idx[k + 2]});
+            else cell(polys[set], {idx[k + 1], idx[k], idx[k + 2]});
+          }
+          break;
+        default:  // fan
+          for (std::size_t k = 1; k + 1 < c; ++k) cell(polys[set], {idx[0], idx[k], idx[k + 1]});
+      }
+    }
+    std::vector<PolyData> parts;
+    for (std::size_t s = 0; s < sets.size(); ++s) {
+      sets[s].pd.verts = std::move(verts[s]);
+      sets[s].pd.lines = std::move(lines[s]);
+      sets[s].pd.polys = std::move(polys[s]);
+      parts.push_back(std::move(sets[s].pd));
+    }
+    out.mesh = parts.empty() ? PolyData{} : append(std::move(parts));
+    out.mesh.validate();
+    return out;
+  }
+
+  GltfLegend read_legend(const Json& j, const std::string& what) const {
+    GltfLegend legend;
+    if (const Json* a = j.find("array"); a && a->is_string()) legend.array = a->as_string();
+    if (const Json* c = j.find("colormap"); c && c->is_string()) legend.colormap = c->as_string();
+    if (const Json* r = j.find("range"); r && r->is_array() && r->size() == 2 &&
+                                         r->as_array()[0].is_number() && r->as_array()[1].is_number()) {
+      legend.min = r->as_array()[0].as_number();
+      legend.max = r->as_array()[1].as_number();
+    }
+    if (const Json* l = j.find("log"); l && l->is_bool()) legend.log_scale = l->as_bool();
+    if (const Json* cs = j.find("colors"); cs && cs->is_array()) {
+      for (const Json& c : cs->as_array()) {
+        if (!c.is_array() || c.size() != 4) fail(what + ": legend colours are not RGBA");
+        std::array<std::uint8_t, 4> rgba{};
+        for (int k = 0; k < 4; ++k) {
+          const Json& v = c.as_array()[static_cast<std::size_t>(k)];
+          if (!v.is_number() || v.as_number() < 0 || v.as_number() > 255) fail(what + ": legend colour out of 0..255");
+          rgba[static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(v.as_number());
+        }
+        legend.colors.push_back(rgba);
+      }
+    }
+    return legend;
+  }
+
+  std::span<const std::byte> data_;
+  std::string name_;
+  Json gltf_;
+  std::span<const std::byte> bin_;
+  bool has_bin_ = false;
+  std::map<std::size_t, std::vector<std::byte>> decoded_;
+};
+
+}  // namespace
+
+GltfContent read_gltf(std::span<const std::byte> data, std::string_view name) {
+  return GlbReader(data, name).read();
+}
+
+GltfContent read_gltf(const std::filesystem::path& path) {
+  const auto bytes = read_file_bytes(path);
+  return read_gltf(bytes, path.string());
+}
+
+}  // namespace isoforge
