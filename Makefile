@@ -35,7 +35,7 @@ DEBIAN_PACKAGES := cmake ninja-build g++ make ccache pkg-config git \
   libcli11-dev libfmt-dev libpugixml-dev zlib1g-dev \
   libgtest-dev libgmock-dev libbenchmark-dev \
   python3 python3-vtk9 python3-numpy libmeshoptimizer-dev \
-  clang libclang-rt-14-dev chromium
+  clang libclang-rt-14-dev chromium draco
 
 .PHONY: all deps configure build demo test verify bench fuzz sanitize install clean
 
