@@ -13,8 +13,12 @@
 #include <string>
 #include <vector>
 
+#include "isoforge/contour/contour.hpp"
+#include "isoforge/core/mesh_topology.hpp"
+#include "isoforge/io/draco.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/ply.hpp"
+#include "isoforge/model/attractor.hpp"
 #include "support/mutate.hpp"
 #include "support/scratch.hpp"
 
@@ -23,7 +27,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path scratch(const std::string& name) { return isoforge::test::scratch_dir("gltf", name); }
+fs::path scratch(const std::string& name) {
+  return isoforge::test::scratch_dir("gltf", name);
+}
 
 GltfWriteOptions with_codec(GltfCodec codec) {
   GltfWriteOptions o;
@@ -39,7 +45,8 @@ void expect_valid(const fs::path& path) {
   ASSERT_FALSE(node.empty()) << "node (Node.js) was not found when configuring: install it "
                                 "(make deps) and reconfigure; the glTF validator runs on node";
   const fs::path script = ISOFORGE_GLTF_VALIDATE;
-  ASSERT_TRUE(fs::exists(fs::path(script).parent_path().parent_path() / "node_modules" / "gltf-validator"))
+  ASSERT_TRUE(
+      fs::exists(fs::path(script).parent_path().parent_path() / "node_modules" / "gltf-validator"))
       << "npm package gltf-validator missing: run `make deps` (npm ci in viewer/)";
   const std::string cmd = "'" + node + "' '" + script.string() + "' '" + path.string() + "' 2>&1";
   FILE* pipe = ::popen(cmd.c_str(), "r");
@@ -56,8 +63,8 @@ void expect_valid(const fs::path& path) {
 // cell, with a scalar, a vector, RGB colours (the active scalars) and a cell array.
 PolyData sample_mesh() {
   PolyData pd;
-  for (const Vec3 p : {Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{1, 1, 0}, Vec3{0, 1, 0},
-                       Vec3{0, 0, 1}, Vec3{0.5, 0, 2}, Vec3{1, 0, 1.25}}) {
+  for (const Vec3 p : {Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{1, 1, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1},
+                       Vec3{0.5, 0, 2}, Vec3{1, 0, 1.25}}) {
     pd.points.push_back(p);
   }
   pd.polys.add({0, 1, 2, 3});
@@ -67,9 +74,10 @@ PolyData sample_mesh() {
   pd.point_data.add(DataArray::from_vector<double>(
       "Velocity", 3, {1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1, 0.5, 0.25, 0.125, 2, 3, 4, -1, -2, -3}));
   pd.point_data.add(DataArray::from_vector<std::int32_t>("Label", 1, {7, 8, 9, 10, 11, 12, -13}));
-  pd.point_data.add(DataArray::from_vector<std::uint8_t>(
-                        "Colors", 3, {255, 0, 0, 0, 255, 0, 0, 0, 255, 9, 9, 9, 1, 2, 3, 4, 5, 6, 7, 8, 9}),
-                    AttributeRole::Scalars);
+  pd.point_data.add(
+      DataArray::from_vector<std::uint8_t>(
+          "Colors", 3, {255, 0, 0, 0, 255, 0, 0, 0, 255, 9, 9, 9, 1, 2, 3, 4, 5, 6, 7, 8, 9}),
+      AttributeRole::Scalars);
   pd.cell_data.add(DataArray::from_vector<float>("Area", 1, {1, 0, 0}));
   return pd;
 }
@@ -184,11 +192,13 @@ TEST(Gltf, EverySrgbColourCodeRoundTrips) {
   for (int i = 0; i < 256; ++i) {
     pd.points.push_back(Vec3{double(i), 0, 0});
     pd.verts.add({i});
-    rgba.insert(rgba.end(), {std::uint8_t(i), std::uint8_t(255 - i), std::uint8_t(i / 2), std::uint8_t(i)});
+    rgba.insert(rgba.end(),
+                {std::uint8_t(i), std::uint8_t(255 - i), std::uint8_t(i / 2), std::uint8_t(i)});
   }
   pd.point_data.add(DataArray::from_vector<std::uint8_t>("RGBA", 4, rgba), AttributeRole::Scalars);
   const auto dir = scratch("colours");
-  for (const auto& [file, options] : {std::pair{"plain.glb", kPlain}, std::pair{"meshopt.glb", with_codec(GltfCodec::Meshopt)}}) {
+  for (const auto& [file, options] :
+       {std::pair{"plain.glb", kPlain}, std::pair{"meshopt.glb", with_codec(GltfCodec::Meshopt)}}) {
     (void)write_gltf(pd, dir / file, options);
     expect_valid(dir / file);
     const PolyData back = read_gltf(dir / file).meshes.at(0).mesh;
@@ -206,8 +216,9 @@ TEST(Gltf, SeveralNamedMeshesUnitsAndLegend) {
   tri.polys.add({0, 1, 2});
   PolyData cloud;  // points without cells: one POINTS primitive over every point
   for (int i = 0; i < 5; ++i) cloud.points.push_back(Vec3{double(i), 1, 2});
-  GltfLegend legend{"Elevation", "viridis", -1.5, 2.5, false,
-                    {{{68, 1, 84, 255}}, {{33, 145, 140, 255}}, {{253, 231, 37, 255}}}};
+  GltfLegend legend{
+      "Elevation", "viridis", -1.5,
+      2.5,         false,     {{{68, 1, 84, 255}}, {{33, 145, 140, 255}}, {{253, 231, 37, 255}}}};
   const std::vector<GltfMesh> meshes = {{"triangle", tri, legend}, {"cloud", cloud}};
   const auto path = scratch("named") / "two.glb";
   GltfWriteOptions options = kPlain;
@@ -251,13 +262,15 @@ TEST(Gltf, DracoRoundTripMeetsTheBudget) {
   const Bounds b = bunny.bounds();
   const double budget = 1e-4 * norm(b.max - b.min);
   EXPECT_LE(stats.draco[0].max_position_error, budget);
-  EXPECT_LT(stats.bytes, write_gltf(bunny, dir / "meshopt.glb", with_codec(GltfCodec::Meshopt)).bytes);
+  EXPECT_LT(stats.bytes,
+            write_gltf(bunny, dir / "meshopt.glb", with_codec(GltfCodec::Meshopt)).bytes);
   const PolyData back = read_gltf(dir / "bunny.glb").meshes.at(0).mesh;
   ASSERT_EQ(back.num_points(), bunny.num_points());
   EXPECT_EQ(back.polys.size(), 69451u - stats.draco[0].lost_triangles);
   EXPECT_EQ(stats.draco[0].lost_triangles, 0u);  // the budget refines until none is lost
   double worst = 0;
-  for (std::size_t i = 0; i < bunny.num_points(); ++i) worst = std::max(worst, norm(back.points[i] - bunny.points[i]));
+  for (std::size_t i = 0; i < bunny.num_points(); ++i)
+    worst = std::max(worst, norm(back.points[i] - bunny.points[i]));
   EXPECT_LE(worst, budget);
   EXPECT_NE(back.point_data.find("confidence"), nullptr);  // names kept
   EXPECT_NE(back.point_data.find("intensity"), nullptr);
@@ -273,6 +286,85 @@ TEST(Gltf, DracoRoundTripMeetsTheBudget) {
   EXPECT_EQ(tiny.verts.size(), 1u);
   for (const char* name : {"Elevation", "Velocity", "Label", "Colors"}) {
     EXPECT_NE(tiny.point_data.find(name), nullptr) << name;
+  }
+}
+
+// The transfer formats on the kinds of data the project ships: a scan (bunny), a textured mesh
+// (fran_cut), a quad mesh (Torso), a CT isosurface (headsq) and the Lorenz attractor surface.
+// Draco with a budget of 1e-4 of the diagonal (sequential: points compared one to one), and
+// .glb with each codec: counts, array names and values within the budget, every file valid.
+TEST(Gltf, SharedDataRoundTripsThroughDracoAndGlb) {
+  std::vector<std::pair<std::string, PolyData>> inputs;
+  for (const char* name : {"bunny.ply", "fran_cut.vtk", "Torso.vtp"}) {
+    inputs.emplace_back(name, std::get<PolyData>(read(isoforge::test::data_path(name))));
+  }
+  {
+    const Dataset head = read(isoforge::test::data_path("headsq/quarter.nhdr"));
+    ContourOptions co;
+    co.values = {1150};
+    co.flip = true;
+    inputs.emplace_back("headsq skin", contour(head, co).output);
+  }
+  {
+    AttractorOptions ao;
+    ao.trajectory.steps = 400'000;
+    ao.trajectory.dims = {48, 48, 48};
+    ao.value = 5;
+    inputs.emplace_back("attractor", lorenz_attractor(ao).output.surface);
+  }
+  const auto dir = scratch("shared");
+  for (const auto& [name, mesh] : inputs) {
+    SCOPED_TRACE(name);
+    ASSERT_GT(mesh.polys.size(), 100u);
+    const std::size_t triangles = triangulate_faces(mesh).size();
+    const Bounds b = mesh.bounds();
+    const double budget = 1e-4 * norm(b.max - b.min);
+    auto same_names = [&](const PolyData& back) {
+      for (std::size_t a = 0; a < mesh.point_data.size(); ++a) {
+        const DataArray& in = mesh.point_data[a];
+        const DataArray* out = back.point_data.find(in.name());
+        ASSERT_NE(out, nullptr) << in.name();
+        EXPECT_EQ(out->components(), in.components()) << in.name();
+      }
+    };
+
+    DracoWriteOptions d;
+    d.max_position_error_relative = 1e-4;
+    d.method = DracoMethod::Sequential;
+    const DracoStats ds = write_draco(mesh, dir / "m.drc", d);
+    const PolyData drc = read_draco(dir / "m.drc");
+    ASSERT_EQ(drc.num_points(), mesh.num_points());
+    EXPECT_EQ(drc.polys.size(), triangles - ds.lost_triangles);
+    EXPECT_EQ(ds.lost_triangles, ds.degenerate_input_triangles);
+    double worst = 0;
+    for (std::size_t i = 0; i < mesh.num_points(); ++i) {
+      worst = std::max(worst, norm(drc.points[i] - mesh.points[i]));
+    }
+    EXPECT_LE(worst, budget);
+    EXPECT_GT(worst, 0.0);  // quantized, not stored exactly
+    same_names(drc);
+
+    GltfWriteOptions g;
+    g.draco.max_position_error_relative = 1e-4;
+    const auto gs = write_gltf(mesh, dir / "m.glb", g);
+    expect_valid(dir / "m.glb");
+    ASSERT_EQ(gs.draco.size(), 1u);
+    EXPECT_LE(gs.draco[0].max_position_error, budget);
+    const PolyData glb = read_gltf(dir / "m.glb").meshes.at(0).mesh;
+    EXPECT_EQ(glb.polys.size(), triangles - gs.draco[0].lost_triangles);
+    same_names(glb);
+
+    for (GltfCodec codec : {GltfCodec::Meshopt, GltfCodec::None}) {
+      write_gltf(mesh, dir / "l.glb", with_codec(codec));
+      expect_valid(dir / "l.glb");
+      const PolyData exact = read_gltf(dir / "l.glb").meshes.at(0).mesh;
+      ASSERT_EQ(exact.num_points(), mesh.num_points());
+      for (std::size_t i = 0; i < mesh.num_points(); ++i) {
+        ASSERT_EQ(exact.points[i], mesh.points[i]) << i;
+      }
+      EXPECT_EQ(exact.polys.size(), triangles);
+      same_names(exact);
+    }
   }
 }
 
@@ -300,7 +392,8 @@ TEST(Gltf, BadInputsAreErrors) {
     (void)write_gltf(nan, dir / "n.glb", kPlain);
     ADD_FAILURE() << "no error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("point 2 has a non-finite coordinate"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("point 2 has a non-finite coordinate"), std::string::npos)
+        << e.what();
   }
   EXPECT_FALSE(fs::exists(dir / "n.glb"));
   const PolyData good_mesh = sample_mesh();
