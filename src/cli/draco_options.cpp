@@ -25,14 +25,15 @@ void add_draco_options(CLI::App& cmd, DracoCli& d) {
   auto* array_opt = cmd.add_option("--array-error", d.array_errors,
                                    "Draco: NAME=E, largest error of a float point array in its "
                                    "units (repeatable; other arrays use the *-bits)");
-  d.bits_opt = cmd.add_option("--bits", d.bits, "Draco: position quantization bits (1-30, "
-                                                "default 11)")
+  d.bits_opt = cmd.add_option("--bits", d.bits,
+                              "Draco: position quantization bits (1-30, "
+                              "default 11)")
                    ->check(integer_in(1, 30));
   auto* nb = cmd.add_option("--normal-bits", d.normal_bits, "Draco: normal bits (1-30, default 8)")
                  ->check(integer_in(1, 30));
-  auto* cb = cmd.add_option("--color-bits", d.color_bits,
-                            "Draco: float colour bits (1-30, default 8)")
-                 ->check(integer_in(1, 30));
+  auto* cb =
+      cmd.add_option("--color-bits", d.color_bits, "Draco: float colour bits (1-30, default 8)")
+          ->check(integer_in(1, 30));
   auto* tb = cmd.add_option("--texcoord-bits", d.texcoord_bits,
                             "Draco: texture coordinate bits (1-30, default 10)")
                  ->check(integer_in(1, 30));
@@ -46,8 +47,8 @@ void add_draco_options(CLI::App& cmd, DracoCli& d) {
   auto* seq = cmd.add_flag("--sequential", d.sequential,
                            "Draco: sequential coding, which keeps the order of points and faces "
                            "(larger than the default Edgebreaker)");
-  d.options = {d.max_error_opt, d.max_error_rel_opt, array_opt, d.bits_opt, nb, cb, tb, gb,
-               level, seq};
+  d.options = {
+      d.max_error_opt, d.max_error_rel_opt, array_opt, d.bits_opt, nb, cb, tb, gb, level, seq};
 }
 
 void check_draco_options(const DracoCli& d, bool meaningful, const std::string& why) {
@@ -92,34 +93,45 @@ void keep_freed_memory() {
 #endif
 }
 
+namespace {
+
+// One line per attribute: its grid, the measured error and the budget.
+void print_attributes(const std::vector<DracoAttributeStats>& attributes, const char* prefix) {
+  for (const auto& a : attributes) {
+    std::string grid = a.bits == 0 ? "exact" : fmt::format("{} bits", a.bits);
+    if (a.step > 0) grid += fmt::format(", step {:.3g}", a.step);
+    const std::string budget = a.budget > 0 ? fmt::format(" (budget {:.3g})", a.budget) : "";
+    fmt::print(stderr, "  {}{}: {}, measured max error {:.3g}{}\n", prefix, a.name, grid,
+               a.max_error, budget);
+  }
+}
+
+}  // namespace
+
 void print_draco_stats(const DracoStats& st, const std::string& path) {
   fmt::print(stderr,
              "wrote {} ({} points, {} triangles): {} bytes, ratio {:.1f} to raw float32/int32 "
              "({} bytes)\n",
              path, st.points, st.triangles, st.bytes, st.ratio, st.raw_bytes);
-  for (const auto& a : st.attributes) {
-    std::string grid = a.bits == 0 ? "exact" : fmt::format("{} bits", a.bits);
-    if (a.step > 0) grid += fmt::format(", step {:.3g}", a.step);
-    const std::string budget = a.budget > 0 ? fmt::format(" (budget {:.3g})", a.budget) : "";
-    fmt::print(stderr, "  {}: {}, measured max error {:.3g}{}\n", a.name, grid, a.max_error,
-               budget);
-  }
+  print_attributes(st.attributes, "");
   fmt::print(stderr, "  decoded: {} points, {} triangles; lost triangles: {}", st.decoded_points,
              st.decoded_triangles, st.lost_triangles);
   if (st.unreferenced_points > 0) {
     fmt::print(stderr, "; {} points in no triangle left out", st.unreferenced_points);
   }
   fmt::print(stderr, "\n");
-  fmt::print(stderr, "  encoded in {:.0f} ms; with the verifying decode and measurement {:.0f} ms "
-             "({} encoding{})\n", 1e3 * st.encode_seconds, 1e3 * st.total_seconds, st.encodes,
+  fmt::print(stderr,
+             "  encoded in {:.0f} ms; with the verifying decode and measurement {:.0f} ms "
+             "({} encoding{})\n",
+             1e3 * st.encode_seconds, 1e3 * st.total_seconds, st.encodes,
              st.encodes > 1 ? "s" : "");
   if (!st.note.empty()) fmt::print(stderr, "  note: {}\n", st.note);
   for (const auto& d : st.dropped) fmt::print(stderr, "  not stored (Draco has no place): {}\n", d);
 }
 
 void print_gltf_stats(const GltfWriteStats& st, const std::string& path) {
-  std::string counts = fmt::format("{} mesh{}, {} points", st.meshes, st.meshes == 1 ? "" : "es",
-                                   st.vertices);
+  std::string counts =
+      fmt::format("{} mesh{}, {} points", st.meshes, st.meshes == 1 ? "" : "es", st.vertices);
   if (st.triangles) counts += fmt::format(", {} triangles", st.triangles);
   if (st.segments) counts += fmt::format(", {} line segments", st.segments);
   if (st.points) counts += fmt::format(", {} points drawn", st.points);
@@ -128,13 +140,7 @@ void print_gltf_stats(const GltfWriteStats& st, const std::string& path) {
              st.bytes ? static_cast<double>(st.raw_bytes) / static_cast<double>(st.bytes) : 0.0,
              st.raw_bytes);
   for (const auto& d : st.draco) {
-    for (const auto& a : d.attributes) {
-      std::string grid = a.bits == 0 ? "exact" : fmt::format("{} bits", a.bits);
-      if (a.step > 0) grid += fmt::format(", step {:.3g}", a.step);
-      const std::string budget = a.budget > 0 ? fmt::format(" (budget {:.3g})", a.budget) : "";
-      fmt::print(stderr, "  draco {}: {}, measured max error {:.3g}{}\n", a.name, grid, a.max_error,
-                 budget);
-    }
+    print_attributes(d.attributes, "draco ");
     fmt::print(stderr, "  draco decoded: {} points, {} triangles; lost triangles: {}\n",
                d.decoded_points, d.decoded_triangles, d.lost_triangles);
     if (!d.note.empty()) fmt::print(stderr, "  note: {}\n", d.note);

@@ -6,27 +6,13 @@ set -u
 bin=$1 data=$2 tmp=$3 node=$4 validate=$5
 rm -rf "$tmp" && mkdir -p "$tmp"
 failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+# shellcheck source=assert.sh
+source "$(dirname "$0")/assert.sh"
 
 if [ -z "$node" ] || ! [ -x "$node" ]; then
   echo "FAIL: node (Node.js) not found: the glTF validator needs it (make deps)"; exit 1
 fi
 
-expect_ok() {
-  local name=$1 regex=$2; shift 2
-  local out rc
-  out=$("$@" 2>&1); rc=$?
-  if [ $rc -ne 0 ]; then fail "$name: exit $rc: $out"; return; fi
-  if ! grep -Eq -- "$regex" <<<"$out"; then fail "$name: output does not match /$regex/:"$'\n'"$out"; fi
-}
-expect_fail() {
-  local code=$1 name=$2 regex=$3; shift 3
-  local out rc
-  out=$("$@" 2>&1); rc=$?
-  if [ $rc -ne "$code" ]; then fail "$name: expected exit $code, got $rc: $out"; return; fi
-  if [ "$(wc -l <<<"$out")" -ne 1 ]; then fail "$name: error is not one line:"$'\n'"$out"; fi
-  if ! grep -Eq -- "^isoforge: error: .*$regex" <<<"$out"; then fail "$name: message does not match /$regex/: $out"; fi
-}
 valid() {  # valid FILE: 0 errors from the Khronos validator
   local out
   out=$("$node" "$validate" "$1" 2>&1) || fail "validator on $1: $out"
