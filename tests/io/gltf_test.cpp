@@ -313,8 +313,9 @@ TEST(Gltf, SharedDataRoundTripsThroughDracoAndGlb) {
     inputs.emplace_back("attractor", lorenz_attractor(ao).output.surface);
   }
   const auto dir = scratch("shared");
-  for (const auto& [name, mesh] : inputs) {
-    SCOPED_TRACE(name);
+  for (const auto& input : inputs) {
+    const PolyData& mesh = input.second;
+    SCOPED_TRACE(input.first);
     ASSERT_GT(mesh.polys.size(), 100u);
     const std::size_t triangles = triangulate_faces(mesh).size();
     const Bounds b = mesh.bounds();
@@ -376,7 +377,7 @@ TEST(Gltf, DispatchByExtension) {
   o.gltf_codec = GltfCodec::Meshopt;
   write(pd, path, o);
   expect_valid(path);
-  const auto& back = std::get<PolyData>(read(path));
+  const PolyData back = std::get<PolyData>(read(path));
   EXPECT_EQ(back.num_points(), 7u);
   EXPECT_EQ(back.polys.size(), 2u);
   EXPECT_THROW(write(ImageData{}, path), Error);  // polydata only
