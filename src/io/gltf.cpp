@@ -8,6 +8,7 @@
 
 #include "isoforge/io/gltf.hpp"
 
+#include <fmt/format.h>
 #include <meshoptimizer.h>
 
 #include <algorithm>
@@ -31,12 +32,12 @@ using io_detail::Json;
 
 namespace {
 
-constexpr std::uint32_t kGlbMagic = 0x46546C67;      // "glTF"
-constexpr std::uint32_t kChunkJson = 0x4E4F534A;     // "JSON"
-constexpr std::uint32_t kChunkBin = 0x004E4942;      // "BIN\0"
-constexpr int kArrayBuffer = 34962;                  // bufferView targets
+constexpr std::uint32_t kGlbMagic = 0x46546C67;   // "glTF"
+constexpr std::uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
+constexpr std::uint32_t kChunkBin = 0x004E4942;   // "BIN\0"
+constexpr int kArrayBuffer = 34962;               // bufferView targets
 constexpr int kElementArrayBuffer = 34963;
-constexpr int kUnsignedByte = 5121;                  // accessor component types
+constexpr int kUnsignedByte = 5121;  // accessor component types
 constexpr int kUnsignedShort = 5123;
 constexpr int kUnsignedInt = 5125;
 constexpr int kFloat = 5126;
@@ -45,10 +46,14 @@ constexpr int kModePoints = 0, kModeLines = 1, kModeLineLoop = 2, kModeLineStrip
 constexpr const char* kMeshopt = "EXT_meshopt_compression";
 constexpr const char* kDraco = "KHR_draco_mesh_compression";
 
-std::size_t align4(std::size_t n) { return (n + 3) & ~std::size_t{3}; }
+std::size_t align4(std::size_t n) {
+  return (n + 3) & ~std::size_t{3};
+}
 
 // The sRGB transfer function (IEC 61966-2-1) and its inverse, on [0, 1].
-double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+double srgb_to_linear(double c) {
+  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+}
 double linear_to_srgb(double c) {
   return c <= 0.0031308 ? c * 12.92 : 1.055 * std::pow(c, 1 / 2.4) - 0.055;
 }
@@ -78,7 +83,8 @@ class GlbBuilder {
       const auto* u8 = static_cast<const unsigned char*>(bytes);
       if (vertex) {
         encoded.resize(meshopt_encodeVertexBufferBound(count, stride));
-        encoded.resize(meshopt_encodeVertexBuffer(encoded.data(), encoded.size(), u8, count, stride));
+        encoded.resize(
+            meshopt_encodeVertexBuffer(encoded.data(), encoded.size(), u8, count, stride));
         mode = "ATTRIBUTES";
       } else {
         std::vector<unsigned> indices(count);
@@ -95,11 +101,13 @@ class GlbBuilder {
             count ? *std::max_element(indices.begin(), indices.end()) + 1 : 0;
         if (triangles) {
           encoded.resize(meshopt_encodeIndexBufferBound(count, max_vertex));
-          encoded.resize(meshopt_encodeIndexBuffer(encoded.data(), encoded.size(), indices.data(), count));
+          encoded.resize(
+              meshopt_encodeIndexBuffer(encoded.data(), encoded.size(), indices.data(), count));
           mode = "TRIANGLES";
         } else {
           encoded.resize(meshopt_encodeIndexSequenceBound(count, max_vertex));
-          encoded.resize(meshopt_encodeIndexSequence(encoded.data(), encoded.size(), indices.data(), count));
+          encoded.resize(
+              meshopt_encodeIndexSequence(encoded.data(), encoded.size(), indices.data(), count));
           mode = "INDICES";
         }
       }
@@ -222,7 +230,8 @@ Json legend_json(const GltfLegend& legend, const std::string& where) {
   j["log"] = legend.log_scale;
   Json colors = Json::array();
   for (const auto& c : legend.colors) {
-    colors.push(Json(Json::Array{Json(int{c[0]}), Json(int{c[1]}), Json(int{c[2]}), Json(int{c[3]})}));
+    colors.push(
+        Json(Json::Array{Json(int{c[0]}), Json(int{c[1]}), Json(int{c[2]}), Json(int{c[3]})}));
   }
   j["colors"] = std::move(colors);
   return j;
@@ -314,8 +323,10 @@ Json draco_primitive(GlbBuilder& glb, const std::vector<Stream>& streams, std::s
       acc["type"] = "VEC3";
       Json lo = Json::array(), hi = Json::array();
       const Bounds b = dec.bounds();
-      for (const double v : {b.min.x, b.min.y, b.min.z}) lo.push(Json(double{static_cast<float>(v)}));
-      for (const double v : {b.max.x, b.max.y, b.max.z}) hi.push(Json(double{static_cast<float>(v)}));
+      for (const double v : {b.min.x, b.min.y, b.min.z})
+        lo.push(Json(double{static_cast<float>(v)}));
+      for (const double v : {b.max.x, b.max.y, b.max.z})
+        hi.push(Json(double{static_cast<float>(v)}));
       acc["min"] = std::move(lo);
       acc["max"] = std::move(hi);
     } else {
@@ -384,8 +395,10 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
   std::vector<Stream> streams;
   auto add_stream = [&](std::string semantic, const void* data, std::size_t elem_bytes,
                         int component_type, int components, bool normalized, std::string array) {
-    Stream st{std::move(semantic), std::vector<std::byte>(n * elem_bytes), elem_bytes,
-              component_type, components, normalized, std::move(array)};
+    Stream st{std::move(semantic), std::vector<std::byte>(n * elem_bytes),
+              elem_bytes,          component_type,
+              components,          normalized,
+              std::move(array)};
     std::memcpy(st.bytes.data(), data, st.bytes.size());
     streams.push_back(std::move(st));
   };
@@ -421,7 +434,8 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
         }
         for (int k = 0; k < 3; ++k) normals[3 * i + k] = static_cast<float>(v[k]);
       }
-      add_stream("NORMAL", normals.data(), 12, kFloat, 3, false, given != &computed ? given->name() : "");
+      add_stream("NORMAL", normals.data(), 12, kFloat, 3, false,
+                 given != &computed ? given->name() : "");
       if (given != &computed) {
         normals_array = given;
         name_entry("NORMAL", *given);
@@ -439,13 +453,15 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
     const auto src = colors->values<std::uint8_t>();
     std::array<std::uint16_t, 256> linear{};
     for (int v = 0; v < 256; ++v) {
-      linear[static_cast<std::size_t>(v)] = static_cast<std::uint16_t>(std::lround(srgb_to_linear(v / 255.0) * 65535.0));
+      linear[static_cast<std::size_t>(v)] =
+          static_cast<std::uint16_t>(std::lround(srgb_to_linear(v / 255.0) * 65535.0));
     }
     std::vector<std::uint16_t> rgba(4 * n, 65535);
     for (std::size_t i = 0; i < n; ++i) {
       for (int k = 0; k < c; ++k) {
         const std::uint8_t v = src[static_cast<std::size_t>(c) * i + static_cast<std::size_t>(k)];
-        rgba[4 * i + static_cast<std::size_t>(k)] = k < 3 ? linear[v] : static_cast<std::uint16_t>(v * 257);
+        rgba[4 * i + static_cast<std::size_t>(k)] =
+            k < 3 ? linear[v] : static_cast<std::uint16_t>(v * 257);
       }
     }
     add_stream("COLOR_0", rgba.data(), 8, kUnsignedShort, 4, true, colors->name());
@@ -473,13 +489,15 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
         continue;
       }
       const std::string semantic = custom_semantic(a.name(), used);
-      add_stream(semantic, values.data(), 4 * static_cast<std::size_t>(c), kFloat, c, false, a.name());
+      add_stream(semantic, values.data(), 4 * static_cast<std::size_t>(c), kFloat, c, false,
+                 a.name());
       name_entry(semantic, a);
       if (&a == pd.point_data.scalars()) scalars_written = a.name();
     }
   }
   for (const DataArray& a : pd.cell_data) {
-    stats.arrays_skipped.push_back(where + ": " + a.name() + " (cell data; glTF has point attributes only)");
+    stats.arrays_skipped.push_back(where + ": " + a.name() +
+                                   " (cell data; glTF has point attributes only)");
   }
 
   // What the plain layout takes (the ratio's denominator, whatever the codec).
@@ -493,7 +511,8 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
   auto plain_attributes = [&]() -> const Json& {
     if (attributes.is_object()) return attributes;
     for (const Stream& st : streams) {
-      const std::size_t view = glb.add_view(st.bytes.data(), st.bytes.size(), n, st.elem_bytes, true, false);
+      const std::size_t view =
+          glb.add_view(st.bytes.data(), st.bytes.size(), n, st.elem_bytes, true, false);
       Json acc;
       acc["bufferView"] = view;
       acc["componentType"] = st.component_type;
@@ -501,8 +520,10 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
       acc["count"] = n;
       acc["type"] = kTypes[st.components - 1];
       if (st.semantic == "POSITION") {
-        acc["min"] = Json(Json::Array{Json(double{lo[0]}), Json(double{lo[1]}), Json(double{lo[2]})});
-        acc["max"] = Json(Json::Array{Json(double{hi[0]}), Json(double{hi[1]}), Json(double{hi[2]})});
+        acc["min"] =
+            Json(Json::Array{Json(double{lo[0]}), Json(double{lo[1]}), Json(double{lo[2]})});
+        acc["max"] =
+            Json(Json::Array{Json(double{hi[0]}), Json(double{hi[1]}), Json(double{hi[2]})});
       }
       attributes[st.semantic] = glb.add_accessor(std::move(acc));
     }
@@ -571,9 +592,12 @@ void put_u32(std::string& out, std::uint32_t v) {
 
 std::string_view gltf_codec_name(GltfCodec codec) {
   switch (codec) {
-    case GltfCodec::None: return "none";
-    case GltfCodec::Meshopt: return "meshopt";
-    case GltfCodec::Draco: return "draco";
+    case GltfCodec::None:
+      return "none";
+    case GltfCodec::Meshopt:
+      return "meshopt";
+    case GltfCodec::Draco:
+      return "draco";
   }
   return "?";
 }
@@ -585,7 +609,9 @@ GltfCodec gltf_codec_from_name(std::string_view name) {
   throw Error("glTF codec '" + std::string(name) + "' is not one of none, meshopt, draco");
 }
 
-bool gltf_codec_available(GltfCodec) { return true; }
+bool gltf_codec_available(GltfCodec) {
+  return true;
+}
 
 GltfWriteStats write_gltf(std::span<const GltfMesh> meshes, const std::filesystem::path& path,
                           const GltfWriteOptions& options) {
@@ -604,8 +630,8 @@ GltfWriteStats write_gltf(std::span<const GltfMesh> meshes, const std::filesyste
   Json nodes = Json::array();
   Json scene_nodes = Json::array();
   for (std::size_t i = 0; i < meshes.size(); ++i) {
-    const std::string where =
-        file + ": mesh " + std::to_string(i) + (meshes[i].name.empty() ? "" : " '" + meshes[i].name + "'");
+    const std::string where = file + ": mesh " + std::to_string(i) +
+                              (meshes[i].name.empty() ? "" : " '" + meshes[i].name + "'");
     meshes[i].mesh.validate();
     const std::size_t index = json_meshes.push(write_mesh(glb, meshes[i], where, options, stats));
     Json node;
@@ -711,7 +737,8 @@ class GlbReader {
     }
     const Json& meshes = member(gltf_, "meshes", "the glTF");
     if (!meshes.is_array()) fail("'meshes' is not an array");
-    for (std::size_t i = 0; i < meshes.size(); ++i) content.meshes.push_back(read_mesh(meshes.as_array()[i], i));
+    for (std::size_t i = 0; i < meshes.size(); ++i)
+      content.meshes.push_back(read_mesh(meshes.as_array()[i], i));
     return content;
   }
 
@@ -725,13 +752,15 @@ class GlbReader {
   }
 
   void parse_container() {
-    if (data_.size() < 4 || u32(0) != kGlbMagic) fail("byte 0: not a binary glTF file (no 'glTF' magic)");
+    if (data_.size() < 4 || u32(0) != kGlbMagic)
+      fail("byte 0: not a binary glTF file (no 'glTF' magic)");
     if (data_.size() < 20) fail("byte 4: truncated: a .glb starts with a 20-byte header");
-    if (u32(4) != 2) fail("byte 4: glTF container version " + std::to_string(u32(4)) + ", expected 2");
+    if (u32(4) != 2)
+      fail("byte 4: glTF container version " + std::to_string(u32(4)) + ", expected 2");
     const std::uint32_t length = u32(8);
     if (length > data_.size()) {
-      fail("byte 8: truncated: the header says " + std::to_string(length) + " bytes but the file has " +
-           std::to_string(data_.size()));
+      fail("byte 8: truncated: the header says " + std::to_string(length) +
+           " bytes but the file has " + std::to_string(data_.size()));
     }
     std::size_t at = 12;
     bool first = true;
@@ -742,7 +771,8 @@ class GlbReader {
              " bytes runs past the end of the file");
       }
       const auto bytes = data_.subspan(at + 8, size);
-      if (first && type != kChunkJson) fail("byte " + std::to_string(at) + ": the first chunk is not JSON");
+      if (first && type != kChunkJson)
+        fail("byte " + std::to_string(at) + ": the first chunk is not JSON");
       if (type == kChunkJson && first) {
         gltf_ = io_detail::parse_json(
             std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), name_);
@@ -790,7 +820,8 @@ class GlbReader {
     if (buf.find("uri")) fail(what + ": external buffers (uri) are not supported in a .glb");
     if (b != 0 || !has_bin_) fail(what + ": no binary chunk holds this buffer");
     const std::size_t length = index(buf, "byteLength", what, std::size_t{1} << 32);
-    if (length > bin_.size()) fail(what + ": byteLength " + std::to_string(length) + " exceeds the binary chunk");
+    if (length > bin_.size())
+      fail(what + ": byteLength " + std::to_string(length) + " exceeds the binary chunk");
     return bin_.first(length);
   }
 
@@ -809,16 +840,18 @@ class GlbReader {
       const std::size_t size = index(*mo, "byteLength", w, std::size_t{1} << 32);
       const std::size_t stride = index(*mo, "byteStride", w, 257);
       const std::size_t count = index(*mo, "count", w, std::size_t{1} << 32);
-      const std::string mode = member(*mo, "mode", w).is_string() ? member(*mo, "mode", w).as_string() : "";
+      const std::string mode =
+          member(*mo, "mode", w).is_string() ? member(*mo, "mode", w).as_string() : "";
       if (const Json* f = mo->find("filter"); f && !(f->is_string() && f->as_string() == "NONE")) {
         fail(w + ": filters are not supported");
       }
-      if (offset > src.size() || size > src.size() - offset) fail(w + ": data runs past the buffer");
+      if (offset > src.size() || size > src.size() - offset)
+        fail(w + ": data runs past the buffer");
       if (stride == 0 || count * stride != length) fail(w + ": count * byteStride != byteLength");
       // The codecs shrink data by at most about 64 times (2 header bits per 16 bytes), so a
       // larger claim is corrupt: checked before allocating.
-      if (length > 256 * size + 65536) fail(w + ": " + std::to_string(length) +
-                                            " bytes cannot come from " + std::to_string(size));
+      if (length > 256 * size + 65536)
+        fail(w + ": " + std::to_string(length) + " bytes cannot come from " + std::to_string(size));
       std::vector<std::byte> out(length);
       const auto* in = reinterpret_cast<const unsigned char*>(src.data() + offset);
       int rc = -1;
@@ -827,7 +860,8 @@ class GlbReader {
         rc = meshopt_decodeVertexBuffer(out.data(), count, stride, in, size);
       } else if (mode == "TRIANGLES" || mode == "INDICES") {
         if (stride != 2 && stride != 4) fail(w + ": index byteStride must be 2 or 4");
-        if (mode == "TRIANGLES" && count % 3 != 0) fail(w + ": TRIANGLES count is not a multiple of 3");
+        if (mode == "TRIANGLES" && count % 3 != 0)
+          fail(w + ": TRIANGLES count is not a multiple of 3");
         rc = mode == "TRIANGLES" ? meshopt_decodeIndexBuffer(out.data(), count, stride, in, size)
                                  : meshopt_decodeIndexSequence(out.data(), count, stride, in, size);
       } else {
@@ -856,8 +890,9 @@ class GlbReader {
     info.component_type = static_cast<int>(index(acc, "componentType", what, 5127));
     info.count = index(acc, "count", what, std::size_t{1} << 32);
     const Json& type = member(acc, "type", what);
-    static const std::map<std::string, int> kComponents = {
-        {"SCALAR", 1}, {"VEC2", 2}, {"VEC3", 3}, {"VEC4", 4}, {"MAT2", 4}, {"MAT3", 9}, {"MAT4", 16}};
+    static const std::map<std::string, int> kComponents = {{"SCALAR", 1}, {"VEC2", 2}, {"VEC3", 3},
+                                                           {"VEC4", 4},   {"MAT2", 4}, {"MAT3", 9},
+                                                           {"MAT4", 16}};
     const auto it = type.is_string() ? kComponents.find(type.as_string()) : kComponents.end();
     if (it == kComponents.end()) fail(what + ": unknown type");
     info.components = it->second;
@@ -866,10 +901,20 @@ class GlbReader {
     if (acc.find("sparse")) fail(what + ": sparse accessors are not supported");
     std::size_t size = 0;
     switch (info.component_type) {
-      case 5120: case kUnsignedByte: size = 1; break;
-      case 5122: case kUnsignedShort: size = 2; break;
-      case kUnsignedInt: case kFloat: size = 4; break;
-      default: fail(what + ": unknown componentType " + std::to_string(info.component_type));
+      case 5120:
+      case kUnsignedByte:
+        size = 1;
+        break;
+      case 5122:
+      case kUnsignedShort:
+        size = 2;
+        break;
+      case kUnsignedInt:
+      case kFloat:
+        size = 4;
+        break;
+      default:
+        fail(what + ": unknown componentType " + std::to_string(info.component_type));
     }
     std::vector<double> out;
     if (!acc.find("bufferView")) fail(what + ": accessors without a bufferView are not supported");
@@ -878,10 +923,13 @@ class GlbReader {
     const std::size_t offset = optional_index(acc, "byteOffset", what, std::size_t{1} << 32, 0);
     const std::size_t elem = size * static_cast<std::size_t>(info.components);
     const Json& bv = element("bufferViews", v);
-    std::size_t stride = optional_index(bv, "byteStride", "bufferViews " + std::to_string(v), 253, elem);
+    std::size_t stride =
+        optional_index(bv, "byteStride", "bufferViews " + std::to_string(v), 253, elem);
     if (stride < elem) fail(what + ": byteStride is smaller than an element");
-    if (info.count > 0 && (offset > bytes.size() || (info.count - 1) * stride + elem > bytes.size() - offset)) {
-      fail(what + ": " + std::to_string(info.count) + " elements run past bufferView " + std::to_string(v));
+    if (info.count > 0 &&
+        (offset > bytes.size() || (info.count - 1) * stride + elem > bytes.size() - offset)) {
+      fail(what + ": " + std::to_string(info.count) + " elements run past bufferView " +
+           std::to_string(v));
     }
     out.resize(info.count * static_cast<std::size_t>(info.components));
     for (std::size_t i = 0; i < info.count; ++i) {
@@ -889,12 +937,41 @@ class GlbReader {
       for (int c = 0; c < info.components; ++c, p += size) {
         double value = 0;
         switch (info.component_type) {
-          case 5120: { std::int8_t x; std::memcpy(&x, p, 1); value = info.normalized ? std::max(x / 127.0, -1.0) : x; break; }
-          case kUnsignedByte: { std::uint8_t x; std::memcpy(&x, p, 1); value = info.normalized ? x / 255.0 : x; break; }
-          case 5122: { std::int16_t x; std::memcpy(&x, p, 2); value = info.normalized ? std::max(x / 32767.0, -1.0) : x; break; }
-          case kUnsignedShort: { std::uint16_t x; std::memcpy(&x, p, 2); value = info.normalized ? x / 65535.0 : x; break; }
-          case kUnsignedInt: { std::uint32_t x; std::memcpy(&x, p, 4); value = x; break; }
-          default: { float x; std::memcpy(&x, p, 4); value = x; }
+          case 5120: {
+            std::int8_t x;
+            std::memcpy(&x, p, 1);
+            value = info.normalized ? std::max(x / 127.0, -1.0) : x;
+            break;
+          }
+          case kUnsignedByte: {
+            std::uint8_t x;
+            std::memcpy(&x, p, 1);
+            value = info.normalized ? x / 255.0 : x;
+            break;
+          }
+          case 5122: {
+            std::int16_t x;
+            std::memcpy(&x, p, 2);
+            value = info.normalized ? std::max(x / 32767.0, -1.0) : x;
+            break;
+          }
+          case kUnsignedShort: {
+            std::uint16_t x;
+            std::memcpy(&x, p, 2);
+            value = info.normalized ? x / 65535.0 : x;
+            break;
+          }
+          case kUnsignedInt: {
+            std::uint32_t x;
+            std::memcpy(&x, p, 4);
+            value = x;
+            break;
+          }
+          default: {
+            float x;
+            std::memcpy(&x, p, 4);
+            value = x;
+          }
         }
         out[i * static_cast<std::size_t>(info.components) + static_cast<std::size_t>(c)] = value;
       }
@@ -915,7 +992,9 @@ class GlbReader {
                  int value_components, const std::string& what, const Json* names,
                  const std::string& scalars_name) const {
     const std::size_t n = pd.num_points();
-    std::string name = semantic == "NORMAL" ? "Normals" : semantic == "COLOR_0" ? "Colors" : semantic;
+    std::string name = semantic == "NORMAL"    ? "Normals"
+                       : semantic == "COLOR_0" ? "Colors"
+                                               : semantic;
     int components = value_components;
     ScalarType type = semantic == "COLOR_0" ? ScalarType::UInt8 : ScalarType::Float32;
     if (names && names->is_array()) {
@@ -923,8 +1002,8 @@ class GlbReader {
         const Json* a = e.find("attribute");
         if (!a || !a->is_string() || a->as_string() != semantic) continue;
         if (const Json* nm = e.find("name"); nm && nm->is_string()) name = nm->as_string();
-        if (const Json* c = e.find("components"); c && c->is_number() && c->as_number() >= 1 &&
-                                                  c->as_number() <= value_components) {
+        if (const Json* c = e.find("components");
+            c && c->is_number() && c->as_number() >= 1 && c->as_number() <= value_components) {
           components = static_cast<int>(c->as_number());
         }
         if (const Json* t = e.find("type"); t && t->is_string()) {
@@ -939,12 +1018,24 @@ class GlbReader {
     if (pd.point_data.has(name)) return;  // a duplicate name: the first wins
     DataArray array(name, type, components, n);
     const bool color = semantic == "COLOR_0";
+    // An integer array's values must fit its type (a corrupt file may say Int32 over 1e19).
+    const auto [lowest, highest] = visit_scalar_type(type, [](auto t) {
+      using T = decltype(t);
+      return std::pair<double, double>{static_cast<double>(std::numeric_limits<T>::lowest()),
+                                       static_cast<double>(std::numeric_limits<T>::max())};
+    });
+    const bool integral = !is_floating(type);
     for (std::size_t i = 0; i < n; ++i) {
       for (int c = 0; c < components; ++c) {
-        double v = values[i * static_cast<std::size_t>(value_components) + static_cast<std::size_t>(c)];
+        double v =
+            values[i * static_cast<std::size_t>(value_components) + static_cast<std::size_t>(c)];
         if (color) {  // linear [0, 1] (float or normalized) to sRGB codes; alpha is linear
           v = std::clamp(v, 0.0, 1.0);
           v = std::round((c < 3 ? linear_to_srgb(v) : v) * 255.0);
+        }
+        if (integral && !(v >= lowest && v <= highest)) {
+          fail(what + ": value " + fmt::format("{}", v) + " of array '" + name +
+               "' does not fit its type " + std::string(scalar_type_name(type)));
         }
         array.set(i, c, v);
       }
@@ -962,7 +1053,8 @@ class GlbReader {
                          const std::string& scalars_name) {
     PolyData pd;
     Accessor info;
-    const auto positions = read_accessor(index(attributes, "POSITION", what, std::size_t{1} << 32), info);
+    const auto positions =
+        read_accessor(index(attributes, "POSITION", what, std::size_t{1} << 32), info);
     if (info.components != 3) fail(what + ": POSITION is not VEC3");
     const std::size_t n = info.count;
     pd.points = Points(n);
@@ -971,9 +1063,11 @@ class GlbReader {
     for (const auto& [semantic, value] : attributes.as_object()) {
       if (semantic == "POSITION") continue;
       if (!value.is_number()) fail(what + ": attribute " + semantic + " is not an accessor index");
-      const auto values = read_accessor(index(attributes, semantic, what, std::size_t{1} << 32), info);
-      if (info.count != n) fail(what + ": attribute " + semantic + " has " + std::to_string(info.count) +
-                                " elements, POSITION " + std::to_string(n));
+      const auto values =
+          read_accessor(index(attributes, semantic, what, std::size_t{1} << 32), info);
+      if (info.count != n)
+        fail(what + ": attribute " + semantic + " has " + std::to_string(info.count) +
+             " elements, POSITION " + std::to_string(n));
       add_array(pd, semantic, values, info.components, what, names, scalars_name);
     }
     return pd;
@@ -996,14 +1090,16 @@ class GlbReader {
       const std::size_t uid = index(ids, semantic, w, std::size_t{1} << 31);
       const DataArray* a = nullptr;
       for (const auto& attribute : decoded.attributes) {
-        if (attribute.unique_id == static_cast<int>(uid)) a = decoded.mesh.point_data.find(attribute.name);
+        if (attribute.unique_id == static_cast<int>(uid))
+          a = decoded.mesh.point_data.find(attribute.name);
       }
       if (!a) fail(w + ": no attribute with unique id " + std::to_string(uid) + " for " + semantic);
       std::vector<double> values(a->size());
       const int c = a->components();
       const bool normalized = semantic == "COLOR_0" && a->type() == ScalarType::UInt8;
       for (std::size_t i = 0; i < values.size(); ++i) {
-        values[i] = a->get(i / static_cast<std::size_t>(c), static_cast<int>(i % static_cast<std::size_t>(c)));
+        values[i] = a->get(i / static_cast<std::size_t>(c),
+                           static_cast<int>(i % static_cast<std::size_t>(c)));
         if (normalized) values[i] /= 255.0;
       }
       add_array(pd, semantic, values, c, w, names, scalars_name);
@@ -1021,7 +1117,8 @@ class GlbReader {
     if (const Json* s = extras ? extras->find("isoforge_scalars") : nullptr; s && s->is_string()) {
       scalars_name = s->as_string();
     }
-    if (const Json* legend = extras ? extras->find("legend") : nullptr; legend && legend->is_object()) {
+    if (const Json* legend = extras ? extras->find("legend") : nullptr;
+        legend && legend->is_object()) {
       out.legend = read_legend(*legend, what);
     }
     const Json& prims = member(mesh, "primitives", what);
@@ -1057,12 +1154,13 @@ class GlbReader {
       if (prim.find("indices")) {
         Accessor info;
         const auto values = read_accessor(index(prim, "indices", pw, std::size_t{1} << 32), info);
-        if (info.components != 1 || info.component_type == kFloat) fail(pw + ": indices are not integer scalars");
+        if (info.components != 1 || info.component_type == kFloat)
+          fail(pw + ": indices are not integer scalars");
         idx.reserve(values.size());
         for (const double v : values) {
           if (v >= static_cast<double>(n)) {
-            fail(pw + ": index " + std::to_string(static_cast<std::uint64_t>(v)) + " >= " +
-                 std::to_string(n) + " vertices");
+            fail(pw + ": index " + std::to_string(static_cast<std::uint64_t>(v)) +
+                 " >= " + std::to_string(n) + " vertices");
           }
           idx.push_back(static_cast<std::uint32_t>(v));
         }
@@ -1079,7 +1177,9 @@ class GlbReader {
       };
       const std::size_t c = idx.size();
       switch (mode) {
-        case kModePoints: for (const auto i : idx) cell(verts[set], {i}); break;
+        case kModePoints:
+          for (const auto i : idx) cell(verts[set], {i});
+          break;
         case kModeLines:
           for (std::size_t k = 0; k + 1 < c; k += 2) cell(lines[set], {idx[k], idx[k + 1]});
           break;
@@ -1089,12 +1189,15 @@ class GlbReader {
           if (mode == kModeLineLoop && c > 2) cell(lines[set], {idx[c - 1], idx[0]});
           break;
         case kModeTriangles:
-          for (std::size_t k = 0; k + 2 < c; k += 3) cell(polys[set], {idx[k], idx[k + 1], idx[k + 2]});
+          for (std::size_t k = 0; k + 2 < c; k += 3)
+            cell(polys[set], {idx[k], idx[k + 1], idx[k + 2]});
           break;
         case kModeTriangleStrip:
           for (std::size_t k = 0; k + 2 < c; ++k) {
-            if (k % 2 == 0) cell(polys[set], {idx[k], idx[k + 1], idx[k + 2]});
-            else cell(polys[set], {idx[k + 1], idx[k], idx[k + 2]});
+            if (k % 2 == 0)
+              cell(polys[set], {idx[k], idx[k + 1], idx[k + 2]});
+            else
+              cell(polys[set], {idx[k + 1], idx[k], idx[k + 2]});
           }
           break;
         default:  // fan
@@ -1118,7 +1221,8 @@ class GlbReader {
     if (const Json* a = j.find("array"); a && a->is_string()) legend.array = a->as_string();
     if (const Json* c = j.find("colormap"); c && c->is_string()) legend.colormap = c->as_string();
     if (const Json* r = j.find("range"); r && r->is_array() && r->size() == 2 &&
-                                         r->as_array()[0].is_number() && r->as_array()[1].is_number()) {
+                                         r->as_array()[0].is_number() &&
+                                         r->as_array()[1].is_number()) {
       legend.min = r->as_array()[0].as_number();
       legend.max = r->as_array()[1].as_number();
     }
@@ -1129,7 +1233,8 @@ class GlbReader {
         std::array<std::uint8_t, 4> rgba{};
         for (int k = 0; k < 4; ++k) {
           const Json& v = c.as_array()[static_cast<std::size_t>(k)];
-          if (!v.is_number() || v.as_number() < 0 || v.as_number() > 255) fail(what + ": legend colour out of 0..255");
+          if (!v.is_number() || v.as_number() < 0 || v.as_number() > 255)
+            fail(what + ": legend colour out of 0..255");
           rgba[static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(v.as_number());
         }
         legend.colors.push_back(rgba);
