@@ -6,14 +6,17 @@
 // samples y of the current mesh their closest point on the original (a point and the normal of
 // its triangle); the energy
 //   Σ |x − Σ b_k v_k|² + Σ (n · (Σ b_k v_k − y'))² + κ Σ_edges |v_i − v_j|²
-// is then linear least squares in the vertex positions, solved by Ceres with a sparse Cholesky
-// factorization of the normal equations. The second term (point to plane, as in
+// is then linear least squares in the vertex positions, solved by Ceres. The second term (point
+// to plane, as in
 //   Y. Chen, G. Medioni, "Object modelling by registration of multiple range images", 1992)
 // pulls the parts of the mesh that no sample of the original reaches, so the Hausdorff distance
-// falls too. After each solve, moves that turn a face by more than 90° or make two faces
-// intersect (exact predicates, core/predicates.hpp) are undone vertex by vertex until the
-// neighbourhood is clean, and a step that raises the RMS or Hausdorff error is halved, then
-// dropped.
+// falls too. The error is measured on as many samples of the simplified mesh as of the original;
+// the energy's second term uses those dense samples and 4 per triangle in alternate solves (the
+// dense ones follow the surface closely, the sparse ones pull less against each other where the
+// original is thin). After each solve, moves that turn a face by more than 90° or make two
+// faces intersect (exact predicates, core/predicates.hpp) are shortened, then undone, vertex by
+// vertex until the neighbourhood is clean, and a step that raises the RMS or Hausdorff error is
+// halved, then dropped. Method and measurements: docs/algorithms/fitting.md.
 
 #include "isoforge/fit/refine.hpp"
 
@@ -47,16 +50,74 @@ constexpr double kMadToSigma = 1.4826;
 constexpr double kHuberK = 1.345;
 constexpr double kCauchyK = 2.385;
 constexpr int kAutoSamplesPerTriangle = 10;
-// Barycentric coordinates of the samples of each simplified triangle (the reverse term).
-constexpr double kReverseBary[4][3] = {{1.0 / 3, 1.0 / 3, 1.0 / 3},
-                                       {2.0 / 3, 1.0 / 6, 1.0 / 6},
-                                       {1.0 / 6, 2.0 / 3, 1.0 / 6},
-                                       {1.0 / 6, 1.0 / 6, 2.0 / 3}};
 constexpr double kStepScales[3] = {1, 0.5, 0.25};  // a worse step is retried shorter
 constexpr int kLocalUndoRounds = 3;  // rounds of undoing the vertices that raise the maximum
 
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// ---- samples of the simplified mesh (the reverse term) ----
+
+using Bary = std::array<double, 3>;
+
+// The centroids of the n² triangles of the level-n subdivision of a triangle, as barycentric
+// coordinates: stratified over the triangle, none on an edge.
+std::vector<Bary> subdivision_centroids(int n) {
+  std::vector<Bary> out;
+  const double inv = 1.0 / n;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; i + j < n; ++j) {
+      const double u = (i + 1.0 / 3) * inv, v = (j + 1.0 / 3) * inv;
+      out.push_back({1 - u - v, u, v});
+      if (i + j + 2 <= n) {
+        const double u2 = (i + 2.0 / 3) * inv, v2 = (j + 2.0 / 3) * inv;
+        out.push_back({1 - u2 - v2, u2, v2});
+      }
+    }
+  return out;
+}
+
+// The nodes of the level-n grid of a triangle (i/n, j/n; corners, edge points and interior
+// points), with the weights of the composite vertex rule: a node gets a third of the area of
+// each small triangle around it (corner 1/3, edge 1, interior 2, scaled to a mean of 1), so the
+// weighted samples measure the triangle by area, as far as its corners.
+void grid_nodes(int n, std::vector<Bary>& bary, std::vector<double>& weight) {
+  const double count = (n + 1.0) * (n + 2.0) / 2;
+  const double scale = count / (double(n) * n);  // the raw weights sum to n²
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; i + j <= n; ++j) {
+      const int k = n - i - j;
+      const int zeros = (i == 0) + (j == 0) + (k == 0);
+      const double raw = zeros >= 2 ? 1.0 / 3 : (zeros == 1 ? 1.0 : 2.0);
+      bary.push_back({double(k) / n, double(i) / n, double(j) / n});
+      weight.push_back(raw * scale);
+    }
+}
+
+// The samples of the simplified mesh, the same in every triangle: 4 stratified points for the
+// sparse energy, and grid nodes for the error measure and the dense energy, about as many as
+// the original has samples (at least 6 per triangle, at most 45), so both directions of the
+// error are seen with the same density.
+struct ReverseSamples {
+  std::vector<Bary> bary;
+  std::vector<double> weight;
+  std::size_t energy_begin = 0, energy_end = 0;    // the samples of the sparse energy
+  std::size_t measure_begin = 0, measure_end = 0;  // the samples of the measure (dense energy)
+};
+
+ReverseSamples reverse_samples(std::size_t forward_samples, std::size_t triangles) {
+  const double per = double(forward_samples) / double(std::max<std::size_t>(triangles, 1));
+  int level = 2;
+  while (level < 8 && (level + 1.0) * (level + 2.0) / 2 < per) ++level;
+  ReverseSamples r;
+  r.bary = subdivision_centroids(2);
+  r.weight.assign(r.bary.size(), 1.0);
+  r.energy_end = r.bary.size();
+  r.measure_begin = r.bary.size();
+  grid_nodes(level, r.bary, r.weight);
+  r.measure_end = r.bary.size();
+  return r;
 }
 
 // ---- inputs ----
@@ -192,6 +253,11 @@ struct Reverse {  // a sample of the current mesh and its closest point on the o
 struct Measure {
   std::vector<Forward> fwd;
   std::vector<Reverse> rev;
+  std::vector<Reverse> vert;  // each vertex of a triangle and its closest point on the original
+  bool sparse = false;        // whether rev holds the sparse energy samples too
+  // Each triangle's area over the mean: a triangle's samples weigh by its area, so the
+  // reverse term measures the surface by area whatever the triangle sizes.
+  std::vector<double> area;
   double rms = 0, hausdorff = 0;
 };
 
@@ -204,9 +270,21 @@ struct Original {
 // The correspondences and errors for positions `pos`. With `prev` (the correspondences of
 // nearby positions), each query starts from its previous answer, which prunes most of the tree.
 Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
-                const std::vector<Vec3>& samples, const Original& orig,
+                const std::vector<Vec3>& samples, const ReverseSamples& rs,
+                const std::vector<char>& used, const Original& orig, bool sparse,
                 const Measure* prev = nullptr) {
+  const std::vector<Bary>& rb = rs.bary;
   Measure m;
+  m.sparse = sparse;
+  m.area.resize(tris.size());
+  double area_sum = 0;
+  for (std::size_t f = 0; f < tris.size(); ++f) {
+    const Vec3 &a = pos[tris[f][0]], &b = pos[tris[f][1]], &c = pos[tris[f][2]];
+    m.area[f] = norm(cross(b - a, c - a));
+    area_sum += m.area[f];
+  }
+  if (area_sum > 0)
+    for (double& a : m.area) a *= double(tris.size()) / area_sum;
   std::vector<std::array<PrimitiveSet::Id, 3>> t(tris.begin(), tris.end());
   const PrimitiveSet set(pos, {}, {}, std::move(t));
   const PrimitiveLocator loc(set);
@@ -227,16 +305,17 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
       m.fwd[i] = {f, {1 - q.s - q.t, q.s, q.t}, q.dist2};
     }
   });
-  m.rev.resize(4 * tris.size());
+  const std::size_t nr = rb.size();
+  m.rev.resize(nr * tris.size());
   const std::size_t tb = orig.set.triangle_begin();
   parallel_for_range(tris.size(), 256, [&](std::size_t b, std::size_t e) {
     for (std::size_t f = b; f < e; ++f) {
-      for (int k = 0; k < 4; ++k) {
-        const double* w = kReverseBary[k];
+      for (std::size_t k = sparse ? rs.energy_begin : rs.measure_begin; k < rs.measure_end; ++k) {
+        const Bary& w = rb[k];
         const Vec3 y = w[0] * pos[tris[f][0]] + w[1] * pos[tris[f][1]] + w[2] * pos[tris[f][2]];
         ClosestPrimitive c;
         if (prev) {
-          c.id = PrimitiveSet::Id(tb + prev->rev[4 * f + k].tri);
+          c.id = PrimitiveSet::Id(tb + prev->rev[nr * f + k].tri);
           c.dist2 = orig.set.dist2(c.id, y);
           orig.locator->nearest(y, c.dist2, c);
         } else {
@@ -245,7 +324,7 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
         const auto& ot = orig.set.triangles()[c.id - tb];
         const auto& ov = orig.set.vertices();
         const TriangleClosest q = closest_on_triangle(y, ov[ot[0]], ov[ot[1]], ov[ot[2]]);
-        m.rev[4 * f + k] = {q.point, orig.normals[c.id - tb], q.dist2, Id(c.id - tb)};
+        m.rev[nr * f + k] = {q.point, orig.normals[c.id - tb], q.dist2, Id(c.id - tb)};
       }
     }
   });
@@ -254,24 +333,51 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
     sum += f.dist2;
     mx = std::max(mx, f.dist2);
   }
-  for (const Reverse& r : m.rev) {
-    sum += r.dist2;
-    mx = std::max(mx, r.dist2);
-  }
-  m.rms = std::sqrt(sum / double(m.fwd.size() + m.rev.size()));
+  for (std::size_t f = 0; f < tris.size(); ++f)
+    for (std::size_t k = rs.measure_begin; k < rs.measure_end; ++k) {
+      const double d2 = m.rev[nr * f + k].dist2;
+      sum += m.area[f] * rs.weight[k] * d2;
+      mx = std::max(mx, d2);
+    }
+  m.rms = std::sqrt(sum / double(m.fwd.size() + tris.size() * (rs.measure_end - rs.measure_begin)));
+  // The vertices count in the maximum (not in the RMS, which is by area): a vertex pushed off
+  // the surface is where a sampled maximum misses the true one.
+  m.vert.resize(pos.size());
+  parallel_for_range(pos.size(), 1024, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) {
+      if (!used[v]) continue;
+      ClosestPrimitive c;
+      if (prev) {
+        c.id = PrimitiveSet::Id(tb + prev->vert[v].tri);
+        c.dist2 = orig.set.dist2(c.id, pos[v]);
+        orig.locator->nearest(pos[v], c.dist2, c);
+      } else {
+        c = orig.locator->closest(pos[v]);
+      }
+      const auto& ot = orig.set.triangles()[c.id - tb];
+      const auto& ov = orig.set.vertices();
+      const TriangleClosest q = closest_on_triangle(pos[v], ov[ot[0]], ov[ot[1]], ov[ot[2]]);
+      m.vert[v] = {q.point, orig.normals[c.id - tb], q.dist2, Id(c.id - tb)};
+    }
+  });
+  for (const Reverse& r : m.vert) mx = std::max(mx, r.dist2);
   m.hausdorff = std::sqrt(mx);
   return m;
 }
 
 // ---- the linear least-squares terms (analytic derivatives) ----
 //
-// The energy is quadratic, so the sample terms of one triangle are gathered into one residual
-// block before Ceres sees them: for the samples x_s with barycentric coordinates b_s (weights
-// w_s), per coordinate c,  Σ w_s (b_sᵀ v_c − x_sc)² = v_cᵀ M v_c − 2 g_cᵀ v_c + const  with
-// M = Σ w_s b_s b_sᵀ and g_c = Σ w_s b_s x_sc. With M = Q Λ Qᵀ, the rows
-// √λ_k q_kᵀ v_c − q_kᵀ g_c / √λ_k (λ_k > 0) have the same squared sum up to a constant, so a
-// triangle's ~10 samples become 9 residuals and the solve costs the same whatever the sampling
-// density. The point-to-plane terms of a triangle (4 samples) form one block of 4 residuals.
+// The energy is quadratic, so the sample terms of one triangle are gathered into residual
+// blocks of fixed size before Ceres sees them, and the solve costs the same whatever the
+// sampling density. Point to point: for the samples x_s with barycentric coordinates b_s
+// (weights w_s), per coordinate c, Σ w_s (b_sᵀ v_c − x_sc)² = v_cᵀ M v_c − 2 g_cᵀ v_c + const
+// with M = Σ w_s b_s b_sᵀ and g_c = Σ w_s b_s x_sc. With M = Q Λ Qᵀ, the rows
+// √λ_k q_kᵀ v_c − q_kᵀ g_c / √λ_k (λ_k > 0) have the same squared sum up to a constant: 9
+// residuals, each coordinate on its own. Point to plane: each sample is a row
+// √w (aᵀ V − n · y) over V = (v_0, v_1, v_2) ∈ R⁹ with a[3j + c] = b_j n_c; the Householder QR
+// factorization of the rows [a | n · y] gives at most 9 rows [R | Qᵀ(n · y)] with the same
+// squared sum up to a constant. Householder reflections keep a column that is zero zero, so a
+// coordinate no normal touches (a plane's) stays exactly where it was.
 
 struct Gathered {  // the samples of one triangle, gathered
   double m[3][3] = {};
@@ -321,36 +427,39 @@ class GatheredCost final : public ceres::SizedCostFunction<9, 3, 3, 3> {
   double rhs_[3][3] = {};
 };
 
-// √w_k n_k · (Σ_j b_kj v_j − y_k) for the 4 samples k of a triangle.
-class PlaneCost final : public ceres::SizedCostFunction<4, 3, 3, 3> {
+// The point-to-plane rows of one triangle, compressed by QR into 9 (zero rows pad them).
+class PlaneCost final : public ceres::SizedCostFunction<9, 3, 3, 3> {
  public:
-  PlaneCost(const Reverse* r, const double* w) {
-    for (int k = 0; k < 4; ++k) {
-      const double sw = std::sqrt(w[k]);
-      n_[k] = sw * r[k].normal;
-      c_[k] = dot(n_[k], r[k].target);
+  // `rows`: one row per sample, [√w a | √w n · y].
+  explicit PlaneCost(Eigen::Matrix<double, Eigen::Dynamic, 10>& rows) {
+    const Eigen::HouseholderQR<Eigen::Ref<Eigen::Matrix<double, Eigen::Dynamic, 10>>> qr(rows);
+    const auto& r = qr.matrixQR();
+    const Eigen::Index n = std::min<Eigen::Index>(r.rows(), 9);
+    for (Eigen::Index k = 0; k < n; ++k) {
+      for (Eigen::Index j = k; j < 9; ++j) row_[k][j] = r(k, j);
+      rhs_[k] = r(k, 9);
     }
   }
   bool Evaluate(double const* const* v, double* r, double** jac) const override {
-    for (int k = 0; k < 4; ++k) {
-      double s = -c_[k];
+    for (int k = 0; k < 9; ++k) {
+      double sum = -rhs_[k];
       for (int j = 0; j < 3; ++j)
-        s += kReverseBary[k][j] * (n_[k].x * v[j][0] + n_[k].y * v[j][1] + n_[k].z * v[j][2]);
-      r[k] = s;
+        for (int c = 0; c < 3; ++c) sum += row_[k][3 * j + c] * v[j][c];
+      r[k] = sum;
     }
     if (jac) {
       for (int j = 0; j < 3; ++j) {
         if (!jac[j]) continue;
-        for (int k = 0; k < 4; ++k)
-          for (int c = 0; c < 3; ++c) jac[j][3 * k + c] = kReverseBary[k][j] * n_[k][c];
+        for (int k = 0; k < 9; ++k)  // 9 rows x 3 columns, row-major
+          for (int c = 0; c < 3; ++c) jac[j][3 * k + c] = row_[k][3 * j + c];
       }
     }
     return true;
   }
 
  private:
-  Vec3 n_[4];
-  double c_[4];
+  double row_[9][9] = {};
+  double rhs_[9] = {};
 };
 
 // w (v_i − v_j)
@@ -404,11 +513,7 @@ Weights weights_for(const Measure& m, RobustLoss loss) {
   Weights w;
   w.loss = loss;
   if (loss == RobustLoss::None) {
-    double sum = 0;
-    for (const Forward& f : m.fwd) sum += f.dist2;
-    for (const Reverse& r : m.rev) sum += r.dist2;
-    const std::size_t n = m.fwd.size() + m.rev.size();
-    w.rms2 = n > 0 ? sum / double(n) : 0;
+    w.rms2 = m.rms * m.rms;
     return w;
   }
   std::vector<double> d;
@@ -423,12 +528,17 @@ Weights weights_for(const Measure& m, RobustLoss loss) {
 // One solve of the energy for fixed correspondences; returns the new positions.
 std::vector<Vec3> solve(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
                         const std::vector<std::array<Id, 2>>& edges,
-                        const std::vector<Vec3>& samples, const Measure& m,
-                        const std::vector<char>& fixed, const RefineOptions& o) {
+                        const std::vector<Vec3>& samples, const ReverseSamples& rs,
+                        const Measure& m, const std::vector<char>& fixed,
+                        const RefineOptions& o, bool sparse, bool plain) {
+  const std::vector<Bary>& rb = rs.bary;
+  const std::size_t eb = sparse ? rs.energy_begin : rs.measure_begin;
+  const std::size_t ee = sparse ? rs.energy_end : rs.measure_end;
   std::vector<double> x(3 * pos.size());
   for (std::size_t i = 0; i < pos.size(); ++i)
     for (int c = 0; c < 3; ++c) x[3 * i + c] = pos[i][c];
-  const Weights weight = weights_for(m, o.loss);
+  Weights weight = weights_for(m, o.loss);
+  if (plain) weight.rms2 = 0;
   std::vector<Gathered> gathered(tris.size());
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const Forward& f = m.fwd[i];
@@ -440,6 +550,22 @@ std::vector<Vec3> solve(const std::vector<Vec3>& pos, const std::vector<Tri>& tr
       for (int c = 0; c < 3; ++c) gt.g[c][a] += w * f.b[a] * samples[i][c];
     }
   }
+  const std::size_t nr = rb.size();
+  std::vector<std::unique_ptr<PlaneCost>> planes(tris.size());
+  parallel_for_range(tris.size(), 256, [&](std::size_t b, std::size_t e) {
+    Eigen::Matrix<double, Eigen::Dynamic, 10> rows(Eigen::Index(ee - eb), 10);
+    for (std::size_t f = b; f < e; ++f) {
+      for (std::size_t k = eb; k < ee; ++k) {
+        const Reverse& r = m.rev[nr * f + k];
+        const double sw = std::sqrt(m.area[f] * rs.weight[k] * weight(r.dist2));
+        const Eigen::Index row = Eigen::Index(k - eb);
+        for (int j = 0; j < 3; ++j)
+          for (int c = 0; c < 3; ++c) rows(row, 3 * j + c) = sw * rb[k][j] * r.normal[c];
+        rows(row, 9) = sw * dot(r.normal, r.target);
+      }
+      planes[f] = std::make_unique<PlaneCost>(rows);
+    }
+  });
   ceres::Problem::Options po;
   po.enable_fast_removal = false;
   ceres::Problem problem(po);
@@ -449,13 +575,11 @@ std::vector<Vec3> solve(const std::vector<Vec3>& pos, const std::vector<Tri>& tr
     if (gathered[f].any)
       problem.AddResidualBlock(new GatheredCost(gathered[f]), nullptr, block(t[0]), block(t[1]),
                                block(t[2]));
-    double w[4];
-    for (int k = 0; k < 4; ++k) w[k] = weight(m.rev[4 * f + k].dist2);
-    problem.AddResidualBlock(new PlaneCost(&m.rev[4 * f], w), nullptr, block(t[0]), block(t[1]),
+    problem.AddResidualBlock(planes[f].release(), nullptr, block(t[0]), block(t[1]),
                              block(t[2]));
   }
   const double spring_w =
-      std::sqrt(o.spring * double(samples.size() + m.rev.size()) / double(edges.size()));
+      std::sqrt(o.spring * double(samples.size() + (ee - eb) * tris.size()) / double(edges.size()));
   if (spring_w > 0)
     for (const auto& e : edges)
       problem.AddResidualBlock(new SpringCost(spring_w), nullptr, block(e[0]), block(e[1]));
@@ -487,9 +611,12 @@ std::vector<Vec3> solve(const std::vector<Vec3>& pos, const std::vector<Tri>& tr
 
 // ---- rejection of flips and self-intersections ----
 
+constexpr int kShortenings = 3;  // a refused move is tried at 1/2 and 1/4 before it is undone
+
 struct Rejector {
   const std::vector<Tri>& tris;
   const std::vector<std::vector<Id>>& faces_of;  // faces around each vertex
+  const Points& storage;                         // positions are rounded as it stores them
 
   std::array<Vec3, 3> corners(const std::vector<Vec3>& p, Id f) const {
     return {p[tris[f][0]], p[tris[f][1]], p[tris[f][2]]};
@@ -505,9 +632,12 @@ struct Rejector {
   }
   std::array<Index, 3> ids(Id f) const { return {tris[f][0], tris[f][1], tris[f][2]}; }
 
-  // Undoes moves of `pos` (relative to `old`) until no face turns by more than 90° and no face
-  // pair intersects that did not before. Returns the number of vertex moves undone.
+  // Shortens moves of `pos` (relative to `old`) until no face turns by more than 90° and no face
+  // pair intersects that did not before: a vertex of an offending face moves half as far, then
+  // a quarter, then not at all. Returns the number of vertex moves undone or shortened.
   std::size_t run(const std::vector<Vec3>& old, std::vector<Vec3>& pos) const {
+    const std::vector<Vec3> want = pos;
+    std::vector<std::uint8_t> level(pos.size(), 0);  // the move is want-old scaled by 2^-level
     const std::size_t nv = pos.size();
     std::vector<char> moved(nv, 0);
     for (std::size_t i = 0; i < nv; ++i) moved[i] = !(pos[i] == old[i]);
@@ -564,10 +694,16 @@ struct Rejector {
       std::sort(to_revert.begin(), to_revert.end());
       dirty.clear();
       for (Id v : to_revert) {
-        pos[v] = old[v];
-        moved[v] = 0;
         revert[v] = 0;
         ++undone;
+        if (++level[v] >= kShortenings) {
+          pos[v] = old[v];
+          moved[v] = 0;
+        } else {
+          const Vec3 p = storage.stored(old[v] + std::ldexp(1.0, -level[v]) * (want[v] - old[v]));
+          if (p == old[v]) moved[v] = 0;
+          pos[v] = p;
+        }
         for (Id f : faces_of[v]) dirty.push_back(f);
       }
       std::sort(dirty.begin(), dirty.end());
@@ -642,17 +778,34 @@ RefineResult refine_mesh(const PolyData& original, const PolyData& simplified,
     }
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-  const Rejector rejector{tris, faces_of};
+  const Rejector rejector{tris, faces_of, simplified.points};
 
   RefineStats stats;
-  Measure current = measure(pos, tris, samples, orig);
+  const ReverseSamples rsamples = reverse_samples(samples.size(), tris.size());
+  std::vector<char> used(pos.size(), 0);
+  for (const Tri& t : tris)
+    for (Id v : t) used[v] = 1;
+  Measure current = measure(pos, tris, samples, rsamples, used, orig, true);
   stats.rms_before = current.rms;
   stats.hausdorff_before = current.hausdorff;
   const std::vector<Vec3> input = pos;
+  // The schedule: solves alternate between the sparse reverse samples (even iterations) and the
+  // dense ones; the last quarter of the solves weighs every sample alike (plain least squares,
+  // lowering the RMS) and may not raise the Hausdorff distance reached so far, the others lean
+  // on the largest distances and may not raise it above the input's.
+  const int plain_from = o.outer_iterations - o.outer_iterations / 4;
+  int failures = 0;  // consecutive solves whose step was not taken
   for (int it = 0; it < o.outer_iterations; ++it) {
     report_progress(o.progress, double(it) / o.outer_iterations, "refine_mesh");
+    const bool plain = it >= plain_from;
+    const double hlimit = plain ? current.hausdorff : stats.hausdorff_before;
+    const bool sparse = it % 2 == 0;
+    // Trial positions are measured on the dense samples only; the sparse ones when needed.
+    if (sparse && !current.sparse)
+      current = measure(pos, tris, samples, rsamples, used, orig, true, &current);
     const auto t0 = Clock::now();
-    const std::vector<Vec3> solved = solve(pos, tris, edges, samples, current, fixed, o);
+    const std::vector<Vec3> solved =
+        solve(pos, tris, edges, samples, rsamples, current, fixed, o, sparse, plain);
     stats.seconds += seconds_since(t0);
     ++stats.solves;
     bool accepted = false;
@@ -664,13 +817,12 @@ RefineResult refine_mesh(const PolyData& original, const PolyData& simplified,
         trial[i] = is_finite(p) ? p : pos[i];
       }
       stats.rejected_moves += rejector.run(pos, trial);
-      Measure m = measure(trial, tris, samples, orig, &current);
+      Measure m = measure(trial, tris, samples, rsamples, used, orig, false, &current);
       // Where the step pushed a sample beyond the input's Hausdorff distance, the vertices of
       // the triangles involved go back (a few rounds): least squares may trade a little of the
       // maximum for the RMS, and this keeps the trade local instead of refusing the whole step.
-      for (int round = 0; round < kLocalUndoRounds && m.hausdorff > stats.hausdorff_before;
-           ++round) {
-        const double limit2 = stats.hausdorff_before * stats.hausdorff_before;
+      for (int round = 0; round < kLocalUndoRounds && m.hausdorff > hlimit; ++round) {
+        const double limit2 = hlimit * hlimit;
         std::vector<char> undo(pos.size(), 0);
         for (const Forward& f : m.fwd) {
           if (f.dist2 > limit2) {
@@ -678,11 +830,14 @@ RefineResult refine_mesh(const PolyData& original, const PolyData& simplified,
           }
         }
         for (std::size_t f = 0; f < tris.size(); ++f) {
-          for (int k = 0; k < 4; ++k) {
-            if (m.rev[4 * f + k].dist2 > limit2) {
+          for (std::size_t k = rsamples.measure_begin; k < rsamples.measure_end; ++k) {
+            if (m.rev[rsamples.bary.size() * f + k].dist2 > limit2) {
               for (Id v : tris[f]) undo[v] = 1;
             }
           }
+        }
+        for (std::size_t v = 0; v < pos.size(); ++v) {
+          if (m.vert[v].dist2 > limit2) undo[v] = 1;
         }
         bool changed = false;
         for (std::size_t i = 0; i < pos.size(); ++i) {
@@ -693,16 +848,18 @@ RefineResult refine_mesh(const PolyData& original, const PolyData& simplified,
         }
         if (!changed) break;
         stats.rejected_moves += rejector.run(pos, trial);
-        m = measure(trial, tris, samples, orig, &current);
+        m = measure(trial, tris, samples, rsamples, used, orig, false, &current);
       }
-      if (m.rms <= current.rms && m.hausdorff <= stats.hausdorff_before) {
+      if (m.rms <= current.rms && m.hausdorff <= hlimit) {
         pos = std::move(trial);
         current = std::move(m);
         accepted = true;
         break;
       }
     }
-    if (!accepted) break;  // no shorter step helps either: the fit has converged
+    // No shorter step helps either; when the other sample set failed too, the fit has converged.
+    failures = accepted ? 0 : failures + 1;
+    if (failures == 2) break;
   }
   stats.rms_after = current.rms;
   stats.hausdorff_after = current.hausdorff;

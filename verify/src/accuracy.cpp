@@ -129,18 +129,22 @@ Samples sample_mesh(const PolyData& mesh, double spacing, int min_subdivisions) 
     // An even n puts samples on the edge midpoints, where a chord is farthest from a convex arc.
     int n = std::max(min_subdivisions, static_cast<int>(std::ceil(longest / spacing)));
     n += n % 2;
-    const std::size_t count = static_cast<std::size_t>((n + 1) * (n + 2) / 2 + 1);
-    const double w = area / static_cast<double>(count);
+    // Weights of the composite vertex rule: a node stands for a third of each of the n² small
+    // triangles around it (a corner touches 1, an edge node 3, an interior node 6), so the
+    // weighted sums integrate over the area without favouring corners and edges (which are
+    // shared with the neighbours, and where decimated vertices sit).
+    const double unit = area / (3.0 * n * n);
     for (int i = 0; i <= n; ++i) {
       for (int j = 0; j <= n - i; ++j) {
         const int k = n - i - j;
         const double inv = 1.0 / n;
+        const int zeros = (i == 0) + (j == 0) + (k == 0);
         s.points.push_back(a * (i * inv) + b * (j * inv) + c * (k * inv));
-        s.weights.push_back(w);
+        s.weights.push_back(unit * (zeros >= 2 ? 1 : (zeros == 1 ? 3 : 6)));
       }
     }
-    s.points.push_back((a + b + c) / 3.0);
-    s.weights.push_back(w);
+    s.points.push_back((a + b + c) / 3.0);  // for the maxima; the grid has the area
+    s.weights.push_back(0);
   }
   return s;
 }

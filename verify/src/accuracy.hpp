@@ -6,7 +6,10 @@
 //
 // Hausdorff sampling method. mesh -> surface: every triangle is sampled on a barycentric grid
 // of n subdivisions (n = max(min_subdivisions, ceil(longest edge / spacing)) rounded up to even,
-// so the edge midpoints are samples) plus its centroid; the distance of a sample to an analytic
+// so the edge midpoints are samples) plus its centroid, the grid nodes weighted by the area they
+// stand for (composite vertex rule: corner 1/3, edge 1, interior 2 small-triangle areas; the
+// centroid counts in the maxima only), so RMS values are area integrals that favour neither
+// corners nor edges; the distance of a sample to an analytic
 // surface is |F| of the surface's exact signed distance function, so only the sampling (not the
 // distance) is approximate. surface -> mesh: area-uniform deterministic points on the analytic
 // surface (Fibonacci lattice on the sphere, inverse-CDF grid on the torus) about `spacing` apart,

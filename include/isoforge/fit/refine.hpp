@@ -21,7 +21,7 @@ struct RefineOptions {
   /// area-distributed samples up to 10 per simplified triangle). An explicit count gives that
   /// many area-distributed samples and no vertices.
   std::size_t samples = 0;
-  int outer_iterations = 4;  ///< solves, each after recomputing the correspondences (≥ 1)
+  int outer_iterations = 8;  ///< solves, each after recomputing the correspondences (≥ 1)
   /// Spring weight κ relative to the data (≥ 0): each edge adds κ (samples / edges) |vi − vj|²
   /// to the energy, which keeps the solve well posed where no sample reaches a vertex.
   double spring = 1e-3;
@@ -39,12 +39,13 @@ struct RefineOptions {
 
 struct RefineStats {
   /// Error between the surfaces, before and after, measured the same way (data units): the
-  /// distances from the original's samples to the simplified mesh and from samples of the
-  /// simplified mesh (4 fixed barycentric points per triangle) to the original, RMS over both
-  /// sets and the largest of them (a sampled symmetric Hausdorff distance).
+  /// distances from the original's samples to the simplified mesh and from about as many
+  /// samples of the simplified mesh (the same stratified points in every triangle) to the
+  /// original, RMS over both sets and the largest of them (a sampled symmetric Hausdorff
+  /// distance).
   double rms_before = 0, rms_after = 0, hausdorff_before = 0, hausdorff_after = 0;
   std::size_t moved_vertices = 0;  ///< vertices whose position changed
-  std::size_t rejected_moves = 0;  ///< vertex moves undone (face flip or self-intersection)
+  std::size_t rejected_moves = 0;  ///< vertex moves shortened or undone (flip, intersection)
   int solves = 0;                  ///< least-squares solves made
   double seconds = 0;              ///< wall time of the solves alone
   double total_seconds = 0;        ///< wall time of the whole refinement
