@@ -22,6 +22,7 @@
 #include "isoforge/core/parallel.hpp"
 #include "isoforge/core/subset.hpp"
 #include "isoforge/spatial/cell_locator.hpp"
+#include "probe_grid.hpp"
 
 namespace isoforge {
 
@@ -33,13 +34,6 @@ using Term = AttributeInterpolator::Term;
 /// structured grid restarts at each block, so the output does not depend on how the blocks are
 /// spread over threads.
 constexpr std::size_t kBlock = 512;
-/// The walk gives up (and asks the locator) after this many cells.
-constexpr int kMaxWalkSteps = 48;
-/// Largest jump of the walk along one axis in one step, in cells.
-constexpr double kMaxJump = 16;
-/// Newton's method on the trilinear map: iteration cap and parametric convergence threshold.
-constexpr int kMaxNewton = 16;
-constexpr double kNewtonEps = 1e-12;
 
 /// Where a probe point was found: a cell of the input and the weights of its points.
 struct Hit {
@@ -51,51 +45,6 @@ struct Hit {
 std::array<Index, 3> cells_per_axis(const Dims& d) {
   return {d[0] > 1 ? d[0] - 1 : 1, d[1] > 1 ? d[1] - 1 : 1, d[2] > 1 ? d[2] - 1 : 1};
 }
-
-/// The trilinear map of one hexahedron of a structured grid, X = a + b r + c s + d t + e rs +
-/// f rt + g st + h rst, for Newton's method.
-struct Trilinear {
-  Vec3 a, b, c, d, e, f, g, h;
-  explicit Trilinear(const std::array<Vec3, 8>& x) {  // x[ia + 2 ib + 4 ic]
-    a = x[0];
-    b = x[1] - x[0];
-    c = x[2] - x[0];
-    d = x[4] - x[0];
-    e = x[3] - x[1] - x[2] + x[0];
-    f = x[5] - x[1] - x[4] + x[0];
-    g = x[6] - x[2] - x[4] + x[0];
-    h = x[7] - x[3] - x[5] - x[6] + x[1] + x[2] + x[4] - x[0];
-  }
-  /// Parametric coordinates of p (Newton from the center); false if it did not converge.
-  bool solve(const Vec3& p, Vec3& pc) const {
-    double r = 0.5, s = 0.5, t = 0.5;
-    for (int it = 0; it < kMaxNewton; ++it) {
-      const Vec3 x = a + b * r + c * s + d * t + e * (r * s) + f * (r * t) + g * (s * t) +
-                     h * (r * s * t);
-      const Vec3 F = x - p;
-      const Vec3 jr = b + e * s + f * t + h * (s * t);
-      const Vec3 js = c + e * r + g * t + h * (r * t);
-      const Vec3 jt = d + f * r + g * s + h * (r * s);
-      const Vec3 c0 = cross(js, jt);
-      const double det = dot(jr, c0);
-      const double scale = norm(jr) * norm(js) * norm(jt);
-      if (!(std::abs(det) > 1e-14 * scale)) return false;
-      const double inv = 1.0 / det;
-      const double dr = dot(F, c0) * inv;
-      const double ds = dot(jr, cross(F, jt)) * inv;
-      const double dt = dot(jr, cross(js, F)) * inv;
-      r -= dr;
-      s -= ds;
-      t -= dt;
-      if (!(std::abs(r) < 1e6 && std::abs(s) < 1e6 && std::abs(t) < 1e6)) return false;
-      if (std::max({std::abs(dr), std::abs(ds), std::abs(dt)}) < kNewtonEps) {
-        pc = {r, s, t};
-        return true;
-      }
-    }
-    return false;
-  }
-};
 
 /// The value a floating-point or integer array gets at a point not found.
 template <class T>
@@ -132,7 +81,7 @@ struct Prober::Impl {
   std::optional<UnstructuredGrid> valid;  // the non-blanked cells, when some are blanked
   std::vector<Index> valid_ids;           // their ids in the input
   std::optional<CellLocator> locator;     // over the input or `valid`; none for image data
-  bool walk = false;                      // a 3D structured grid: walk through its hexahedra
+  std::optional<probe_detail::GridLocator> grid;  // a 3D structured grid: walk + blocks
 
   Impl(DatasetRef in, const ProbeOptions& o) : input(in), options(o) {}
 
@@ -206,57 +155,6 @@ struct Prober::Impl {
     return false;
   }
 
-  /// A 3D structured grid: walks from cell `cur` (updated) toward p. True when a cell
-  /// containing p was reached and is not blanked; false means "ask the locator".
-  template <class T>
-  bool walk_grid(const StructuredGrid& g, const T* pts, const Vec3& p, std::array<Index, 3>& cur,
-                 Hit& hit) const {
-    const Index nx = g.dims[0], ny = g.dims[1];
-    const Index cx = nx - 1, cy = ny - 1, cz = g.dims[2] - 1;
-    const double tol = options.tolerance;
-    for (int step = 0; step < kMaxWalkSteps; ++step) {
-      const auto [i, j, k] = cur;
-      std::array<Vec3, 8> x;
-      std::array<std::size_t, 8> id;
-      for (int c = 0; c < 8; ++c) {
-        const Index pid = (i + (c & 1)) + nx * ((j + ((c >> 1) & 1)) + ny * (k + ((c >> 2) & 1)));
-        id[c] = static_cast<std::size_t>(pid);
-        const T* q = pts + 3 * pid;
-        x[c] = {double(q[0]), double(q[1]), double(q[2])};
-      }
-      Vec3 pc;
-      if (!Trilinear(x).solve(p, pc)) return false;
-      if (pc.x >= -tol && pc.x <= 1 + tol && pc.y >= -tol && pc.y <= 1 + tol && pc.z >= -tol &&
-          pc.z <= 1 + tol) {
-        const Index cell = i + cx * (j + cy * k);
-        if (!ok(cell)) return false;
-        hit.cell = cell;
-        hit.terms.clear();
-        const double r = std::clamp(pc.x, 0.0, 1.0), s = std::clamp(pc.y, 0.0, 1.0),
-                     t = std::clamp(pc.z, 0.0, 1.0);
-        for (int c = 0; c < 8; ++c) {
-          const double w = ((c & 1) ? r : 1 - r) * (((c >> 1) & 1) ? s : 1 - s) *
-                           (((c >> 2) & 1) ? t : 1 - t);
-          if (w != 0) hit.terms.emplace_back(id[c], w);
-        }
-        return true;
-      }
-      // Move toward p by the whole cells its parametric coordinates lie beyond this one.
-      const Index lim[3] = {cx, cy, cz};
-      bool moved = false;
-      for (int a = 0; a < 3; ++a) {
-        const double v = pc[a];
-        double jump = 0;
-        if (v < -tol) jump = std::max(-kMaxJump, std::floor(v));
-        if (v > 1 + tol) jump = std::min(kMaxJump, std::floor(v));
-        const Index next = std::clamp(cur[a] + static_cast<Index>(jump), Index{0}, lim[a] - 1);
-        moved = moved || next != cur[a];
-        cur[a] = next;
-      }
-      if (!moved) return false;  // at the boundary, p beyond it: maybe outside, ask the locator
-    }
-    return false;
-  }
 };
 
 Prober::Prober(DatasetRef input, const ProbeOptions& options)
@@ -305,10 +203,13 @@ Prober::Prober(DatasetRef input, const ProbeOptions& options)
 
   if (input.get_if<ImageData>()) return;  // arithmetic: no locator
   if (const auto* g = input.get_if<StructuredGrid>()) {
-    m.walk = g->dims[0] > 1 && g->dims[1] > 1 && g->dims[2] > 1;
     if (g->points.first_non_finite() < g->points.size()) {
       throw Error(fmt::format("probe: point {} of the input is not finite",
                               g->points.first_non_finite()));
+    }
+    if (g->dims[0] > 1 && g->dims[1] > 1 && g->dims[2] > 1) {
+      m.grid.emplace(*g, m.cell_ok, options.tolerance);
+      return;
     }
   }
   CellLocatorOptions lo;
@@ -363,7 +264,6 @@ ProbeResult Prober::probe(DatasetRef probe_ds) const {
   Buffer<std::uint8_t> mask;
   mask.resize(n);
 
-  const StructuredGrid* grid = m.walk ? m.input.get_if<StructuredGrid>() : nullptr;
   const ImageData* image = m.input.get_if<ImageData>();
   std::atomic<std::size_t> found{0};
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
@@ -371,11 +271,12 @@ ProbeResult Prober::probe(DatasetRef probe_ds) const {
       blocks, 1,
       [&](std::size_t b0, std::size_t b1) {
         Hit hit;
+        hit.terms.reserve(8);
+        probe_detail::GridHit gh;
         std::vector<Index> ids;
         std::size_t count = 0;
         for (std::size_t b = b0; b < b1; ++b) {
-          bool have_cell = false;  // the walk restarts in every block
-          std::array<Index, 3> cur{};
+          probe_detail::GridCursor cursor;  // the walk restarts in every block
           const std::size_t end = std::min(n, (b + 1) * kBlock);
           for (std::size_t i = b * kBlock; i < end; ++i) {
             const Vec3 p = pp(i);
@@ -384,19 +285,15 @@ ProbeResult Prober::probe(DatasetRef probe_ds) const {
               hit_ok = false;
             } else if (image) {
               hit_ok = m.locate_image(*image, p, hit);
-            } else if (grid) {
-              if (have_cell) {
-                hit_ok = grid->points.type() == ScalarType::Float32
-                             ? m.walk_grid(*grid, grid->points.floats().data(), p, cur, hit)
-                             : m.walk_grid(*grid, grid->points.array().values<double>().data(), p,
-                                           cur, hit);
-              }
-              if (!hit_ok) {
-                hit_ok = m.from_locator(p, hit, ids);
-                if (hit_ok) {
-                  const Index cx = grid->dims[0] - 1, cy = grid->dims[1] - 1;
-                  cur = {hit.cell % cx, (hit.cell / cx) % cy, hit.cell / (cx * cy)};
-                  have_cell = true;
+            } else if (m.grid) {
+              hit_ok = m.grid->find(p, cursor, gh);
+              if (hit_ok) {
+                hit.cell = gh.cell;
+                hit.terms.clear();
+                for (int c = 0; c < 8; ++c) {
+                  if (gh.weights[std::size_t(c)] != 0) {
+                    hit.terms.emplace_back(gh.ids[std::size_t(c)], gh.weights[std::size_t(c)]);
+                  }
                 }
               }
             } else {
