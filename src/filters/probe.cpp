@@ -15,6 +15,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <mutex>
 #include <optional>
 #include <vector>
 
@@ -23,6 +24,7 @@
 #include "isoforge/core/subset.hpp"
 #include "isoforge/spatial/cell_locator.hpp"
 #include "probe_grid.hpp"
+#include "probe_tets.hpp"
 
 namespace isoforge {
 
@@ -81,12 +83,31 @@ struct Prober::Impl {
   std::optional<UnstructuredGrid> valid;  // the non-blanked cells, when some are blanked
   std::vector<Index> valid_ids;           // their ids in the input
   std::optional<CellLocator> locator;     // over the input or `valid`; none for image data
+  CellLocatorOptions locator_options;
+  std::mutex build_mutex;
+  std::optional<probe_detail::TetWalker> tets;  // tetrahedra: walk first, locator when needed
   std::optional<probe_detail::GridLocator> grid;  // a 3D structured grid: walk + blocks
 
   Impl(DatasetRef in, const ProbeOptions& o) : input(in), options(o) {}
 
   [[nodiscard]] bool ok(Index cell) const {
     return cell_ok.empty() || cell_ok[static_cast<std::size_t>(cell)] != 0;
+  }
+
+  /// Builds the cell locator (over the valid cells when some are blanked), once.
+  void build_locator() {
+    if (locator) return;
+    if (blanked > 0) {
+      for (std::size_t c = 0; c < cell_ok.size(); ++c) {
+        if (cell_ok[c]) valid_ids.push_back(static_cast<Index>(c));
+      }
+      valid = subset_cells(input, valid_ids, false);
+      valid->point_data.clear();
+      valid->cell_data.clear();
+      locator.emplace(*valid, locator_options);
+    } else {
+      locator.emplace(input, locator_options);
+    }
   }
 
   /// A locator hit mapped to the input's cell and point ids.
@@ -212,20 +233,19 @@ Prober::Prober(DatasetRef input, const ProbeOptions& options)
       return;
     }
   }
-  CellLocatorOptions lo;
-  lo.tolerance = options.tolerance;
-  lo.distance_tolerance = m.dtol;
-  if (m.blanked > 0) {
-    for (std::size_t c = 0; c < nc; ++c) {
-      if (m.cell_ok[c]) m.valid_ids.push_back(static_cast<Index>(c));
+  m.locator_options.tolerance = options.tolerance;
+  m.locator_options.distance_tolerance = m.dtol;
+  if (const auto* ug = input.get_if<UnstructuredGrid>();
+      ug && probe_detail::TetWalker::applicable(*ug)) {
+    // Tetrahedra: walks, and the locator only if a walk fails (built then, between passes).
+    if (ug->points.first_non_finite() < ug->points.size()) {
+      throw Error(fmt::format("probe: point {} of the input is not finite",
+                              ug->points.first_non_finite()));
     }
-    m.valid = subset_cells(input, m.valid_ids, false);
-    m.valid->point_data.clear();
-    m.valid->cell_data.clear();
-    m.locator.emplace(*m.valid, lo);
-  } else {
-    m.locator.emplace(input, lo);
+    m.tets.emplace(*ug, m.cell_ok, options.tolerance);
+    return;
   }
+  m.build_locator();
 }
 
 Prober::~Prober() = default;
@@ -265,7 +285,10 @@ ProbeResult Prober::probe(DatasetRef probe_ds) const {
   mask.resize(n);
 
   const ImageData* image = m.input.get_if<ImageData>();
-  std::atomic<std::size_t> found{0};
+  const probe_detail::TetWalker* tets = m.tets ? &*m.tets : nullptr;
+  const UnstructuredGrid* tet_mesh = m.input.get_if<UnstructuredGrid>();
+  constexpr std::uint8_t kPending = 2;  // a tetra walk failed: the locator decides (second pass)
+  std::atomic<std::size_t> found{0}, pending{0};
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
   parallel_for_range(
       blocks, 1,
@@ -273,10 +296,12 @@ ProbeResult Prober::probe(DatasetRef probe_ds) const {
         Hit hit;
         hit.terms.reserve(8);
         probe_detail::GridHit gh;
+        std::array<double, 4> tw{};
         std::vector<Index> ids;
-        std::size_t count = 0;
+        std::size_t count = 0, waiting = 0;
         for (std::size_t b = b0; b < b1; ++b) {
-          probe_detail::GridCursor cursor;  // the walk restarts in every block
+          probe_detail::GridCursor cursor;  // the walks restart in every block
+          Index last_tet = -1;
           const std::size_t end = std::min(n, (b + 1) * kBlock);
           for (std::size_t i = b * kBlock; i < end; ++i) {
             const Vec3 p = pp(i);
@@ -296,6 +321,24 @@ ProbeResult Prober::probe(DatasetRef probe_ds) const {
                   }
                 }
               }
+            } else if (tets) {
+              Index cell = last_tet >= 0 ? last_tet : tets->seed(p);
+              if (cell >= 0 && tets->walk(p, cell, tw)) {
+                hit_ok = true;
+                last_tet = cell;
+                hit.cell = cell;
+                hit.terms.clear();
+                const auto cell_ids = tet_mesh->cells.cell(std::size_t(cell));
+                for (int k = 0; k < 4; ++k) {
+                  if (tw[std::size_t(k)] != 0) {
+                    hit.terms.emplace_back(std::size_t(cell_ids[std::size_t(k)]), tw[std::size_t(k)]);
+                  }
+                }
+              } else {
+                mask[i] = kPending;
+                ++waiting;
+                continue;
+              }
             } else {
               hit_ok = m.from_locator(p, hit, ids);
             }
@@ -307,8 +350,36 @@ ProbeResult Prober::probe(DatasetRef probe_ds) const {
           }
         }
         found += count;
+        pending += waiting;
       },
       m.options.progress, "probe");
+  if (pending > 0) {
+    // The points a tetra walk did not reach, by the exact locator (built now if it was not).
+    {
+      const std::lock_guard<std::mutex> lock(impl_->build_mutex);  // probe() is thread-safe
+      impl_->build_locator();
+    }
+    std::vector<std::size_t> rest;
+    rest.reserve(pending);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (mask[i] == kPending) rest.push_back(i);
+    }
+    parallel_for_range(rest.size(), 256, [&](std::size_t r0, std::size_t r1) {
+      Hit hit;
+      std::vector<Index> ids;
+      std::size_t count = 0;
+      for (std::size_t r = r0; r < r1; ++r) {
+        const std::size_t i = rest[r];
+        const bool hit_ok = m.from_locator(pp(i), hit, ids);
+        mask[i] = hit_ok ? 1 : 0;
+        if (!hit_ok) continue;
+        ++count;
+        from_points.combine(i, hit.terms);
+        from_cells.copy_point(i, static_cast<std::size_t>(hit.cell));
+      }
+      found += count;
+    });
+  }
 
   // Arrays of the output, nil where nothing was found.
   Attributes& out_pd = point_data(result.output);

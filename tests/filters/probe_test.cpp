@@ -234,6 +234,64 @@ TEST(Probe, EveryUnstructuredCellTypeMatchesBruteForce) {
   EXPECT_GT(found, 1000u);
 }
 
+/// A warped grid's cubes split into 6 tetrahedra each (the tetra walk's path).
+UnstructuredGrid tet_mesh(Index n) {
+  const StructuredGrid g = warped_grid(n + 1, n + 1, n + 1);
+  UnstructuredGrid ug;
+  ug.points = g.points;
+  const int paths[6][2] = {{1, 3}, {1, 5}, {2, 3}, {2, 6}, {4, 5}, {4, 6}};
+  for (Index k = 0; k < n; ++k)
+    for (Index j = 0; j < n; ++j)
+      for (Index i = 0; i < n; ++i) {
+        auto c = [&](int q) { return g.point_id(i + (q & 1), j + ((q >> 1) & 1), k + (q >> 2)); };
+        for (const auto& p : paths) ug.add_cell(CellType::Tetra, {c(0), c(p[0]), c(p[1]), c(7)});
+      }
+  add_linear(ug.point_data, ug);
+  add_cell_ids(ug.cell_data, ug.num_cells());
+  return ug;
+}
+
+TEST(Probe, TetraWalkMatchesBruteForce) {
+  // Random points (about half outside: the walk fails and the locator decides), a coherent line
+  // (walks between neighbours) and the mesh's own points (on shared faces and edges).
+  const UnstructuredGrid ug = tet_mesh(5);
+  const std::size_t found = expect_matches_brute_force(ug, random_points(ug.bounds(), 1500, 8, 0.4));
+  EXPECT_GT(found, 300u);
+  std::vector<Vec3> line;
+  for (int i = 0; i <= 300; ++i) line.push_back(Vec3{-0.3, 0.2, 0.1} + Vec3{5.6, 4.3, 3.2} * (i / 300.0));
+  expect_matches_brute_force(ug, line);
+  std::vector<Vec3> own;
+  for (std::size_t i = 0; i < ug.num_points(); ++i) own.push_back(ug.points[i]);
+  EXPECT_EQ(expect_matches_brute_force(ug, own), ug.num_points());
+  // Blanked tetrahedra are never found, through the walk or the locator.
+  UnstructuredGrid blanked = ug;
+  std::vector<std::uint8_t> valid(ug.num_cells(), 1);
+  for (std::size_t c = 0; c < valid.size(); c += 3) valid[c] = 0;
+  blanked.cell_data.add(DataArray::from_vector("Valid", 1, valid));
+  const std::vector<Vec3> pts = random_points(ug.bounds(), 800, 9, 0.2);
+  const auto r = probe(blanked, cloud(pts));
+  const DataArray& mask = std::get<PolyData>(r.output).point_data.get("vtkValidPointMask");
+  const DataArray& cell = std::get<PolyData>(r.output).point_data.get("cell");
+  std::vector<Index> ids;
+  std::vector<Vec3> corners;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    // Brute force over the valid cells only.
+    bool expected = false;
+    for (std::size_t c = 0; c < ug.num_cells() && !expected; ++c) {
+      if (!valid[c]) continue;
+      cell_point_ids(ug, Index(c), ids);
+      corners.clear();
+      for (Index id : ids) corners.push_back(ug.points[std::size_t(id)]);
+      expected = locate_in_cell(CellType::Tetra, corners, pts[i]).inside;
+    }
+    EXPECT_EQ(mask.get(i) != 0, expected) << "point " << i;
+    if (mask.get(i) != 0) {
+      EXPECT_NE(valid[std::size_t(cell.get(i))], 0) << "point " << i;
+    }
+  }
+  EXPECT_EQ(r.stats.blanked, (ug.num_cells() + 2) / 3);
+}
+
 TEST(Probe, SurfaceAndLineCellsFindPointsOnThem) {
   const PolyData pd = surface_cells();
   // Points on the cells (random parametric points) and random points off them.
@@ -391,8 +449,9 @@ TEST(Probe, Generators) {
 TEST(Probe, Figure135CombustorPlanesContouredIntoLines) {
   // Three 50 x 50 planes across the combustor (VTK's probeComb example places them at
   // x = 3.7, 9.2 and 13.27, 5 units wide in y and z), probed and contoured into density lines.
-  const auto grid = std::get<StructuredGrid>(
-      read(ISOFORGE_DATA_DIR "/combxyz.bin", {.plot3d_q = ISOFORGE_DATA_DIR "/combq.bin"}));
+  ReadOptions ro;
+  ro.plot3d_q = ISOFORGE_DATA_DIR "/combq.bin";
+  const auto grid = std::get<StructuredGrid>(read(ISOFORGE_DATA_DIR "/combxyz.bin", ro));
   const Prober prober(grid);
   const double xs[3] = {3.7, 9.2, 13.27}, zs[3] = {28.37, 31.2, 33.3};
   const auto [lo, hi] = grid.point_data.get("Density").range();
@@ -431,7 +490,10 @@ TEST(Probe, Figure135CombustorPlanesContouredIntoLines) {
       }
     }
     EXPECT_EQ(kept == 49u * 49u, stats.found == 2500u);
-    const auto [lines, cs] = contour(inside, {.values = {mid}, .array = "Density"});
+    ContourOptions co;
+    co.values = {mid};
+    co.array = "Density";
+    const auto [lines, cs] = contour(inside, co);
     EXPECT_GT(lines.lines.size(), 0u) << "plane " << k;
     // Contour points lie on the plane and carry the isovalue.
     const DataArray& d = lines.point_data.get("Density");
