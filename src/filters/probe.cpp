@@ -72,6 +72,38 @@ struct ProbePoints {
   }
 };
 
+/// Consecutive probe points from `first` on: image points by incrementing (i, j, k) instead of
+/// dividing the id for each.
+class PointSequence {
+ public:
+  PointSequence(const ProbePoints& pp, std::size_t first) : pp_(pp), id_(first) {
+    if (pp.image) {
+      const Dims& d = pp.image->dims;
+      const auto id = static_cast<Index>(first);
+      ijk_ = {id % d[0], (id / d[0]) % d[1], id / (d[0] * d[1])};
+    }
+  }
+  /// The current point; then advances.
+  Vec3 next() {
+    if (!pp_.image) return (*pp_.points)[id_++];
+    const Vec3 p = pp_.image->point(ijk_[0], ijk_[1], ijk_[2]);
+    const Dims& d = pp_.image->dims;
+    if (++ijk_[0] == d[0]) {
+      ijk_[0] = 0;
+      if (++ijk_[1] == d[1]) {
+        ijk_[1] = 0;
+        ++ijk_[2];
+      }
+    }
+    return p;
+  }
+
+ private:
+  const ProbePoints& pp_;
+  std::size_t id_;
+  std::array<Index, 3> ijk_{};
+};
+
 }  // namespace
 
 struct Prober::Impl {
@@ -303,8 +335,9 @@ ProbeResult Prober::probe(DatasetRef probe_ds) const {
           probe_detail::GridCursor cursor;  // the walks restart in every block
           Index last_tet = -1;
           const std::size_t end = std::min(n, (b + 1) * kBlock);
+          PointSequence seq(pp, b * kBlock);
           for (std::size_t i = b * kBlock; i < end; ++i) {
-            const Vec3 p = pp(i);
+            const Vec3 p = seq.next();
             bool hit_ok = false;
             if (!is_finite(p)) {
               hit_ok = false;
