@@ -49,15 +49,18 @@ bool solve(const std::array<Vec3, 8>& m, const Vec3& p, Vec3& pc) {
   const Vec3 &a = m[0], &b = m[1], &c = m[2], &d = m[3], &e = m[4], &f = m[5], &g = m[6],
              &h = m[7];
   for (int it = 0; it < kMaxNewton; ++it) {
-    const Vec3 F = a + b * r + c * s + d * t + e * (r * s) + f * (r * t) + g * (s * t) +
-                   h * (r * s * t) - p;
-    const Vec3 jr = b + e * s + f * t + h * (s * t);
-    const Vec3 js = c + e * r + g * t + h * (r * t);
-    const Vec3 jt = d + f * r + g * s + h * (r * s);
+    // X and its derivatives in nested form: u = e + t h, jr = dX/dr = b + s u + t f, ...
+    const Vec3 u = e + h * t;
+    const Vec3 cg = c + g * t;
+    const Vec3 jr = b + u * s + f * t;
+    const Vec3 js = cg + u * r;
+    const Vec3 jt = d + (f + h * s) * r + g * s;
+    const Vec3 F = a + jr * r + cg * s + d * t - p;
     const Vec3 c0 = cross(js, jt);
     const double det = dot(jr, c0);
-    // A singular Jacobian (relative to the edge lengths): a degenerate cell.
-    if (!(det * det > 1e-26 * dot(jr, jr) * dot(js, js) * dot(jt, jt))) return false;
+    // A singular Jacobian; a nearly singular one (a degenerate cell) makes the iteration diverge
+    // or stall, which is caught below and leaves the cell to locate_in_cell.
+    if (!(std::abs(det) > 0) || !std::isfinite(det)) return false;
     const double inv = 1.0 / det;
     const double dr = dot(F, c0) * inv;
     const double ds = dot(jr, cross(F, jt)) * inv;

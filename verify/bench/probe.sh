@@ -49,12 +49,13 @@ rows = [json.loads(l) for l in open(f"{out}/filter.jsonl")]
 cli = {r["case"]: r for r in map(json.loads, open(f"{out}/cli.jsonl"))}
 names = {"curvilinear": "100³ curvilinear grid at 200³ points",
          "tets": "511 104 tetrahedra at 100³ points (incl. locator)"}
-print("\n| case | VTK filter s | isoforge filter s | ratio | found VTK / isoforge | VTK command s | isoforge command s | ratio |")
+print("\n| case | VTK filter s (CPU s) | isoforge filter s (CPU s) | ratio | found VTK / isoforge | VTK command s | isoforge command s | ratio |")
 print("|---|---|---|---|---|---|---|---|")
 for case in ("curvilinear", "tets"):
     v = next(r for r in rows if r["case"] == case and r["peer"] == "vtk")
     o = next(r for r in rows if r["case"] == case and r["peer"] == "isoforge")
     c = cli[case]
-    print(f"| {names[case]} | {v['seconds']:.3f} | {o['seconds']:.3f} | {v['seconds'] / o['seconds']:.1f}x"
+    print(f"| {names[case]} | {v['seconds']:.3f} ({v['cpu_seconds']:.2f}) | {o['seconds']:.3f} ({o['cpu_seconds']:.2f})"
+          f" | {v['seconds'] / o['seconds']:.1f}x"
           f" | {v['found']} / {o['found']} | {c['vtk']:.3f} | {c['isoforge']:.3f} | {c['vtk'] / c['isoforge']:.1f}x |")
 PY
