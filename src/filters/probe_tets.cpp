@@ -18,7 +18,8 @@ constexpr int kMaxSteps = 512;
 }  // namespace
 
 bool TetWalker::applicable(const UnstructuredGrid& ug) {
-  if (ug.types.empty() || ug.cells.size() >= std::size_t(INT32_MAX) ||
+  // 4 ids per cell must fit the 32-bit point-to-cells table.
+  if (ug.types.empty() || ug.cells.size() >= (std::size_t(1) << 30) ||
       ug.num_points() >= std::size_t(UINT32_MAX)) {
     return false;
   }
