@@ -49,9 +49,10 @@ struct ProbeStats {
 /// named like a point array is renamed "NAME (cell)"), and the mask array.
 using ProbeResult = Result<Dataset, ProbeStats>;
 
-/// The input of repeated probes with its point locator, built once: arithmetic for image data,
-/// walking with Newton's method through the hexahedra of a 3D structured grid (seeded and
-/// completed by a `CellLocator`), a `CellLocator` for every other dataset. Every point inside a
+/// The input of repeated probes with its point locator, built once: arithmetic for image data;
+/// for a 3D structured grid a walk through its hexahedra (Newton's method) completed by an exact
+/// locator over blocks of cells; for a mesh of tetrahedra a walk completed by a `CellLocator`
+/// (built on first need); a `CellLocator` for every other dataset. Every point inside a
 /// non-blanked cell is found. Keeps a reference to the input: it must outlive the prober and
 /// not change. `probe` is const and thread-safe; its output does not depend on the thread count.
 class Prober {
