@@ -503,3 +503,36 @@ TEST(Probe, Figure135CombustorPlanesContouredIntoLines) {
     }
   }
 }
+
+TEST(Probe, DegenerateInputsAndProbesNeitherCrashNorHang) {
+  // A grid whose top layer is collapsed onto the middle one (zero-volume hexahedra), and one
+  // whose points all coincide: points in the valid cells are found, the rest are not, and
+  // non-finite probe points are never found.
+  StructuredGrid g = warped_grid(4, 4, 3);
+  for (Index j = 0; j < 4; ++j)
+    for (Index i = 0; i < 4; ++i)
+      g.points.set(std::size_t(g.point_id(i, j, 2)), g.points[std::size_t(g.point_id(i, j, 1))]);
+  g.point_data.clear();
+  g.cell_data.clear();
+  add_linear(g.point_data, g);
+  add_cell_ids(g.cell_data, g.num_cells());
+  const double nan = std::nan("");
+  const std::vector<Vec3> pts = {warp({1.5, 1.5, 0.5}), {nan, 0, 0}, {1, 1, 1.5}, {1e300, 0, 0}};
+  const auto r = probe(g, cloud(pts));
+  const DataArray& mask = std::get<PolyData>(r.output).point_data.get("vtkValidPointMask");
+  EXPECT_EQ(mask.get(0), 1);
+  EXPECT_EQ(mask.get(1), 0);
+  EXPECT_EQ(mask.get(3), 0);
+  StructuredGrid same;
+  same.dims = {3, 3, 3};
+  same.points = Points(27, ScalarType::Float64);
+  for (std::size_t i = 0; i < 27; ++i) same.points.set(i, {1, 2, 3});
+  EXPECT_EQ(probe(same, cloud({{1, 2, 3}, {0, 0, 0}, {nan, nan, nan}})).stats.points, 3u);
+  // The same for tetrahedra: a flat tetra among valid ones.
+  UnstructuredGrid ug = tet_mesh(2);
+  ug.add_cell(CellType::Tetra, {0, 1, 2, 2});
+  ug.cell_data.clear();
+  add_cell_ids(ug.cell_data, ug.num_cells());
+  const auto rt = probe(ug, cloud({{0.5, 0.5, 0.5}, {nan, 0, 0}, {50, 50, 50}}));
+  EXPECT_EQ(rt.stats.found, 1u);
+}
