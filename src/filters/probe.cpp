@@ -1,0 +1,535 @@
+// Probing (filters/probe.hpp): the input sampled at the points of a probe dataset.
+//
+// References implemented:
+// - W. Schroeder, K. Martin, B. Lorensen, *The Visualization Toolkit* (4th ed.), 5.x "Probing"
+//   and 8.x "Searching": point location in structured data by arithmetic, in curvilinear grids
+//   by walking from cell to cell, guided by the parametric coordinates of the point in the
+//   current cell (found by Newton's method on the trilinear map).
+// Details and measurements: docs/algorithms/probe.md.
+
+#include "isoforge/filters/probe.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <mutex>
+#include <optional>
+#include <vector>
+
+#include "isoforge/core/interpolate.hpp"
+#include "isoforge/core/parallel.hpp"
+#include "isoforge/core/subset.hpp"
+#include "isoforge/spatial/cell_locator.hpp"
+#include "probe_grid.hpp"
+#include "probe_tets.hpp"
+
+namespace isoforge {
+
+namespace {
+
+using Term = AttributeInterpolator::Term;
+
+/// Probe points are handled in blocks of this many consecutive points; the walk through a
+/// structured grid restarts at each block, so the output does not depend on how the blocks are
+/// spread over threads.
+constexpr std::size_t kBlock = 512;
+
+/// Where a probe point was found: a cell of the input and the weights of its points.
+struct Hit {
+  Index cell = -1;
+  std::vector<Term> terms;  // (input point id, weight)
+};
+
+/// Cells of a structured dims: cells per axis (1 along an axis of one point).
+std::array<Index, 3> cells_per_axis(const Dims& d) {
+  return {d[0] > 1 ? d[0] - 1 : 1, d[1] > 1 ? d[1] - 1 : 1, d[2] > 1 ? d[2] - 1 : 1};
+}
+
+/// The value a floating-point or integer array gets at a point not found.
+template <class T>
+T nil_of(double nil) {
+  if constexpr (std::is_floating_point_v<T>) {
+    return static_cast<T>(nil);
+  } else {
+    if (std::isnan(nil)) return T{0};
+    const double lo = static_cast<double>(std::numeric_limits<T>::lowest());
+    const double hi = static_cast<double>(std::numeric_limits<T>::max());
+    const double v = std::clamp(std::nearbyint(nil), lo, hi);
+    return v >= hi ? std::numeric_limits<T>::max() : static_cast<T>(v);
+  }
+}
+
+/// The probe's point coordinates, without a per-point dispatch on the dataset type.
+struct ProbePoints {
+  const ImageData* image = nullptr;
+  const Points* points = nullptr;
+  [[nodiscard]] Vec3 operator()(std::size_t id) const {
+    if (image) return image->point(static_cast<Index>(id));
+    return (*points)[id];
+  }
+};
+
+/// Consecutive probe points from `first` on: image points by incrementing (i, j, k) instead of
+/// dividing the id for each.
+class PointSequence {
+ public:
+  PointSequence(const ProbePoints& pp, std::size_t first) : pp_(pp), id_(first) {
+    if (pp.image) {
+      const Dims& d = pp.image->dims;
+      const auto id = static_cast<Index>(first);
+      ijk_ = {id % d[0], (id / d[0]) % d[1], id / (d[0] * d[1])};
+    }
+  }
+  /// The current point; then advances.
+  Vec3 next() {
+    if (!pp_.image) return (*pp_.points)[id_++];
+    const Vec3 p = pp_.image->point(ijk_[0], ijk_[1], ijk_[2]);
+    const Dims& d = pp_.image->dims;
+    if (++ijk_[0] == d[0]) {
+      ijk_[0] = 0;
+      if (++ijk_[1] == d[1]) {
+        ijk_[1] = 0;
+        ++ijk_[2];
+      }
+    }
+    return p;
+  }
+
+ private:
+  const ProbePoints& pp_;
+  std::size_t id_;
+  std::array<Index, 3> ijk_{};
+};
+
+}  // namespace
+
+struct Prober::Impl {
+  DatasetRef input;
+  ProbeOptions options;
+  double dtol = 0;                       // resolved distance tolerance
+  std::vector<std::uint8_t> cell_ok;     // empty: no cell is blanked
+  std::size_t blanked = 0;
+  std::optional<UnstructuredGrid> valid;  // the non-blanked cells, when some are blanked
+  std::vector<Index> valid_ids;           // their ids in the input
+  std::optional<CellLocator> locator;     // over the input or `valid`; none for image data
+  CellLocatorOptions locator_options;
+  std::mutex build_mutex;
+  std::optional<probe_detail::TetWalker> tets;  // tetrahedra: walk first, locator when needed
+  std::optional<probe_detail::GridLocator> grid;  // a 3D structured grid: walk + blocks
+
+  Impl(DatasetRef in, const ProbeOptions& o) : input(in), options(o) {}
+
+  [[nodiscard]] bool ok(Index cell) const {
+    return cell_ok.empty() || cell_ok[static_cast<std::size_t>(cell)] != 0;
+  }
+
+  /// Builds the cell locator (over the valid cells when some are blanked), once.
+  void build_locator() {
+    if (locator) return;
+    if (blanked > 0) {
+      for (std::size_t c = 0; c < cell_ok.size(); ++c) {
+        if (cell_ok[c]) valid_ids.push_back(static_cast<Index>(c));
+      }
+      valid = subset_cells(input, valid_ids, false);
+      valid->point_data.clear();
+      valid->cell_data.clear();
+      locator.emplace(*valid, locator_options);
+    } else {
+      locator.emplace(input, locator_options);
+    }
+  }
+
+  /// A locator hit mapped to the input's cell and point ids.
+  bool from_locator(const Vec3& p, Hit& hit, std::vector<Index>& ids) const {
+    const CellHit h = locator->find_cell(p);
+    if (!h.found()) return false;
+    hit.cell = valid ? valid_ids[static_cast<std::size_t>(h.cell)] : h.cell;
+    cell_point_ids(input, hit.cell, ids);  // same point order as the locator's cell
+    hit.terms.clear();
+    for (std::size_t k = 0; k < ids.size(); ++k) {
+      if (h.weights[k] != 0) hit.terms.emplace_back(static_cast<std::size_t>(ids[k]), h.weights[k]);
+    }
+    return true;
+  }
+
+  /// Image data by arithmetic: the smallest-id non-blanked cell containing p.
+  bool locate_image(const ImageData& img, const Vec3& p, Hit& hit) const {
+    const auto cpa = cells_per_axis(img.dims);
+    Index lo[3], hi[3];
+    double u[3];
+    const double tol = options.tolerance;
+    for (int a = 0; a < 3; ++a) {
+      const double off = p[a] - img.origin[a];
+      if (img.dims[a] == 1) {
+        if (!(std::abs(off) <= dtol)) return false;
+        u[a] = 0;
+        lo[a] = hi[a] = 0;
+        continue;
+      }
+      u[a] = off / img.spacing[a];
+      const double top = static_cast<double>(img.dims[a] - 1);
+      if (!(u[a] >= -tol && u[a] <= top + tol)) return false;
+      lo[a] = std::clamp(static_cast<Index>(std::floor(u[a] - tol)), Index{0}, img.dims[a] - 2);
+      hi[a] = std::clamp(static_cast<Index>(std::floor(u[a] + tol)), Index{0}, img.dims[a] - 2);
+    }
+    for (Index k = lo[2]; k <= hi[2]; ++k) {
+      for (Index j = lo[1]; j <= hi[1]; ++j) {
+        for (Index i = lo[0]; i <= hi[0]; ++i) {
+          const Index cell = i + cpa[0] * (j + cpa[1] * k);
+          if (!ok(cell)) continue;
+          const Index c3[3] = {i, j, k};
+          double w[3][2];
+          Index step[3];
+          for (int a = 0; a < 3; ++a) {
+            const double r = img.dims[a] == 1 ? 0.0 : std::clamp(u[a] - double(c3[a]), 0.0, 1.0);
+            w[a][0] = 1 - r;
+            w[a][1] = r;
+            step[a] = img.dims[a] == 1 ? 0 : 1;
+          }
+          hit.cell = cell;
+          hit.terms.clear();
+          const Index base = img.point_id(i, j, k);
+          const Index sj = img.dims[0], sk = img.dims[0] * img.dims[1];
+          for (int c = 0; c < 8; ++c) {
+            const int a0 = c & 1, a1 = (c >> 1) & 1, a2 = (c >> 2) & 1;
+            if ((a0 && !step[0]) || (a1 && !step[1]) || (a2 && !step[2])) continue;
+            const double wt = w[0][a0] * w[1][a1] * w[2][a2];
+            if (wt == 0) continue;
+            hit.terms.emplace_back(static_cast<std::size_t>(base + a0 + a1 * sj + a2 * sk), wt);
+          }
+          if (hit.terms.empty()) hit.terms.emplace_back(static_cast<std::size_t>(base), 1.0);
+          return true;
+        }
+      }
+    }
+    return false;
+  }
+
+};
+
+Prober::Prober(DatasetRef input, const ProbeOptions& options)
+    : impl_(std::make_unique<Impl>(input, options)) {
+  Impl& m = *impl_;
+  validate(input);
+  if (!(options.tolerance >= 0) || !std::isfinite(options.tolerance)) {
+    throw Error(fmt::format("probe: tolerance must be finite and >= 0, got {:g}",
+                            options.tolerance));
+  }
+  if (!std::isfinite(options.distance_tolerance)) {
+    throw Error("probe: distance tolerance must be finite");
+  }
+  if (options.mask_name.empty()) throw Error("probe: the mask array needs a name");
+  const Bounds box = bounds(input);
+  m.dtol = options.distance_tolerance >= 0 ? options.distance_tolerance : 1e-6 * box.diagonal();
+
+  // Blanking: cells marked invalid, or with a blanked point.
+  const std::size_t nc = num_cells(input);
+  const DataArray* pblank =
+      options.point_blanking.empty() ? nullptr : point_data(input).find(options.point_blanking);
+  const DataArray* cvalid =
+      options.cell_validity.empty() ? nullptr : cell_data(input).find(options.cell_validity);
+  for (const DataArray* a : {pblank, cvalid}) {
+    if (a && a->components() != 1) {
+      throw Error(fmt::format("probe: blanking array '{}' has {} components, expected 1",
+                              a->name(), a->components()));
+    }
+  }
+  if (pblank || cvalid) {
+    m.cell_ok.assign(nc, 1);
+    std::vector<Index> ids;
+    for (std::size_t c = 0; c < nc; ++c) {
+      bool good = !cvalid || cvalid->get(c) != 0;
+      if (good && pblank) {
+        cell_point_ids(input, static_cast<Index>(c), ids);
+        for (Index id : ids) good = good && pblank->get(static_cast<std::size_t>(id)) != 0;
+      }
+      if (!good) {
+        m.cell_ok[c] = 0;
+        ++m.blanked;
+      }
+    }
+    if (m.blanked == 0) m.cell_ok.clear();
+  }
+
+  if (input.get_if<ImageData>()) return;  // arithmetic: no locator
+  if (const auto* g = input.get_if<StructuredGrid>()) {
+    if (g->points.first_non_finite() < g->points.size()) {
+      throw Error(fmt::format("probe: point {} of the input is not finite",
+                              g->points.first_non_finite()));
+    }
+    if (g->dims[0] > 1 && g->dims[1] > 1 && g->dims[2] > 1) {
+      m.grid.emplace(*g, m.cell_ok, options.tolerance);
+      return;
+    }
+  }
+  m.locator_options.tolerance = options.tolerance;
+  m.locator_options.distance_tolerance = m.dtol;
+  if (const auto* ug = input.get_if<UnstructuredGrid>();
+      ug && probe_detail::TetWalker::applicable(*ug)) {
+    // Tetrahedra: walks, and the locator only if a walk fails (built then, between passes).
+    if (ug->points.first_non_finite() < ug->points.size()) {
+      throw Error(fmt::format("probe: point {} of the input is not finite",
+                              ug->points.first_non_finite()));
+    }
+    m.tets.emplace(*ug, m.cell_ok, options.tolerance);
+    return;
+  }
+  m.build_locator();
+}
+
+Prober::~Prober() = default;
+Prober::Prober(Prober&&) noexcept = default;
+Prober& Prober::operator=(Prober&&) noexcept = default;
+
+ProbeResult Prober::probe(DatasetRef probe_ds) const {
+  const Impl& m = *impl_;
+  validate(probe_ds);
+  const std::size_t n = num_points(probe_ds);
+  ProbePoints pp;
+  if (const auto* img = probe_ds.get_if<ImageData>()) {
+    pp.image = img;
+  } else {
+    pp.points = probe_ds.visit([](const auto& d) -> const Points* {
+      if constexpr (std::is_same_v<std::decay_t<decltype(d)>, ImageData>) {
+        return nullptr;
+      } else {
+        return &d.points;
+      }
+    });
+  }
+
+  // The output: the probe's structure, no arrays.
+  ProbeResult result;
+  result.output = probe_ds.visit([](const auto& d) -> Dataset {
+    auto out = d;
+    out.point_data.clear();
+    out.cell_data.clear();
+    out.field_data.clear();
+    return out;
+  });
+  const Attributes none;
+  AttributeInterpolator from_points(point_data(m.input), none, n, 0);
+  AttributeInterpolator from_cells(cell_data(m.input), none, n, 0);
+  Buffer<std::uint8_t> mask;
+  mask.resize(n);
+
+  const ImageData* image = m.input.get_if<ImageData>();
+  const probe_detail::TetWalker* tets = m.tets ? &*m.tets : nullptr;
+  const UnstructuredGrid* tet_mesh = m.input.get_if<UnstructuredGrid>();
+  constexpr std::uint8_t kPending = 2;  // a tetra walk failed: the locator decides (second pass)
+  std::atomic<std::size_t> found{0}, pending{0};
+  const std::size_t blocks = (n + kBlock - 1) / kBlock;
+  parallel_for_range(
+      blocks, 1,
+      [&](std::size_t b0, std::size_t b1) {
+        Hit hit;
+        hit.terms.reserve(8);
+        probe_detail::GridHit gh;
+        std::array<double, 4> tw{};
+        std::vector<Index> ids;
+        std::size_t count = 0, waiting = 0;
+        for (std::size_t b = b0; b < b1; ++b) {
+          probe_detail::GridCursor cursor;  // the walks restart in every block
+          Index last_tet = -1;
+          const std::size_t end = std::min(n, (b + 1) * kBlock);
+          PointSequence seq(pp, b * kBlock);
+          for (std::size_t i = b * kBlock; i < end; ++i) {
+            const Vec3 p = seq.next();
+            bool hit_ok = false;
+            if (!is_finite(p)) {
+              hit_ok = false;
+            } else if (image) {
+              hit_ok = m.locate_image(*image, p, hit);
+            } else if (m.grid) {
+              hit_ok = m.grid->find(p, cursor, gh);
+              if (hit_ok) {
+                hit.cell = gh.cell;
+                hit.terms.clear();
+                for (int c = 0; c < 8; ++c) {
+                  if (gh.weights[std::size_t(c)] != 0) {
+                    hit.terms.emplace_back(gh.ids[std::size_t(c)], gh.weights[std::size_t(c)]);
+                  }
+                }
+              }
+            } else if (tets) {
+              Index cell = last_tet >= 0 ? last_tet : tets->seed(p);
+              if (cell >= 0 && tets->walk(p, cell, tw)) {
+                hit_ok = true;
+                last_tet = cell;
+                hit.cell = cell;
+                hit.terms.clear();
+                const auto cell_ids = tet_mesh->cells.cell(std::size_t(cell));
+                for (int k = 0; k < 4; ++k) {
+                  if (tw[std::size_t(k)] != 0) {
+                    hit.terms.emplace_back(std::size_t(cell_ids[std::size_t(k)]), tw[std::size_t(k)]);
+                  }
+                }
+              } else {
+                mask[i] = kPending;
+                ++waiting;
+                continue;
+              }
+            } else {
+              hit_ok = m.from_locator(p, hit, ids);
+            }
+            mask[i] = hit_ok ? 1 : 0;
+            if (!hit_ok) continue;
+            ++count;
+            from_points.combine(i, hit.terms);
+            from_cells.copy_point(i, static_cast<std::size_t>(hit.cell));
+          }
+        }
+        found += count;
+        pending += waiting;
+      },
+      m.options.progress, "probe");
+  if (pending > 0) {
+    // The points a tetra walk did not reach, by the exact locator (built now if it was not).
+    {
+      const std::lock_guard<std::mutex> lock(impl_->build_mutex);  // probe() is thread-safe
+      impl_->build_locator();
+    }
+    std::vector<std::size_t> rest;
+    rest.reserve(pending);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (mask[i] == kPending) rest.push_back(i);
+    }
+    parallel_for_range(rest.size(), 256, [&](std::size_t r0, std::size_t r1) {
+      Hit hit;
+      std::vector<Index> ids;
+      std::size_t count = 0;
+      for (std::size_t r = r0; r < r1; ++r) {
+        const std::size_t i = rest[r];
+        const bool hit_ok = m.from_locator(pp(i), hit, ids);
+        mask[i] = hit_ok ? 1 : 0;
+        if (!hit_ok) continue;
+        ++count;
+        from_points.combine(i, hit.terms);
+        from_cells.copy_point(i, static_cast<std::size_t>(hit.cell));
+      }
+      found += count;
+    });
+  }
+
+  // Arrays of the output, nil where nothing was found.
+  Attributes& out_pd = point_data(result.output);
+  Attributes unused, cell_arrays;
+  from_points.move_into(out_pd, unused);
+  from_cells.move_into(cell_arrays, unused);
+  for (std::size_t a = 0; a < cell_arrays.size(); ++a) {
+    DataArray arr = std::move(cell_arrays[a]);
+    const std::string name = arr.name();
+    if (out_pd.has(name)) arr.set_name(name + " (cell)");
+    out_pd.add(std::move(arr));
+    for (std::size_t r = 0; r < kAttributeRoleCount; ++r) {
+      const auto role = static_cast<AttributeRole>(r);
+      if (cell_arrays.active_name(role) == name && out_pd.active_name(role).empty()) {
+        out_pd.set_active(role, out_pd[out_pd.size() - 1].name());
+      }
+    }
+  }
+  const std::size_t nfound = found.load();
+  if (nfound < n) {
+    for (std::size_t a = 0; a < out_pd.size(); ++a) {
+      DataArray& arr = out_pd[a];
+      const auto nc = static_cast<std::size_t>(arr.components());
+      arr.visit([&](auto& v) {
+        using T = typename std::decay_t<decltype(v)>::value_type;
+        const T nil = nil_of<T>(m.options.nil_value);
+        parallel_for_range(n, 1 << 14, [&](std::size_t i0, std::size_t i1) {
+          for (std::size_t i = i0; i < i1; ++i) {
+            if (!mask[i]) std::fill_n(v.data() + i * nc, nc, nil);
+          }
+        });
+      });
+    }
+  }
+  if (out_pd.has(m.options.mask_name)) out_pd.remove(m.options.mask_name);
+  out_pd.add(DataArray::from_buffer(m.options.mask_name, 1, std::move(mask)));
+  result.stats.points = n;
+  result.stats.found = nfound;
+  result.stats.blanked = m.blanked;
+  return result;
+}
+
+ProbeResult probe(DatasetRef input, DatasetRef probe_ds, const ProbeOptions& options) {
+  return Prober(input, options).probe(probe_ds);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Probe generators
+// ---------------------------------------------------------------------------------------------
+
+PolyData probe_line(const Vec3& p0, const Vec3& p1, Index n) {
+  if (n < 1) throw Error(fmt::format("probe line: {} points, expected at least 1", n));
+  if (!is_finite(p0) || !is_finite(p1)) throw Error("probe line: an end point is not finite");
+  PolyData line;
+  line.points = Points(static_cast<std::size_t>(n), ScalarType::Float64);
+  std::vector<Index> ids(static_cast<std::size_t>(n));
+  for (Index i = 0; i < n; ++i) {
+    const double t = n == 1 ? 0.0 : static_cast<double>(i) / static_cast<double>(n - 1);
+    line.points.set(static_cast<std::size_t>(i), i == n - 1 && n > 1 ? p1 : p0 + (p1 - p0) * t);
+    ids[static_cast<std::size_t>(i)] = i;
+  }
+  if (n == 1) {
+    line.verts.add(ids);
+  } else {
+    line.lines.add(ids);
+  }
+  return line;
+}
+
+PolyData probe_plane(const Vec3& origin, const Vec3& p1, const Vec3& p2, Index nu, Index nv) {
+  if (nu < 2 || nv < 2) {
+    throw Error(fmt::format("probe plane: {} x {} points, expected at least 2 x 2", nu, nv));
+  }
+  if (!is_finite(origin) || !is_finite(p1) || !is_finite(p2)) {
+    throw Error("probe plane: a corner is not finite");
+  }
+  const Vec3 u = p1 - origin, v = p2 - origin;
+  const double area = norm(cross(u, v));
+  if (!(area > 1e-12 * std::max(dot(u, u), dot(v, v))) || area == 0) {
+    throw Error("probe plane: the axes origin->p1 and origin->p2 are parallel or of zero length");
+  }
+  PolyData plane;
+  plane.points =
+      Points(static_cast<std::size_t>(nu) * static_cast<std::size_t>(nv), ScalarType::Float64);
+  for (Index b = 0; b < nv; ++b) {
+    for (Index a = 0; a < nu; ++a) {
+      const double s = static_cast<double>(a) / static_cast<double>(nu - 1);
+      const double t = static_cast<double>(b) / static_cast<double>(nv - 1);
+      plane.points.set(static_cast<std::size_t>(a + nu * b), origin + u * s + v * t);
+    }
+  }
+  for (Index b = 0; b + 1 < nv; ++b) {
+    for (Index a = 0; a + 1 < nu; ++a) {
+      const Index i0 = a + nu * b;
+      plane.polys.add({i0, i0 + 1, i0 + 1 + nu, i0 + nu});
+    }
+  }
+  return plane;
+}
+
+ImageData probe_volume(const Bounds& box, const Dims& dims) {
+  if (box.empty() || !is_finite(box.min) || !is_finite(box.max)) {
+    throw Error("probe volume: the box is empty or not finite");
+  }
+  (void)checked_point_count(dims, "probe volume");
+  ImageData img;
+  img.dims = dims;
+  img.origin = box.min;
+  for (int a = 0; a < 3; ++a) {
+    const double extent = box.max[a] - box.min[a];
+    if (dims[a] > 1 && !(extent > 0)) {
+      throw Error(fmt::format("probe volume: {} points along {} but the box has zero extent",
+                              dims[a], "xyz"[a]));
+    }
+    img.spacing[a] = dims[a] > 1 ? extent / static_cast<double>(dims[a] - 1) : 1.0;
+  }
+  return img;
+}
+
+}  // namespace isoforge
