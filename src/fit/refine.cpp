@@ -50,8 +50,8 @@ constexpr double kMadToSigma = 1.4826;
 constexpr double kHuberK = 1.345;
 constexpr double kCauchyK = 2.385;
 constexpr int kAutoSamplesPerTriangle = 10;
-constexpr double kStepScales[3] = {1, 0.5, 0.25};  // a worse step is retried shorter
-constexpr int kLocalUndoRounds = 3;  // rounds of undoing the vertices that raise the maximum
+constexpr double kStepScales[2] = {1, 0.5};  // a worse step is retried at half its length
+constexpr int kLocalUndoRounds = 2;  // rounds of undoing the vertices that raise the maximum
 
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
@@ -790,14 +790,16 @@ RefineResult refine_mesh(const PolyData& original, const PolyData& simplified,
   stats.hausdorff_before = current.hausdorff;
   const std::vector<Vec3> input = pos;
   // The schedule: solves alternate between the sparse reverse samples (even iterations) and the
-  // dense ones; the last quarter of the solves weighs every sample alike (plain least squares,
-  // lowering the RMS) and may not raise the Hausdorff distance reached so far, the others lean
-  // on the largest distances and may not raise it above the input's.
+  // dense ones. The solves lean on the largest distances and may not raise the maximum above
+  // the input's, until the last quarter of the solves or until one of them finds no step; from
+  // then on they weigh every sample alike (plain least squares, lowering the RMS) and may not
+  // raise the maximum reached so far, and two of them in a row finding no step end the fit.
   const int plain_from = o.outer_iterations - o.outer_iterations / 4;
-  int failures = 0;  // consecutive solves whose step was not taken
+  bool plain = false;
+  int failures = 0;  // consecutive plain solves whose step was not taken
   for (int it = 0; it < o.outer_iterations; ++it) {
     report_progress(o.progress, double(it) / o.outer_iterations, "refine_mesh");
-    const bool plain = it >= plain_from;
+    plain = plain || it >= plain_from;
     const double hlimit = plain ? current.hausdorff : stats.hausdorff_before;
     const bool sparse = it % 2 == 0;
     // Trial positions are measured on the dense samples only; the sparse ones when needed.
@@ -857,9 +859,15 @@ RefineResult refine_mesh(const PolyData& original, const PolyData& simplified,
         break;
       }
     }
-    // No shorter step helps either; when the other sample set failed too, the fit has converged.
-    failures = accepted ? 0 : failures + 1;
-    if (failures == 2) break;
+    // No shorter step helps either: on to the plain solves; when the other sample set failed
+    // too there, the fit has converged.
+    if (accepted) {
+      failures = 0;
+    } else if (!plain) {
+      plain = true;
+    } else if (++failures == 2) {
+      break;
+    }
   }
   stats.rms_after = current.rms;
   stats.hausdorff_after = current.hausdorff;
