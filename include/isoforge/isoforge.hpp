@@ -32,6 +32,8 @@
 #include "isoforge/core/vec.hpp"
 #include "isoforge/filters/colormap.hpp"
 #include "isoforge/filters/shrink.hpp"
+#include "isoforge/filters/surface.hpp"
+#include "isoforge/filters/threshold.hpp"
 #include "isoforge/fit/fit_primitive.hpp"
 #include "isoforge/fit/refine.hpp"
 #include "isoforge/implicit/function.hpp"
