@@ -22,6 +22,7 @@
 #include <array>
 #include <bit>
 #include <limits>
+#include <type_traits>
 
 #include "extract_common.hpp"
 #include "isoforge/core/cell.hpp"
@@ -82,6 +83,14 @@ void boundary_faces(const TopologyView& cells, std::size_t np, Buffer<std::uint8
                     const ProgressCallback& progress) {
   const std::size_t nc = cells.size();
   Buffer<U> start(np + 1, U{0});
+  // The local point each face of a tetrahedron leaves out: its key is the sorted other three.
+  int tet_skip[4];
+  {
+    const auto tf = cell_faces(CellType::Tetra);
+    for (std::size_t f = 0; f < 4; ++f) {
+      tet_skip[f] = 6 - tf[f].ids[0] - tf[f].ids[1] - tf[f].ids[2];
+    }
+  }
   const auto for_faces = [&](auto&& fn, const ProgressCallback& p) {
     for_blocks(
         nc,
@@ -89,6 +98,25 @@ void boundary_faces(const TopologyView& cells, std::size_t np, Buffer<std::uint8
           Index buf[8], s[4];
           for (std::size_t c = begin; c < end; ++c) {
             const CellType t = cells.type(c);
+            if (t == CellType::Tetra) {  // sort the 4 ids once; each face drops one
+              const auto ids = cells.ids(c, buf);
+              Index v[4] = {ids[0], ids[1], ids[2], ids[3]};
+              int l[4] = {0, 1, 2, 3};
+              const auto swap_if = [&](int a, int b) {
+                if (v[b] < v[a]) {
+                  std::swap(v[a], v[b]);
+                  std::swap(l[a], l[b]);
+                }
+              };
+              swap_if(0, 1), swap_if(2, 3), swap_if(0, 2), swap_if(1, 3), swap_if(1, 2);
+              for (std::size_t f = 0; f < 4; ++f) {
+                int n = 0;
+                for (int i = 0; i < 4; ++i)
+                  if (l[i] != tet_skip[f]) s[n++] = v[i];
+                fn(c, f, s, 3);
+              }
+              continue;
+            }
             if (cell_dimension(t) != 3) continue;
             const auto ids = cells.ids(c, buf);
             const auto faces = cell_faces(t);
@@ -112,27 +140,38 @@ void boundary_faces(const TopologyView& cells, std::size_t np, Buffer<std::uint8
     total += c;
   }
   Buffer<U> cursor(start.begin(), start.end() - 1);
-  Buffer<FaceRecord<U>> records(total);
-  constexpr U kNone = std::numeric_limits<U>::max();
+  // The bucket of each vertex holds only cell * 8 + face (4 bytes for most meshes): the keys are
+  // recomputed from the cell when the bucket is matched, which costs less than writing and
+  // first-touching 16-byte records scattered over memory.
+  Buffer<U> faces_of(total);
   for_faces(
-      [&](std::size_t c, std::size_t f, const Index* s, int n) {
-        FaceRecord<U> r;
-        r.key[0] = static_cast<U>(s[1]);
-        r.key[1] = static_cast<U>(s[2]);
-        r.key[2] = n == 4 ? static_cast<U>(s[3]) : kNone;
-        r.cell_face = static_cast<U>(c * 8 + f);
+      [&](std::size_t c, std::size_t f, const Index* s, int) {
         const U at = std::atomic_ref<U>(cursor[static_cast<std::size_t>(s[0])])
                          .fetch_add(1, std::memory_order_relaxed);
-        records[at] = r;
+        faces_of[at] = static_cast<U>(c * 8 + f);
       },
       progress_range(progress, 0.3, 0.7));
   cursor = {};
+  constexpr U kNone = std::numeric_limits<U>::max();
   parallel_for_range(
       np, 4096,
       [&](std::size_t v0, std::size_t v1) {
+        std::vector<FaceRecord<U>> local;
+        Index buf[8], s[4];
         for (std::size_t v = v0; v < v1; ++v) {
-          FaceRecord<U>* b = records.data() + start[v];
-          FaceRecord<U>* e = records.data() + start[v + 1];
+          local.clear();
+          for (U at = start[v]; at < start[v + 1]; ++at) {
+            const U cf = faces_of[at];
+            const std::size_t c = static_cast<std::size_t>(cf >> 3);
+            const CellType t = cells.type(c);
+            const auto ids = cells.ids(c, buf);
+            const int n = sorted_face(cell_faces(t)[cf & 7], ids, s);
+            local.push_back({{static_cast<U>(s[1]), static_cast<U>(s[2]),
+                              n == 4 ? static_cast<U>(s[3]) : kNone},
+                             cf});
+          }
+          FaceRecord<U>* b = local.data();
+          FaceRecord<U>* e = b + local.size();
           if (e - b <= 24) {
             for (FaceRecord<U>* i = b + 1; i < e; ++i) {
               const FaceRecord<U> x = *i;
@@ -174,22 +213,34 @@ Category category_of(CellType t) {
 }
 
 PolyData assemble(DatasetRef input, std::array<CellArray, 4> arrays,
-                  const std::array<Buffer<Index>, 4>& owners, const Buffer<Index>& kept_points,
+                  std::array<Buffer<Index>, 4> owners, Buffer<Index> kept_points,
                   const SurfaceOptions& o) {
   PolyData out;
   out.verts = std::move(arrays[kVerts]);
   out.lines = std::move(arrays[kLines]);
   out.polys = std::move(arrays[kPolys]);
   out.strips = std::move(arrays[kStrips]);
+  // The owners of all output cells in cell-data order (verts, lines, polys, strips).
   Buffer<Index> all;
-  all.reserve(owners[0].size() + owners[1].size() + owners[2].size() + owners[3].size());
-  for (const auto& w : owners) all.insert(all.end(), w.begin(), w.end());
+  if (owners[kVerts].empty() && owners[kLines].empty() && owners[kStrips].empty()) {
+    all = std::move(owners[kPolys]);
+  } else {
+    all.reserve(owners[0].size() + owners[1].size() + owners[2].size() + owners[3].size());
+    for (const auto& w : owners) all.insert(all.end(), w.begin(), w.end());
+  }
   out.points = gather_points(input, kept_points);
   out.point_data = gather_attributes(point_data(input), kept_points);
   out.cell_data = gather_attributes(cell_data(input), all);
   out.field_data = field_data(input);
-  if (o.original_cell_ids) out.cell_data.add(id_array("OriginalCellIds", all));
-  if (o.original_point_ids) out.point_data.add(id_array("OriginalPointIds", kept_points));
+  // Index is std::int64_t: the id lists become the Int64 arrays without a copy.
+  static_assert(std::is_same_v<Index, std::int64_t>);
+  if (o.original_cell_ids) {
+    out.cell_data.add(DataArray::from_buffer<std::int64_t>("OriginalCellIds", 1, std::move(all)));
+  }
+  if (o.original_point_ids) {
+    out.point_data.add(
+        DataArray::from_buffer<std::int64_t>("OriginalPointIds", 1, std::move(kept_points)));
+  }
   return out;
 }
 
@@ -308,7 +359,7 @@ SurfaceResult general_surface(DatasetRef input, const SurfaceOptions& o) {
   stats.boundary_faces = total.faces3d;
   stats.passed_cells = total.cells[kVerts] + total.cells[kLines] + total.cells[kStrips] +
                        total.cells[kPolys] - total.faces3d;
-  PolyData out = assemble(input, std::move(arrays), owners, kept_points, o);
+  PolyData out = assemble(input, std::move(arrays), std::move(owners), std::move(kept_points), o);
   report_progress(o.progress, 1.0, "surface");
   return {std::move(out), stats};
 }
@@ -322,11 +373,13 @@ SurfaceResult structured_surface(DatasetRef input, const Dims& dims, const Surfa
   const auto pp = parametric_points(type);
   const Index Px = dims[0], Py = dims[1], Pz = dims[2];
   const Index nx = Px - 1, ny = Py - 1, nz = Pz - 1;
-  // Local corner offsets and the side (2 axis + 0/1) of each face of the table.
-  Index corner[8];
+  // Local corners (0/1 along each axis) and the side (2 axis + 0/1) of each face of the table.
+  Index corner[8][3];
   for (int l = 0; l < 8; ++l) {
     const Vec3 p = pp[static_cast<std::size_t>(l)];
-    corner[l] = static_cast<Index>(p.x) + Px * (static_cast<Index>(p.y) + Py * static_cast<Index>(p.z));
+    corner[l][0] = static_cast<Index>(p.x);
+    corner[l][1] = static_cast<Index>(p.y);
+    corner[l][2] = static_cast<Index>(p.z);
   }
   int side[6];
   for (std::size_t f = 0; f < 6; ++f) {
@@ -342,8 +395,7 @@ SurfaceResult structured_surface(DatasetRef input, const Dims& dims, const Surfa
   }
   // Output point numbering in closed form: full first and last planes, rings between them.
   const Index full = Px * Py, ring = 2 * Px + 2 * (Py - 2);
-  const auto rank = [&](Index id) -> Index {
-    const Index i = id % Px, j = (id / Px) % Py, k = id / full;
+  const auto rank = [&](Index i, Index j, Index k) -> Index {
     if (k == 0) return j * Px + i;
     const Index before = full + (k - 1) * ring;
     if (k == Pz - 1) return before + j * Px + i;
@@ -368,14 +420,14 @@ SurfaceResult structured_surface(DatasetRef input, const Dims& dims, const Surfa
       }
     }
   });
-  // Boundary cells of slab k in cell order, calling fn(cell id, base point id, side mask).
+  // Boundary cells of slab k in cell order, calling fn(cell id, i, j, side mask).
   const auto for_slab = [&](Index k, auto&& fn) {
     const unsigned kbits = (k == 0 ? 16u : 0u) | (k == nz - 1 ? 32u : 0u);
     for (Index j = 0; j < ny; ++j) {
       const unsigned jbits = kbits | (j == 0 ? 4u : 0u) | (j == ny - 1 ? 8u : 0u);
       const auto cell = [&](Index i) {
         const unsigned bits = jbits | (i == 0 ? 1u : 0u) | (i == nx - 1 ? 2u : 0u);
-        fn(i + nx * (j + ny * k), i + Px * (j + Py * k), bits);
+        fn(i + nx * (j + ny * k), i, j, bits);
       };
       if (jbits != 0) {
         for (Index i = 0; i < nx; ++i) cell(i);
@@ -389,7 +441,7 @@ SurfaceResult structured_surface(DatasetRef input, const Dims& dims, const Surfa
   parallel_for_range(static_cast<std::size_t>(nz), 1, [&](std::size_t k0, std::size_t k1) {
     for (std::size_t k = k0; k < k1; ++k) {
       std::size_t n = 0;
-      for_slab(static_cast<Index>(k), [&](Index, Index, unsigned bits) {
+      for_slab(static_cast<Index>(k), [&](Index, Index, Index, unsigned bits) {
         n += static_cast<std::size_t>(std::popcount(bits));
       });
       slab[k] = n;
@@ -402,14 +454,16 @@ SurfaceResult structured_surface(DatasetRef input, const Dims& dims, const Surfa
       [&](std::size_t k0, std::size_t k1) {
         for (std::size_t k = k0; k < k1; ++k) {
           std::size_t at = slab[k];
-          for_slab(static_cast<Index>(k), [&](Index c, Index base, unsigned bits) {
+          const auto kk = static_cast<Index>(k);
+          for_slab(kk, [&](Index c, Index i, Index j, unsigned bits) {
             for (std::size_t f = 0; f < 6; ++f) {
               if (!(bits >> side[f] & 1)) continue;
               offsets[at] = static_cast<Index>(4 * at);
               owner[at] = c;
-              for (int l = 0; l < 4; ++l)
-                conn[4 * at + static_cast<std::size_t>(l)] =
-                    rank(base + corner[faces[f].ids[static_cast<std::size_t>(l)]]);
+              for (int l = 0; l < 4; ++l) {
+                const Index* d = corner[faces[f].ids[static_cast<std::size_t>(l)]];
+                conn[4 * at + static_cast<std::size_t>(l)] = rank(i + d[0], j + d[1], kk + d[2]);
+              }
               ++at;
             }
           });
@@ -421,7 +475,7 @@ SurfaceResult structured_surface(DatasetRef input, const Dims& dims, const Surfa
   arrays[kPolys] = CellArray(std::move(offsets), std::move(conn));
   std::array<Buffer<Index>, 4> owners;
   owners[kPolys] = std::move(owner);
-  PolyData out = assemble(input, std::move(arrays), owners, kept_points, o);
+  PolyData out = assemble(input, std::move(arrays), std::move(owners), std::move(kept_points), o);
   SurfaceStats stats;
   stats.boundary_faces = nfaces;
   stats.points = npoints;
