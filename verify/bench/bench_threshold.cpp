@@ -130,7 +130,9 @@ int main(int argc, char** argv) {
       json += fmt::format("{}\"{}/{}\": {{\"ms\": {:.2f}, \"cells\": {}}}", json.size() > 1 ? ", " : "",
                           name, threads, ms, cells);
     };
-    for (const auto& [name, ds] : {std::pair<const char*, const Dataset*>{"tets", &t}, {"image", &img}}) {
+    for (const auto& input : {std::pair<const char*, const Dataset*>{"tets", &t}, {"image", &img}}) {
+      const char* name = input.first;
+      const Dataset* ds = input.second;  // not a structured binding: clang 14 lambdas
       std::size_t cells = 0;
       const std::string a = std::string("threshold/") + name, b = std::string("surface/") + name;
       if (a.find(only) != std::string::npos) {
