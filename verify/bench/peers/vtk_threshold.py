@@ -7,13 +7,40 @@ threshold of the point scalars "s" in [-0.2, 0.5] with all points of a cell in t
 default "OriginalCellIds"). Prints JSON keyed like bench_threshold:
 {"threshold/tets/2": {"ms": .., "cells": ..}, "surface_geometry/tets/2": .., ...}.
 
-Usage: vtk_threshold.py DIR REPS [CASE]"""
+Usage: vtk_threshold.py DIR REPS [CASE]
+       vtk_threshold.py cli threshold|surface IN OUT   (the whole command: read, filter, write
+       with zlib like isoforge; threshold.sh times the process)"""
 import json
 import os
 import sys
 import time
 
 import vtk
+
+if sys.argv[1] == "cli":
+    _, _, what, src, dst = sys.argv
+    r = vtk.vtkXMLUnstructuredGridReader() if src.endswith(".vtu") else vtk.vtkXMLImageDataReader()
+    r.SetFileName(src)
+    if what == "threshold":
+        f = vtk.vtkThreshold()
+        f.SetInputConnection(r.GetOutputPort())
+        f.SetInputArrayToProcess(0, 0, 0, vtk.vtkDataObject.FIELD_ASSOCIATION_POINTS, "s")
+        f.SetLowerThreshold(-0.2)
+        f.SetUpperThreshold(0.5)
+        f.SetThresholdFunction(vtk.vtkThreshold.THRESHOLD_BETWEEN)
+        w = vtk.vtkXMLUnstructuredGridWriter()
+    else:
+        f = vtk.vtkDataSetSurfaceFilter()
+        f.SetInputConnection(r.GetOutputPort())
+        f.PassThroughCellIdsOn()
+        w = vtk.vtkXMLPolyDataWriter()
+    w.SetInputConnection(f.GetOutputPort())
+    w.SetFileName(dst)
+    w.SetDataModeToAppended()
+    w.EncodeAppendedDataOff()
+    w.SetCompressorTypeToZLib()
+    w.Write()
+    sys.exit(0)
 
 d = sys.argv[1]
 reps = int(sys.argv[2]) if len(sys.argv) > 2 else 5
