@@ -34,6 +34,8 @@
 #include "isoforge/filters/shrink.hpp"
 #include "isoforge/filters/probe.hpp"
 #include "isoforge/filters/subsample.hpp"
+#include "isoforge/filters/surface.hpp"
+#include "isoforge/filters/threshold.hpp"
 #include "isoforge/fit/fit_primitive.hpp"
 #include "isoforge/fit/refine.hpp"
 #include "isoforge/implicit/function.hpp"

@@ -50,6 +50,7 @@ void add_fit_command(CLI::App& app, Context& ctx) {
     double loss_scale = 0;
     std::int64_t max_iterations = 100;
     bool no_normals = false;
+    std::string q;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
@@ -72,6 +73,7 @@ void add_fit_command(CLI::App& app, Context& ctx) {
       ->transform(integer_in(1, 100000));
   cmd->add_flag("--no-normals", args->no_normals,
                 "Do not use the input's point normals to initialise the fit");
+  auto* q_opt = add_q_option(*cmd, args->q);
   cmd->add_option("-o,--output", args->out,
                   "Write the function expression to this text file (atomically)");
   cmd->footer(
@@ -84,8 +86,9 @@ void add_fit_command(CLI::App& app, Context& ctx) {
       "  isoforge sample -f \"$(cat ball.txt)\" -b -2 4 -1 5 0 6 -d 32 -o refit.vti\n"
       "  isoforge fit ball.vtp --primitive quadric --loss cauchy\n"
       "  isoforge fit data/bunny.ply --primitive plane --loss none");
-  cmd->callback([args, &ctx, scale_opt] {
+  cmd->callback([args, &ctx, scale_opt, q_opt] {
     if (!args->out.empty()) check_writable(args->out);
+    require_plot3d_input(q_opt, args->in);
     static const std::map<std::string, PrimitiveKind> kinds = {
         {"plane", PrimitiveKind::Plane},
         {"sphere", PrimitiveKind::Sphere},
@@ -104,7 +107,9 @@ void add_fit_command(CLI::App& app, Context& ctx) {
     o.use_normals = !args->no_normals;
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
     bar.stage("reading");
-    const Dataset ds = read_input(args->in, bar);
+    ReadOptions ro;
+    ro.plot3d_q = args->q;
+    const Dataset ds = read_input(args->in, bar, ro);
     bar.stage("fitting");
     o.progress = bar.callback();
     const auto t0 = std::chrono::steady_clock::now();

@@ -27,5 +27,7 @@ void add_view_command(CLI::App& app, Context& ctx);
 void add_colormap_command(CLI::App& app, Context& ctx);
 void add_probe_command(CLI::App& app, Context& ctx);
 void add_subsample_command(CLI::App& app, Context& ctx);
+void add_threshold_command(CLI::App& app, Context& ctx);
+void add_surface_command(CLI::App& app, Context& ctx);
 
 }  // namespace isoforge::cli

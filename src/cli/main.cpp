@@ -128,6 +128,8 @@ int main(int argc, char** argv) {
   add_colormap_command(app, ctx);
   add_probe_command(app, ctx);
   add_subsample_command(app, ctx);
+  add_threshold_command(app, ctx);
+  add_surface_command(app, ctx);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {  // --help, --version

@@ -76,5 +76,6 @@ void add_select_cases(std::vector<Case>& cases);    ///< select/, side/
 void add_model_cases(std::vector<Case>& cases);     ///< model/ (distance fields, figures 1.25-1.28)
 void add_decimate_cases(std::vector<Case>& cases);  ///< decimate/ (certified, compared with CGAL)
 void add_probe_cases(std::vector<Case>& cases);     ///< probe/ (every cell type, linear fields)
+void add_threshold_cases(std::vector<Case>& cases);  ///< surface/, threshold/
 
 }  // namespace isoforge::verify

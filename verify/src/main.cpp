@@ -75,6 +75,7 @@ int main(int argc, char** argv) {
   add_shape_cases(catalogue);
   add_volume_cases(catalogue);
   add_select_cases(catalogue);
+  add_threshold_cases(catalogue);
   add_io_cases(catalogue);
   add_model_cases(catalogue);
   add_decimate_cases(catalogue);
