@@ -25,5 +25,8 @@ void add_decimate_command(CLI::App& app, Context& ctx);
 void add_fit_command(CLI::App& app, Context& ctx);
 void add_view_command(CLI::App& app, Context& ctx);
 void add_colormap_command(CLI::App& app, Context& ctx);
+void add_glyph_command(CLI::App& app, Context& ctx);
+void add_normals_command(CLI::App& app, Context& ctx);
+void add_tube_command(CLI::App& app, Context& ctx);
 
 }  // namespace isoforge::cli
