@@ -23,8 +23,8 @@ namespace {
 
 // Polygons as plain offset/id lists (strips triangulated), with each one's source cell.
 struct Polys {
-  std::vector<Index> off{0};
-  std::vector<Index> ids;
+  Buffer<Index> off = Buffer<Index>(1, 0);
+  Buffer<Index> ids;
   std::vector<Index> source;  // cell id in the input's cell numbering
   [[nodiscard]] std::size_t size() const { return off.size() - 1; }
   [[nodiscard]] std::size_t len(std::size_t p) const {
@@ -99,7 +99,7 @@ Result<PolyData, NormalsStats> compute_normals(const PolyData& input, const Norm
   std::vector<Index> star_off(np + 1, 0);
   for (const Index v : P.ids) ++star_off[static_cast<std::size_t>(v) + 1];
   for (std::size_t i = 0; i < np; ++i) star_off[i + 1] += star_off[i];
-  std::vector<Index> star(P.ids.size()), corner_slot(P.ids.size());
+  Buffer<Index> star(P.ids.size()), corner_slot(P.ids.size());  // every slot written below
   {
     std::vector<Index> fill(star_off.begin(), star_off.end() - 1);
     for (std::size_t p = 0; p < npoly; ++p) {
@@ -112,11 +112,49 @@ Result<PolyData, NormalsStats> compute_normals(const PolyData& input, const Norm
   }
   report_progress(o.progress, 0.1, "compute normals");
 
-  // Breadth-first walk over shared edges: components, orientation, closedness.
+  // The polygon across each half-edge (corner c of p: the edge from its point to the next),
+  // found in parallel through the star of its first point: kBorder, kNonManifold, or the one
+  // other polygon, with whether it runs the edge the same way.
+  constexpr Index kBorder = -1, kNonManifold = -2;
+  Buffer<Index> across(P.ids.size());
+  std::vector<char> same_way(P.ids.size(), 0), first_of_fan(P.ids.size(), 0);
+  parallel_for_range(npoly, 2048, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t p = begin; p < end; ++p) {
+      const std::size_t n = P.len(p);
+      const auto c0 = static_cast<std::size_t>(P.off[p]);
+      for (std::size_t k = 0; k < n; ++k) {
+        const Index a = P.at(p, k), b = P.at(p, (k + 1) % n);
+        Index found = kBorder, smallest = static_cast<Index>(p);
+        int count = 0, dir = 0;
+        if (a != b) {
+          const auto sa = static_cast<std::size_t>(a);
+          Index last = -1;
+          for (auto t = static_cast<std::size_t>(star_off[sa]); t < static_cast<std::size_t>(star_off[sa + 1]); ++t) {
+            const Index q = star[t];
+            if (q == static_cast<Index>(p) || q == last) continue;
+            last = q;
+            const int d = edge_dir(P, static_cast<std::size_t>(q), a, b);
+            if (d == 0) continue;
+            ++count;
+            found = q;
+            dir = d;
+            smallest = std::min(smallest, q);
+          }
+        }
+        across[c0 + k] = count == 0 ? kBorder : (count == 1 ? found : kNonManifold);
+        same_way[c0 + k] = dir == 1 ? 1 : 0;
+        first_of_fan[c0 + k] = count >= 2 && smallest == static_cast<Index>(p) ? 1 : 0;
+      }
+    }
+  });
+  for (const char f : first_of_fan) stats.non_manifold_edges += f ? 1 : 0;
+  report_progress(o.progress, 0.2, "compute normals");
+
+  // Breadth-first walk over manifold edges: components, orientation, closedness.
   std::vector<char> flip(npoly, 0);
   std::vector<Index> comp(npoly, -1);
   std::vector<char> comp_open;
-  std::vector<Index> queue, others;
+  std::vector<Index> queue;
   for (std::size_t seed = 0; seed < npoly; ++seed) {
     if (comp[seed] >= 0) continue;
     const auto c = static_cast<Index>(comp_open.size());
@@ -125,33 +163,20 @@ Result<PolyData, NormalsStats> compute_normals(const PolyData& input, const Norm
     queue.assign(1, static_cast<Index>(seed));
     for (std::size_t head = 0; head < queue.size(); ++head) {
       const auto p = static_cast<std::size_t>(queue[head]);
-      const std::size_t n = P.len(p);
-      for (std::size_t k = 0; k < n; ++k) {
-        Index a = P.at(p, k), b = P.at(p, (k + 1) % n);
-        if (a == b) continue;
-        if (flip[p]) std::swap(a, b);  // p runs a→b as it will be written
-        others.clear();
-        const auto sa = static_cast<std::size_t>(a);
-        for (auto s = static_cast<std::size_t>(star_off[sa]); s < static_cast<std::size_t>(star_off[sa + 1]); ++s) {
-          const auto q = static_cast<std::size_t>(star[s]);
-          if (q != p && (others.empty() || others.back() != star[s]) && edge_dir(P, q, a, b) != 0) {
-            others.push_back(star[s]);
-          }
-        }
-        if (others.size() != 1) {
+      for (auto e = static_cast<std::size_t>(P.off[p]); e < static_cast<std::size_t>(P.off[p + 1]); ++e) {
+        const Index q = across[e];
+        if (q < 0) {
           comp_open[static_cast<std::size_t>(c)] = 1;
-          if (others.size() >= 2 && static_cast<Index>(p) < *std::min_element(others.begin(), others.end())) {
-            ++stats.non_manifold_edges;
-          }
           continue;
         }
-        const auto q = static_cast<std::size_t>(others[0]);
-        const int dir = edge_dir(P, q, a, b);
-        if (comp[q] < 0) {
-          comp[q] = c;
-          flip[q] = (o.consistency && dir == 1) ? 1 : 0;
-          queue.push_back(static_cast<Index>(q));
-        } else if (p < q && dir * (flip[q] ? -1 : 1) == 1) {
+        // Neighbours agree when they run the shared edge opposite ways as written.
+        const auto qi = static_cast<std::size_t>(q);
+        const char want = same_way[e] ? static_cast<char>(!flip[p]) : flip[p];
+        if (comp[qi] < 0) {
+          comp[qi] = c;
+          flip[qi] = o.consistency ? want : 0;
+          queue.push_back(q);
+        } else if (p < qi && flip[qi] != want) {
           ++stats.inconsistent_edges;
         }
       }
@@ -195,9 +220,7 @@ Result<PolyData, NormalsStats> compute_normals(const PolyData& input, const Norm
   for (std::size_t p = 0; p < npoly; ++p) {
     if (!flip[p]) continue;
     std::reverse(P.ids.begin() + P.off[p] + 1, P.ids.begin() + P.off[p + 1]);
-    std::vector<Index> slots(corner_slot.begin() + P.off[p] + 1, corner_slot.begin() + P.off[p + 1]);
-    std::reverse(slots.begin(), slots.end());
-    std::copy(slots.begin(), slots.end(), corner_slot.begin() + P.off[p] + 1);
+    std::reverse(corner_slot.begin() + P.off[p] + 1, corner_slot.begin() + P.off[p + 1]);
   }
   std::vector<Vec3> unit(npoly);
   parallel_for_range(npoly, 4096, [&](std::size_t begin, std::size_t end) {
@@ -295,7 +318,7 @@ Result<PolyData, NormalsStats> compute_normals(const PolyData& input, const Norm
   }
   out.verts = input.verts;
   out.lines = input.lines;
-  out.polys = CellArray(Buffer<Index>(P.off.begin(), P.off.end()), Buffer<Index>(P.ids.begin(), P.ids.end()));
+  out.polys = CellArray(std::move(P.off), std::move(P.ids));
   out.field_data = input.field_data;
   const std::size_t nfixed = input.verts.size() + input.lines.size();
   if (input.strips.empty()) {

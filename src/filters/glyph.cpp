@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -51,7 +52,13 @@ const DataArray* require(const DataArray* a, const Attributes& pd, const char* w
   return a;
 }
 
-Vec3 tuple3(const DataArray& a, std::size_t i) { return {a.get(i, 0), a.get(i, 1), a.get(i, 2)}; }
+Vec3 tuple3(const DataArray& a, std::size_t i) {
+  if (a.type() == ScalarType::Float32) {  // the common case, without a type switch per value
+    const float* p = a.values<float>().data() + 3 * i;
+    return {p[0], p[1], p[2]};
+  }
+  return {a.get(i, 0), a.get(i, 1), a.get(i, 2)};
+}
 
 // Row-major 3x3 matrix taking +x to the unit direction of v (identity for zero or non-finite v).
 std::array<double, 9> rotation_to(const Vec3& v) {
@@ -151,8 +158,14 @@ Result<PolyData, GlyphStats> glyph_impl(DatasetRef input, const PolyData& source
     }
   }
 
-  const std::vector<Index> ids = mask_point_ids(input, o.mask);
-  const std::size_t n = ids.size();
+  // The glyphed points: all of them (no id list) unless a mask is set.
+  const MaskOptions& mk = o.mask;
+  const bool all_points = mk.every <= 1 && mk.random == 0 && mk.voxel == 0 && mk.max_points == 0;
+  const std::vector<Index> ids = all_points ? std::vector<Index>{} : mask_point_ids(input, mk);
+  const std::size_t n = all_points ? num_points(input) : ids.size();
+  const auto id_of = [&](std::size_t g) {
+    return all_points ? g : static_cast<std::size_t>(ids[g]);
+  };
   const std::size_t m = source.num_points();
   stats.glyphs = n;
   stats.source_points = m;
@@ -160,49 +173,40 @@ Result<PolyData, GlyphStats> glyph_impl(DatasetRef input, const PolyData& source
   stats.orient_array = orient ? orient->name() : "";
   stats.scale_array = scale ? scale->name() : "";
 
-  // Per glyph: size, direction (as a rotation) and position.
-  std::vector<double> sizes(n);
-  std::vector<std::array<double, 9>> rot(hedgehog ? 0 : n);
-  std::vector<Vec3> dirs(hedgehog ? n : 0);
-  std::vector<Vec3> where(n);
-  parallel_for_range(n, kGrain, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t g = begin; g < end; ++g) {
-      const auto id = static_cast<std::size_t>(ids[g]);
-      where[g] = point(input, ids[g]);
-      double s = 1;
-      if (scale) {
-        const double v = value_of(*scale, id);
-        if (o.clamp) {
-          s = r1 > r0 ? (std::clamp(v, r0, r1) - r0) / (r1 - r0) : 1.0;
-        } else {
-          s = std::abs(v);
-        }
-      }
-      s *= std::abs(o.factor);
-      if (!std::isfinite(s)) s = 0;
-      sizes[g] = s;
-      const Vec3 v = orient ? tuple3(*orient, id) : Vec3{1, 0, 0};
-      if (hedgehog) {
-        const double len = norm(v);
-        dirs[g] = (len > 0 && std::isfinite(len)) ? v / len : Vec3{1, 0, 0};
-      } else {
-        rot[g] = orient ? rotation_to(v) : std::array<double, 9>{1, 0, 0, 0, 1, 0, 0, 0, 1};
-      }
-    }
+  // Input positions without a dispatch per point where the points are stored.
+  const Points* in_points = input.visit([](const auto& d) -> const Points* {
+    if constexpr (requires { d.points; }) return &d.points;
+    return nullptr;
   });
-  if (n > 0) {
-    const auto [lo, hi] = std::minmax_element(sizes.begin(), sizes.end());
-    stats.min_scale = *lo;
-    stats.max_scale = *hi;
-  }
-  report_progress(o.progress, 0.1, "glyph");
+  const float* in_float = in_points && in_points->type() == ScalarType::Float32
+                              ? in_points->floats().data() : nullptr;
+  const auto position = [&](std::size_t id) {
+    if (in_float) return Vec3{in_float[3 * id], in_float[3 * id + 1], in_float[3 * id + 2]};
+    return in_points ? (*in_points)[id] : point(input, static_cast<Index>(id));
+  };
+  // A glyph's size (factor included; 0 if not finite).
+  const auto size_of = [&](std::size_t id) {
+    double s = 1;
+    if (scale) {
+      const double v = value_of(*scale, id);
+      s = o.clamp ? (r1 > r0 ? (std::clamp(v, r0, r1) - r0) / (r1 - r0) : 1.0) : std::abs(v);
+    }
+    s *= std::abs(o.factor);
+    return std::isfinite(s) ? s : 0.0;
+  };
+  constexpr std::array<double, 9> kIdentity{1, 0, 0, 0, 1, 0, 0, 0, 1};
+  std::mutex range_mutex;
+  double lo = INFINITY, hi = -INFINITY;
+  const auto merge_range = [&](double l, double h) {
+    const std::lock_guard<std::mutex> lock(range_mutex);
+    lo = std::min(lo, l);
+    hi = std::max(hi, h);
+  };
+  report_progress(o.progress, 0.05, "glyph");
 
   PolyData out;
   const std::size_t total = n * m;
-  const ScalarType ptype = input.visit([](const auto& d) {
-    if constexpr (requires { d.points; }) return d.points.type();
-    return ScalarType::Float32;
-  });
+  const ScalarType ptype = in_points ? in_points->type() : ScalarType::Float32;
   DataArray pts = DataArray::uninitialized("Points", ptype, 3, total);
   const DataArray* snormals = hedgehog ? nullptr : source.point_data.normals();
   if (snormals && snormals->components() != 3) snormals = nullptr;
@@ -224,17 +228,27 @@ Result<PolyData, GlyphStats> glyph_impl(DatasetRef input, const PolyData& source
       parallel_for_range(
           n, kGrain,
           [&](std::size_t begin, std::size_t end) {
+            double l = INFINITY, h = -INFINITY;
             for (std::size_t g = begin; g < end; ++g) {
-              const Vec3 c = where[g];
-              const double s = sizes[g];
+              const std::size_t id = id_of(g);
+              const Vec3 c = position(id);
+              const double s = size_of(id);
+              l = std::min(l, s);
+              h = std::max(h, s);
               T* q = P + 3 * g * m;
               if (hedgehog) {
-                const Vec3 e = c + dirs[g] * s;
+                Vec3 d{1, 0, 0};
+                if (orient) {
+                  const Vec3 v = tuple3(*orient, id);
+                  const double len = norm(v);
+                  if (len > 0 && std::isfinite(len)) d = v / len;
+                }
+                const Vec3 e = c + d * s;
                 q[0] = static_cast<T>(c.x), q[1] = static_cast<T>(c.y), q[2] = static_cast<T>(c.z);
                 q[3] = static_cast<T>(e.x), q[4] = static_cast<T>(e.y), q[5] = static_cast<T>(e.z);
                 continue;
               }
-              const auto& R = rot[g];
+              const std::array<double, 9> R = orient ? rotation_to(tuple3(*orient, id)) : kIdentity;
               for (std::size_t j = 0; j < m; ++j) {
                 const double x = sp[3 * j], y = sp[3 * j + 1], z = sp[3 * j + 2];
                 q[3 * j] = static_cast<T>(c.x + s * (R[0] * x + R[1] * y + R[2] * z));
@@ -251,10 +265,15 @@ Result<PolyData, GlyphStats> glyph_impl(DatasetRef input, const PolyData& source
                 }
               }
             }
+            if (end > begin) merge_range(l, h);
           },
-          progress_range(o.progress, 0.1, 0.6), "glyph");
+          progress_range(o.progress, 0.05, 0.6), "glyph");
     }
   });
+  if (n > 0) {
+    stats.min_scale = lo;
+    stats.max_scale = hi;
+  }
   out.points = Points(std::move(pts));
   report_progress(o.progress, 0.6, "glyph");
 
@@ -284,7 +303,7 @@ Result<PolyData, GlyphStats> glyph_impl(DatasetRef input, const PolyData& source
     DataArray a = DataArray::uninitialized("InputPointIds", ScalarType::Int64, 1, total);
     std::int64_t* w = a.values<std::int64_t>().data();
     parallel_for_range(n, kGrain, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t g = begin; g < end; ++g) std::fill_n(w + g * m, m, ids[g]);
+      for (std::size_t g = begin; g < end; ++g) std::fill_n(w + g * m, m, static_cast<std::int64_t>(id_of(g)));
     });
     out.point_data.add(std::move(a));
   }
@@ -293,7 +312,7 @@ Result<PolyData, GlyphStats> glyph_impl(DatasetRef input, const PolyData& source
     float* w = a.values<float>().data();
     parallel_for_range(n, kGrain, [&](std::size_t begin, std::size_t end) {
       for (std::size_t g = begin; g < end; ++g) {
-        const auto id = static_cast<std::size_t>(ids[g]);
+        const std::size_t id = id_of(g);
         const double v = o.color == GlyphColor::Index ? static_cast<double>(g)
                          : o.color == GlyphColor::Magnitude ? norm(tuple3(*color, id))
                                                             : color->get(id, 0);
@@ -312,7 +331,7 @@ Result<PolyData, GlyphStats> glyph_impl(DatasetRef input, const PolyData& source
       std::byte* to = b.bytes();
       parallel_for_range(n, kGrain, [&](std::size_t begin, std::size_t end) {
         for (std::size_t g = begin; g < end; ++g) {
-          const std::byte* t = from + static_cast<std::size_t>(ids[g]) * bytes;
+          const std::byte* t = from + id_of(g) * bytes;
           std::byte* w = to + g * m * bytes;
           for (std::size_t j = 0; j < m; ++j) std::memcpy(w + j * bytes, t, bytes);
         }
