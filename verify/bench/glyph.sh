@@ -2,8 +2,8 @@
 # The glyph benchmark: isoforge's glyph, hedgehog, compute_normals and tube against VTK 9.1's
 # vtkGlyph3D, vtkHedgeHog, vtkPolyDataNormals and vtkTubeFilter (python3-vtk9) in one run, on
 # the same inputs in memory (filter time: the fastest of REPEAT runs, around Update() for VTK),
-# then the whole glyph command (read a 1M-point .vtp, glyph, write .vtp) as wall time of each
-# process. Prints a Markdown table with ratios (VTK time / isoforge time) to OUT/glyph.md. Run by
+# then the whole glyph command (read a 1M-point .vtp, glyph, write .vtp with each writer's
+# default zlib compression, or binary legacy .vtk) as wall time of each process. Prints a Markdown table with ratios (VTK time / isoforge time) to OUT/glyph.md. Run by
 # hand; not part of ctest. See docs/algorithms/glyph.md.
 #
 # Usage: glyph.sh BUILD OUT
@@ -46,17 +46,20 @@ run "$timer" tube "$out/isolines.vtp" 0.0005 12 "$repeat"
 run $vtkpy tube "$out/isolines.vtp" 0.0005 12 "$repeat"
 
 # The whole command, wall time of the process (fastest of REPEAT).
-wall() {  # wall PEER COMMAND...
-  local peer=$1 best=999999 t0 t1 dt; shift
+wall() {  # wall PEER CASE COMMAND...
+  local peer=$1 case=$2 best=999999 t0 t1 dt; shift 2
   for _ in $(seq "$repeat"); do
     t0=$(date +%s.%N); "$@" > /dev/null; t1=$(date +%s.%N)
     dt=$(echo "$t1 - $t0" | bc -l)
     best=$(echo "if ($dt < $best) $dt else $best" | bc -l)
   done
-  printf '{"case": "command", "peer": "%s", "seconds": %.3f, "output_points": %d}\n' "$peer" "$best" $((13 * n)) | tee -a "$results"
+  printf '{"case": "%s", "peer": "%s", "seconds": %.3f, "output_points": %d}\n' "$case" "$peer" "$best" $((13 * n)) | tee -a "$results"
 }
-wall isoforge "$iso" -q glyph "$out/cloud.vtp" -s "$out/cone.vtp" --scale-by vector -f 0.5 --no-point-data -o "$out/glyphs_isoforge.vtp"
-wall vtk $vtkpy command "$out/cloud.vtp" "$out/cone.vtp" "$out/glyphs_vtk.vtp"
+for ext in vtp vtk; do
+  wall "isoforge" "command_$ext" "$iso" -q glyph "$out/cloud.vtp" -s "$out/cone.vtp" --scale-by vector -f 0.5 --no-point-data -o "$out/glyphs_isoforge.$ext"
+  wall "vtk" "command_$ext" $vtkpy command "$out/cloud.vtp" "$out/cone.vtp" "$out/glyphs_vtk.$ext"
+done
+rm -f "$out"/glyphs_*.vt?
 
 /usr/bin/python3 - "$results" "$n" > "$out/glyph.md" <<'PY'
 import json, sys
@@ -70,7 +73,8 @@ names = {
     "hedgehog": f"hedgehog {n:,} points (one line each) | vtkHedgeHog",
     "normals": "compute_normals, 1 052 680 triangles (split 30°, consistent, outward) | vtkPolyDataNormals",
     "tube": "tube, bunny isolines (49 values), 12 sides, capped | vtkTubeFilter",
-    "command": f"whole command: read {n:,}-point .vtp, cones, write .vtp (wall) | python + VTK",
+    "command_vtp": f"whole command: read {n:,}-point .vtp, cones, write .vtp, zlib (wall) | python + VTK",
+    "command_vtk": f"whole command: read {n:,}-point .vtp, cones, write binary legacy .vtk (wall) | python + VTK",
 }
 print("| case | peer | isoforge (s) | VTK 9.1 (s) | VTK / isoforge | output points (isoforge / VTK) |")
 print("|---|---|---:|---:|---:|---|")

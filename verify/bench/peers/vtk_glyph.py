@@ -78,14 +78,16 @@ def main():
         w.Write()
         return
     if what == "command":
-        # The whole command: read the point cloud and the cone, glyph, write (binary, appended,
-        # no compression: what isoforge writes).
+        # The whole command: read the point cloud and the cone, glyph, write with the writer's
+        # defaults (.vtp: zlib-compressed, appended, base64 as VTK writes by default; .vtk:
+        # binary legacy).
         g = glyph3d(read(sys.argv[2]), read(sys.argv[3]))
-        w = vtk.vtkXMLPolyDataWriter()
+        if sys.argv[4].endswith(".vtp"):
+            w = vtk.vtkXMLPolyDataWriter()
+        else:
+            w = vtk.vtkPolyDataWriter()
+            w.SetFileTypeToBinary()
         w.SetInputConnection(g.GetOutputPort())
-        w.SetCompressorTypeToNone()
-        w.SetDataModeToAppended()
-        w.EncodeAppendedDataOff()
         w.SetFileName(sys.argv[4])
         w.Write()
         return
