@@ -3,8 +3,9 @@
 # vtkGlyph3D, vtkHedgeHog, vtkPolyDataNormals and vtkTubeFilter (python3-vtk9) in one run, on
 # the same inputs in memory (filter time: the fastest of REPEAT runs, around Update() for VTK),
 # then the whole glyph command (read a 1M-point .vtp, glyph, write .vtp with each writer's
-# default zlib compression, or binary legacy .vtk) as wall time of each process. Prints a Markdown table with ratios (VTK time / isoforge time) to OUT/glyph.md. Run by
-# hand; not part of ctest. See docs/algorithms/glyph.md.
+# default zlib compression, or binary legacy .vtk) as wall time of each process. Prints a
+# Markdown table with ratios (VTK time / isoforge time) to OUT/glyph.md. Run by hand; not part
+# of ctest. See docs/algorithms/glyph.md.
 #
 # Usage: glyph.sh BUILD OUT
 #   BUILD: a build with -DISOFORGE_BUILD_BENCH=ON (src/isoforge, verify/bench/glyph_time).
