@@ -69,8 +69,8 @@ TEST(ComputeNormals, ClosedCubeWithFlippedFacesComesOutOutward) {
   // Cell normals: the face normals, outward.
   const DataArray& cn = out.cell_data.get("Normals");
   EXPECT_EQ(out.cell_data.active_name(AttributeRole::Normals), "Normals");
-  EXPECT_EQ(Vec3(cn.get(0, 0), cn.get(0, 1), cn.get(0, 2)), (Vec3{0, 0, -1}));
-  EXPECT_EQ(Vec3(cn.get(6, 0), cn.get(6, 1), cn.get(6, 2)), (Vec3{0, 1, 0}));
+  EXPECT_EQ((Vec3{cn.get(0, 0), cn.get(0, 1), cn.get(0, 2)}), (Vec3{0, 0, -1}));
+  EXPECT_EQ((Vec3{cn.get(6, 0), cn.get(6, 1), cn.get(6, 2)}), (Vec3{0, 1, 0}));
   // Without splitting, the 8 corners keep their ids and their normals point out of the cube.
   NormalsOptions o;
   o.split = false;
@@ -197,7 +197,7 @@ TEST(ComputeNormals, StripsBecomeTrianglesAndOtherCellsStay) {
   EXPECT_EQ(out.cell_data.get("c").get(4), 9.0);
   EXPECT_EQ(out.cell_data.get("c").get(1), 8.0);
   const DataArray& cn = out.cell_data.get("Normals");
-  EXPECT_EQ(Vec3(cn.get(0, 0), cn.get(0, 1), cn.get(0, 2)), (Vec3{0, 0, 0}));  // the vertex
+  EXPECT_EQ((Vec3{cn.get(0, 0), cn.get(0, 1), cn.get(0, 2)}), (Vec3{0, 0, 0}));  // the vertex
   const double z = cn.get(2, 2);
   EXPECT_NEAR(std::abs(z), 1, 1e-12);
   EXPECT_EQ(cn.get(3, 2), z);

@@ -152,11 +152,8 @@ TEST(Glyph, ScaleByScalarWithClampingAndColours) {
   const auto [out, stats] = glyph(pd, GlyphShape::Cube, o);
   EXPECT_DOUBLE_EQ(stats.min_scale, 0);
   EXPECT_DOUBLE_EQ(stats.max_scale, 4);
-  const Bounds b1 = [&] {
-    Bounds b;
-    for (std::size_t j = 24; j < 48; ++j) b.extend(at(out, j));
-    return b;
-  }();
+  Bounds b1;
+  for (std::size_t j = 24; j < 48; ++j) b1.extend(at(out, j));
   EXPECT_NEAR(b1.max.x - b1.min.x, 2, 1e-6);  // size 2, unrotated
   EXPECT_NEAR(b1.max.y - b1.min.y, 2, 1e-6);
   const DataArray& c = out.point_data.get("GlyphColor");
