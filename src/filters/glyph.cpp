@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "isoforge/core/memory.hpp"
 #include "isoforge/core/parallel.hpp"
 
 namespace isoforge {
@@ -41,6 +42,13 @@ const DataArray* pick(const Attributes& pd, const std::string& name, AttributeRo
                 std::to_string(components));
   }
   return a;
+}
+
+double ptype_bytes(DatasetRef input) {
+  return input.visit([](const auto& d) -> double {
+    if constexpr (requires { d.points; }) return d.points.type() == ScalarType::Float64 ? 8.0 : 4.0;
+    return 4.0;
+  });
 }
 
 const DataArray* require(const DataArray* a, const Attributes& pd, const char* what,
@@ -204,6 +212,19 @@ Result<PolyData, GlyphStats> glyph_impl(DatasetRef input, const PolyData& source
   };
   report_progress(o.progress, 0.05, "glyph");
 
+  // Refuse at once an output that cannot fit (e.g. a large source at millions of points).
+  {
+    double per_point = (ptype_bytes(input) * 3.0) + (o.point_ids ? 8.0 : 0.0) + 12.0 + 4.0;
+    if (o.carry_point_data) {
+      for (const DataArray& a : pd) per_point += static_cast<double>(scalar_size(a.type())) * a.components();
+    }
+    double per_glyph = static_cast<double>(m) * per_point;
+    for (const CellArray* c : {&source.verts, &source.lines, &source.polys, &source.strips}) {
+      per_glyph += 8.0 * static_cast<double>(c->size() + c->connectivity().size());
+    }
+    require_memory(static_cast<double>(n) * per_glyph,
+                   "glyph: " + std::to_string(n) + " glyphs of " + std::to_string(m) + " points");
+  }
   PolyData out;
   const std::size_t total = n * m;
   const ScalarType ptype = in_points ? in_points->type() : ScalarType::Float32;

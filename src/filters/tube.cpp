@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "isoforge/core/memory.hpp"
 #include "isoforge/core/parallel.hpp"
 #include "isoforge/core/subset.hpp"
 
@@ -107,6 +108,10 @@ Result<PolyData, TubeStats> tube(const PolyData& lines, const TubeOptions& o) {
     first_tri[l + 1] = first_tri[l] + tris;
   }
   const std::size_t np = first_point[nl], nt = first_tri[nl];
+  double point_bytes = 12.0 + (lines.points.type() == ScalarType::Float64 ? 24.0 : 12.0);
+  for (const DataArray& a : lines.point_data) point_bytes += static_cast<double>(scalar_size(a.type())) * a.components();
+  require_memory(static_cast<double>(np) * point_bytes + static_cast<double>(nt) * 32.0,
+                 "tube: " + std::to_string(stats.tubes) + " tubes of " + std::to_string(k) + " sides");
   report_progress(o.progress, 0.1, "tube");
 
   PolyData out;

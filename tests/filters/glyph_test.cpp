@@ -282,6 +282,10 @@ TEST(Glyph, BadOptionsAreErrors) {
   o.scale = GlyphScale::Vector;
   test::expect_error([&] { (void)glyph(bare, GlyphShape::Cone, o); },
                      "scale by vector: the input has no active vectors");
+  // 8e9 glyphs of 24 points cannot fit: refused before anything is allocated.
+  ImageData huge;
+  huge.dims = {2000, 2000, 2000};
+  test::expect_error([&] { (void)glyph(huge, GlyphShape::Cube); }, "glyph: 8000000000 glyphs of 24 points needs");
   o = {};
   o.mask.every = 2;
   o.mask.voxel = 1;

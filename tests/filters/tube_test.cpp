@@ -168,6 +168,9 @@ TEST(Tube, BadOptionsAreErrors) {
   o.radius_array = "nope";
   test::expect_error([&] { (void)tube(line, o); }, "radius by 'nope': no such point array");
   o = {};
+  o.sides = 2000000000;  // 4e9 ring points: refused before anything is allocated
+  test::expect_error([&] { (void)tube(line, o); }, "tube: 1 tubes of 2000000000 sides needs");
+  o = {};
   o.scalar_range = std::array<double, 2>{2, 1};
   test::expect_error([&] { (void)tube(line, o); }, "MIN < MAX");
 }
