@@ -29,5 +29,8 @@ void add_probe_command(CLI::App& app, Context& ctx);
 void add_subsample_command(CLI::App& app, Context& ctx);
 void add_threshold_command(CLI::App& app, Context& ctx);
 void add_surface_command(CLI::App& app, Context& ctx);
+void add_glyph_command(CLI::App& app, Context& ctx);
+void add_normals_command(CLI::App& app, Context& ctx);
+void add_tube_command(CLI::App& app, Context& ctx);
 
 }  // namespace isoforge::cli

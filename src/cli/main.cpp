@@ -130,6 +130,9 @@ int main(int argc, char** argv) {
   add_subsample_command(app, ctx);
   add_threshold_command(app, ctx);
   add_surface_command(app, ctx);
+  add_glyph_command(app, ctx);
+  add_normals_command(app, ctx);
+  add_tube_command(app, ctx);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {  // --help, --version

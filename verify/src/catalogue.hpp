@@ -77,5 +77,6 @@ void add_model_cases(std::vector<Case>& cases);     ///< model/ (distance fields
 void add_decimate_cases(std::vector<Case>& cases);  ///< decimate/ (certified, compared with CGAL)
 void add_probe_cases(std::vector<Case>& cases);     ///< probe/ (every cell type, linear fields)
 void add_threshold_cases(std::vector<Case>& cases);  ///< surface/, threshold/
+void add_glyph_cases(std::vector<Case>& cases);     ///< glyph/, normals/, tube/
 
 }  // namespace isoforge::verify
