@@ -25,5 +25,7 @@ void add_decimate_command(CLI::App& app, Context& ctx);
 void add_fit_command(CLI::App& app, Context& ctx);
 void add_view_command(CLI::App& app, Context& ctx);
 void add_colormap_command(CLI::App& app, Context& ctx);
+void add_cut_command(CLI::App& app, Context& ctx);
+void add_clip_command(CLI::App& app, Context& ctx);
 
 }  // namespace isoforge::cli

@@ -109,78 +109,6 @@ std::span<const int> ring_of(CellType type, std::size_t n, std::vector<int>& sto
   return storage;
 }
 
-/// Values of F at the points: the plane directly, any other function in blocks.
-Buffer<double> evaluate_at_points(DatasetRef ds, const ImplicitFunction& f,
-                                  const cutting::LinearField* plane,
-                                  const ProgressCallback& progress) {
-  const std::size_t n = num_points(ds);
-  Buffer<double> values(n);
-  const ImageData* image = ds.get_if<ImageData>();
-  const Points* pts = nullptr;
-  ds.visit([&](const auto& d) {
-    if constexpr (!std::is_same_v<std::decay_t<decltype(d)>, ImageData>) pts = &d.points;
-  });
-  constexpr std::size_t kChunk = 4096;
-  const std::size_t chunks = (n + kChunk - 1) / kChunk;
-  parallel_for_range(
-      chunks, 1,
-      [&](std::size_t b0, std::size_t b1) {
-        std::vector<double> xyz(3 * kChunk);
-        for (std::size_t b = b0; b < b1; ++b) {
-          const std::size_t p0 = b * kChunk, p1 = std::min(n, p0 + kChunk);
-          if (plane && pts && pts->type() == ScalarType::Float32) {
-            const float* x = pts->floats().data();
-            const double a = plane->a, gx = plane->g.x, gy = plane->g.y, gz = plane->g.z;
-            for (std::size_t i = p0; i < p1; ++i) {
-              values[i] = a + gx * x[3 * i] + gy * x[3 * i + 1] + gz * x[3 * i + 2];
-            }
-            continue;
-          }
-          for (std::size_t i = p0; i < p1; ++i) {
-            const Vec3 p = image ? image->point(static_cast<Index>(i)) : (*pts)[i];
-            xyz[3 * (i - p0)] = p.x, xyz[3 * (i - p0) + 1] = p.y, xyz[3 * (i - p0) + 2] = p.z;
-            if (plane) values[i] = plane->a + dot(plane->g, p);
-          }
-          if (!plane) {
-            f.evaluate(std::span<const double>(xyz.data(), 3 * (p1 - p0)),
-                       std::span<double>(values.data() + p0, p1 - p0));
-          }
-        }
-      },
-      progress, "cut");
-  return values;
-}
-
-/// The edge parameter t in [0, 1] of the root of F − c between pa (t = 0, F − c = ga) and pb
-/// (t = 1, gb of the other sign), by the Illinois method from the linear estimate t0.
-double refine_root(const ImplicitFunction& f, const Vec3& pa, const Vec3& pb, double ga,
-                   double gb, double c, double t0) {
-  double lo = 0, hi = 1, glo = ga, ghi = gb, t = t0;
-  int side = 0;
-  const Vec3 d = pb - pa;
-  // Stop when the bracket is below a tenth of a float ulp of the coordinates.
-  const double scale = std::max({std::abs(pa.x), std::abs(pa.y), std::abs(pa.z), std::abs(pb.x),
-                                 std::abs(pb.y), std::abs(pb.z), norm(d)});
-  const double stop = 0.1 * std::ldexp(scale, -24) / std::max(norm(d), 1e-300);
-  for (int it = 0; it < 60; ++it) {
-    const double g = f.value(pa + d * t) - c;
-    if (g == 0 || !std::isfinite(g)) return t;
-    if ((g < 0) == (glo < 0)) {
-      lo = t, glo = g;
-      if (side == -1) ghi *= 0.5;
-      side = -1;
-    } else {
-      hi = t, ghi = g;
-      if (side == 1) glo *= 0.5;
-      side = 1;
-    }
-    if (hi - lo <= stop) break;
-    t = (it % 8 == 7) ? 0.5 * (lo + hi) : (lo * ghi - hi * glo) / (ghi - glo);
-    if (!(t > lo && t < hi)) t = 0.5 * (lo + hi);
-  }
-  return t;
-}
-
 /// The general path: every cell with points on both sides of a value is cut.
 PolyData cut_general(DatasetRef input, const ImplicitFunction& f, const Buffer<double>& F,
                      const CutOptions& options, CutStats& stats) {
@@ -391,7 +319,7 @@ PolyData cut_general(DatasetRef input, const ImplicitFunction& f, const Buffer<d
           t = std::clamp(t, 0.0, 1.0);
           const Vec3 pa = position(lo), pb = position(hi);
           if (!linear && std::isfinite(ga) && std::isfinite(gb)) {
-            t = refine_root(f, pa, pb, ga, gb, c, t);
+            t = cutting::refine_root(f, pa, pb, ga, gb, c, t);
           }
           result.points.set(k, pa + (pb - pa) * t);
           interp.interpolate(k, lo, hi, t);
@@ -412,6 +340,82 @@ PolyData cut_general(DatasetRef input, const ImplicitFunction& f, const Buffer<d
 }
 
 }  // namespace
+
+namespace cutting {
+
+/// Values of F at the points: the plane directly, any other function in blocks.
+Buffer<double> evaluate_at_points(DatasetRef ds, const ImplicitFunction& f,
+                                  const cutting::LinearField* plane,
+                                  const ProgressCallback& progress) {
+  const std::size_t n = num_points(ds);
+  Buffer<double> values(n);
+  const ImageData* image = ds.get_if<ImageData>();
+  const Points* pts = nullptr;
+  ds.visit([&](const auto& d) {
+    if constexpr (!std::is_same_v<std::decay_t<decltype(d)>, ImageData>) pts = &d.points;
+  });
+  constexpr std::size_t kChunk = 4096;
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  parallel_for_range(
+      chunks, 1,
+      [&](std::size_t b0, std::size_t b1) {
+        std::vector<double> xyz(3 * kChunk);
+        for (std::size_t b = b0; b < b1; ++b) {
+          const std::size_t p0 = b * kChunk, p1 = std::min(n, p0 + kChunk);
+          if (plane && pts && pts->type() == ScalarType::Float32) {
+            const float* x = pts->floats().data();
+            const double a = plane->a, gx = plane->g.x, gy = plane->g.y, gz = plane->g.z;
+            for (std::size_t i = p0; i < p1; ++i) {
+              values[i] = a + gx * x[3 * i] + gy * x[3 * i + 1] + gz * x[3 * i + 2];
+            }
+            continue;
+          }
+          for (std::size_t i = p0; i < p1; ++i) {
+            const Vec3 p = image ? image->point(static_cast<Index>(i)) : (*pts)[i];
+            xyz[3 * (i - p0)] = p.x, xyz[3 * (i - p0) + 1] = p.y, xyz[3 * (i - p0) + 2] = p.z;
+            if (plane) values[i] = plane->a + dot(plane->g, p);
+          }
+          if (!plane) {
+            f.evaluate(std::span<const double>(xyz.data(), 3 * (p1 - p0)),
+                       std::span<double>(values.data() + p0, p1 - p0));
+          }
+        }
+      },
+      progress, "cut");
+  return values;
+}
+
+/// The edge parameter t in [0, 1] of the root of F − c between pa (t = 0, F − c = ga) and pb
+/// (t = 1, gb of the other sign), by the Illinois method from the linear estimate t0.
+double refine_root(const ImplicitFunction& f, const Vec3& pa, const Vec3& pb, double ga,
+                   double gb, double c, double t0) {
+  double lo = 0, hi = 1, glo = ga, ghi = gb, t = t0;
+  int side = 0;
+  const Vec3 d = pb - pa;
+  // Stop when the bracket is below a tenth of a float ulp of the coordinates.
+  const double scale = std::max({std::abs(pa.x), std::abs(pa.y), std::abs(pa.z), std::abs(pb.x),
+                                 std::abs(pb.y), std::abs(pb.z), norm(d)});
+  const double stop = 0.1 * std::ldexp(scale, -24) / std::max(norm(d), 1e-300);
+  for (int it = 0; it < 60; ++it) {
+    const double g = f.value(pa + d * t) - c;
+    if (g == 0 || !std::isfinite(g)) return t;
+    if ((g < 0) == (glo < 0)) {
+      lo = t, glo = g;
+      if (side == -1) ghi *= 0.5;
+      side = -1;
+    } else {
+      hi = t, ghi = g;
+      if (side == 1) glo *= 0.5;
+      side = 1;
+    }
+    if (hi - lo <= stop) break;
+    t = (it % 8 == 7) ? 0.5 * (lo + hi) : (lo * ghi - hi * glo) / (ghi - glo);
+    if (!(t > lo && t < hi)) t = 0.5 * (lo + hi);
+  }
+  return t;
+}
+
+}  // namespace cutting
 
 std::vector<double> generate_values(int n, double min, double max) {
   if (n < 1) throw Error("generate_values: the number of values must be >= 1, got " + std::to_string(n));
@@ -465,7 +469,7 @@ CutResult cut(DatasetRef input, const ImplicitFunction& f, const CutOptions& opt
     }
   }
   const Buffer<double> F =
-      evaluate_at_points(input, f, is_plane ? &plane : nullptr, progress_range(options.progress, 0, 0.3));
+      cutting::evaluate_at_points(input, f, is_plane ? &plane : nullptr, progress_range(options.progress, 0, 0.3));
   r.stats.fast_path = is_plane && input.get_if<StructuredGrid>() != nullptr;
   r.output = cut_general(input, f, F, options, r.stats);
   return r;
