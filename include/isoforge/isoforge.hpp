@@ -32,6 +32,7 @@
 #include "isoforge/core/vec.hpp"
 #include "isoforge/filters/colormap.hpp"
 #include "isoforge/filters/shrink.hpp"
+#include "isoforge/filters/clip.hpp"
 #include "isoforge/filters/cut.hpp"
 #include "isoforge/fit/fit_primitive.hpp"
 #include "isoforge/fit/refine.hpp"

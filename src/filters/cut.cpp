@@ -53,46 +53,6 @@ struct Block {
 
 constexpr std::size_t kBlockCells = 8192;
 
-/// Calls fn(cell, type, ids) for the cells [c0, c1) of `ds`; structured 3D cells without
-/// going through the generic accessors.
-template <class Fn>
-void visit_cells(DatasetRef ds, std::size_t c0, std::size_t c1, Fn&& fn) {
-  const Dims* dims = nullptr;
-  bool image = false;
-  if (const auto* im = ds.get_if<ImageData>()) {
-    dims = &im->dims;
-    image = true;
-  } else if (const auto* sg = ds.get_if<StructuredGrid>()) {
-    dims = &sg->dims;
-  }
-  if (dims != nullptr && structured_dimension(*dims) == 3) {
-    const Index nx = (*dims)[0], ny = (*dims)[1];
-    const Index cx = nx - 1, cy = (*dims)[1] - 1;
-    const Index dy = nx, dz = nx * ny;
-    const CellType type = image ? CellType::Voxel : CellType::Hexahedron;
-    Index ids[8];
-    for (std::size_t c = c0; c < c1; ++c) {
-      const auto ci = static_cast<Index>(c);
-      const Index i = ci % cx, j = (ci / cx) % cy, k = ci / (cx * cy);
-      const Index p = i + nx * (j + ny * k);
-      if (image) {
-        ids[0] = p, ids[1] = p + 1, ids[2] = p + dy, ids[3] = p + dy + 1;
-      } else {
-        ids[0] = p, ids[1] = p + 1, ids[2] = p + dy + 1, ids[3] = p + dy;
-      }
-      for (int q = 0; q < 4; ++q) ids[q + 4] = ids[q] + dz;
-      fn(ci, type, std::span<const Index>(ids, 8));
-    }
-    return;
-  }
-  std::vector<Index> ids;
-  for (std::size_t c = c0; c < c1; ++c) {
-    const auto ci = static_cast<Index>(c);
-    cell_point_ids(ds, ci, ids);
-    fn(ci, cell_type(ds, ci), std::span<const Index>(ids));
-  }
-}
-
 /// The local point rings of the 2D types (pixels in voxel order).
 std::span<const int> ring_of(CellType type, std::size_t n, std::vector<int>& storage) {
   static constexpr int kTri[3] = {0, 1, 2};
@@ -128,7 +88,7 @@ PolyData cut_general(DatasetRef input, const ImplicitFunction& f, const Buffer<d
         bool above[8];
         for (std::size_t b = b0; b < b1; ++b) {
           Block& blk = out[b];
-          visit_cells(input, b * kBlockCells, std::min(nc, (b + 1) * kBlockCells),
+          cutting::visit_cells(input, b * kBlockCells, std::min(nc, (b + 1) * kBlockCells),
                       [&](Index cell, CellType type, std::span<const Index> ids) {
             const std::size_t n = ids.size();
             if (n < 2) return;

@@ -2,6 +2,8 @@
 // Private to filters/cut*.cpp: the plane fast path of image data.
 
 #include <optional>
+#include <span>
+#include <vector>
 
 #include "isoforge/core/buffer.hpp"
 #include "isoforge/core/dataset.hpp"
@@ -21,6 +23,46 @@ struct LinearField {
 [[nodiscard]] std::optional<PolyData> cut_image_plane(const ImageData& image,
                                                       const LinearField& field, double c,
                                                       int value_index, const CutOptions& options);
+
+/// Calls fn(cell, type, ids) for the cells [c0, c1) of `ds`; structured 3D cells without
+/// going through the generic accessors.
+template <class Fn>
+void visit_cells(DatasetRef ds, std::size_t c0, std::size_t c1, Fn&& fn) {
+  const Dims* dims = nullptr;
+  bool image = false;
+  if (const auto* im = ds.get_if<ImageData>()) {
+    dims = &im->dims;
+    image = true;
+  } else if (const auto* sg = ds.get_if<StructuredGrid>()) {
+    dims = &sg->dims;
+  }
+  if (dims != nullptr && structured_dimension(*dims) == 3) {
+    const Index nx = (*dims)[0], ny = (*dims)[1];
+    const Index cx = nx - 1, cy = (*dims)[1] - 1;
+    const Index dy = nx, dz = nx * ny;
+    const CellType type = image ? CellType::Voxel : CellType::Hexahedron;
+    Index ids[8];
+    for (std::size_t c = c0; c < c1; ++c) {
+      const auto ci = static_cast<Index>(c);
+      const Index i = ci % cx, j = (ci / cx) % cy, k = ci / (cx * cy);
+      const Index p = i + nx * (j + ny * k);
+      if (image) {
+        ids[0] = p, ids[1] = p + 1, ids[2] = p + dy, ids[3] = p + dy + 1;
+      } else {
+        ids[0] = p, ids[1] = p + 1, ids[2] = p + dy + 1, ids[3] = p + dy;
+      }
+      for (int q = 0; q < 4; ++q) ids[q + 4] = ids[q] + dz;
+      fn(ci, type, std::span<const Index>(ids, 8));
+    }
+    return;
+  }
+  std::vector<Index> ids;
+  for (std::size_t c = c0; c < c1; ++c) {
+    const auto ci = static_cast<Index>(c);
+    cell_point_ids(ds, ci, ids);
+    fn(ci, cell_type(ds, ci), std::span<const Index>(ids));
+  }
+}
 
 /// Values of F at the points of `ds`: `plane` (when given) evaluated directly, else `f` in
 /// blocks of points. Parallel, deterministic.
