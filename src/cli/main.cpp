@@ -127,6 +127,7 @@ int main(int argc, char** argv) {
   add_view_command(app, ctx);
   add_colormap_command(app, ctx);
   add_cut_command(app, ctx);
+  add_clip_command(app, ctx);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {  // --help, --version
