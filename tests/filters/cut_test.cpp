@@ -12,6 +12,7 @@
 
 #include "isoforge/core/cell.hpp"
 #include "isoforge/implicit/sample.hpp"
+#include "isoforge/io/io.hpp"
 
 using namespace isoforge;
 
@@ -347,4 +348,157 @@ TEST(Cut, DeterministicForAnyThreadCount) {
     two = cut(sg, f, {.values = {-0.2, 0.0}}).output;
   }
   EXPECT_TRUE(one == two);
+}
+
+// ---- The chapter's figures, on the real data ----
+
+namespace {
+
+StructuredGrid combustor() {
+  return std::get<StructuredGrid>(read(ISOFORGE_DATA_DIR "/combxyz.bin",
+                                       {.plot3d_q = ISOFORGE_DATA_DIR "/combq.bin"}));
+}
+
+/// Independent expectation: every crossed edge of the grid's hexahedra with its linearly
+/// interpolated point and density.
+struct Expected {
+  Vec3 p;
+  double density;
+};
+std::vector<Expected> expected_points(const StructuredGrid& sg, const std::vector<double>& F,
+                                      double c) {
+  std::set<std::pair<Index, Index>> edges;
+  std::vector<Index> ids;
+  for (std::size_t cell = 0; cell < sg.num_cells(); ++cell) {
+    cell_point_ids(sg, static_cast<Index>(cell), ids);
+    for (const CellEdge& e : cell_edges(CellType::Hexahedron)) {
+      const Index a = ids[static_cast<std::size_t>(e[0])], b = ids[static_cast<std::size_t>(e[1])];
+      if ((F[static_cast<std::size_t>(a)] >= c) != (F[static_cast<std::size_t>(b)] >= c)) {
+        edges.insert({std::min(a, b), std::max(a, b)});
+      }
+    }
+  }
+  const DataArray& d = sg.point_data.get("Density");
+  std::vector<Expected> out;
+  for (const auto& [a, b] : edges) {
+    const double fa = F[static_cast<std::size_t>(a)], fb = F[static_cast<std::size_t>(b)];
+    const double t = (c - fa) / (fb - fa);
+    const Vec3 pa = sg.points[static_cast<std::size_t>(a)], pb = sg.points[static_cast<std::size_t>(b)];
+    out.push_back({pa + (pb - pa) * t, (1 - t) * d.get(static_cast<std::size_t>(a)) +
+                                           t * d.get(static_cast<std::size_t>(b))});
+  }
+  return out;
+}
+
+}  // namespace
+
+// Fig. 1.31: the combustor cut by the plane through its centre with normal (-0.287, 0, 0.9579),
+// coloured by density. One point per crossed edge, each the linear interpolation along its edge
+// (position and density), on the plane to float precision; polygons toward the normal.
+TEST(CutFigures, Fig131CombustorPlane) {
+  const StructuredGrid sg = combustor();
+  const Vec3 centre = sg.bounds().center();
+  const ImplicitFunction f = ImplicitFunction::plane(centre, {-0.287, 0, 0.9579});
+  const auto [pd, stats] = cut(sg, f);
+  EXPECT_TRUE(stats.fast_path);
+  const std::vector<double> F = values_at_points(f, sg);
+  std::vector<Expected> expected = expected_points(sg, F, 0.0);
+  ASSERT_EQ(pd.points.size(), expected.size());
+  std::sort(expected.begin(), expected.end(), [](const Expected& a, const Expected& b) { return a.p.x < b.p.x; });
+  const DataArray& density = pd.point_data.get("Density");
+  const double scale = norm(sg.bounds().max) + 1;
+  for (std::size_t i = 0; i < pd.points.size(); ++i) {
+    const Vec3 p = pd.points[i];
+    EXPECT_LE(std::abs(f.value(p)), 4 * std::ldexp(scale, -24));
+    // The expected point at the same place (within float rounding).
+    auto it = std::lower_bound(expected.begin(), expected.end(), p.x - 1e-4,
+                               [](const Expected& e, double x) { return e.p.x < x; });
+    bool found = false;
+    for (; it != expected.end() && it->p.x <= p.x + 1e-4 && !found; ++it) {
+      if (norm(it->p - p) < 1e-4) {
+        found = true;
+        EXPECT_NEAR(density.get(i), it->density, 1e-6);
+      }
+    }
+    EXPECT_TRUE(found) << "point " << i;
+  }
+  for (std::size_t c = 0; c < pd.polys.size(); ++c) {
+    EXPECT_GT(dot(polygon_area_vector(pd, c), Vec3{-0.287, 0, 0.9579}), 0);
+  }
+  // The cut of the grid is one sheet: no edge used by more than two polygons, and its border
+  // (edges used once) is made of closed loops.
+  std::map<Index, int> border;
+  for (const auto& [e, uses] : edge_uses(pd)) {
+    ASSERT_LE(uses, 2);
+    if (uses == 1) ++border[e.first], ++border[e.second];
+  }
+  for (const auto& [p, deg] : border) EXPECT_EQ(deg % 2, 0);
+}
+
+// Fig. 1.32: 100 planes perpendicular to a view direction, through the whole combustor.
+TEST(CutFigures, Fig132HundredPlanes) {
+  const StructuredGrid sg = combustor();
+  const Vec3 view = Vec3{1, 0.4, 0.6} / norm(Vec3{1, 0.4, 0.6});
+  const ImplicitFunction f = ImplicitFunction::plane({0, 0, 0}, view);
+  const std::vector<double> F = values_at_points(f, sg);
+  const auto [lo, hi] = std::minmax_element(F.begin(), F.end());
+  const double step = (*hi - *lo) / 101;
+  const std::vector<double> values = generate_values(100, *lo + step, *hi - step);
+  const auto [pd, stats] = cut(sg, f, {.values = values});
+  std::size_t expected = 0;
+  for (double c : values) expected += crossed_edges(sg, F, c);
+  EXPECT_EQ(pd.points.size(), expected);
+  const auto vi = pd.point_data.get("CutValueIndex").values<std::int32_t>();
+  std::set<std::int32_t> seen(vi.begin(), vi.end());
+  EXPECT_EQ(seen.size(), 100u);  // every plane crosses the grid
+  for (std::size_t i = 0; i < pd.points.size(); ++i) {
+    EXPECT_NEAR(f.value(pd.points[i]), values[static_cast<std::size_t>(vi[i])], 4e-6);
+  }
+  for (std::size_t c = 0; c < pd.polys.size(); ++c) {
+    EXPECT_GT(dot(polygon_area_vector(pd, c), view), 0);
+  }
+}
+
+// Fig. 1.33: the skin (Torso.vtp) cut by the plane family y = c, 46 values 1.5 ... 136.5:
+// contour lines, one point per crossed edge, each line closed or ending on the border of the
+// skin (an edge used by one polygon).
+TEST(CutFigures, Fig133TorsoContourLines) {
+  const PolyData torso = std::get<PolyData>(read(ISOFORGE_DATA_DIR "/Torso.vtp"));
+  const ImplicitFunction f = ImplicitFunction::plane({0, 0, 0}, {0, 1, 0});
+  const std::vector<double> values = generate_values(46, 1.5, 136.5);
+  const auto [pd, stats] = cut(torso, f, {.values = values});
+  EXPECT_EQ(pd.polys.size(), 0u);
+  const std::vector<double> F = values_at_points(f, torso);
+  std::size_t expected = 0;
+  for (double c : values) expected += crossed_edges(torso, F, c);
+  EXPECT_EQ(pd.points.size(), expected);
+  const auto vi = pd.point_data.get("CutValueIndex").values<std::int32_t>();
+  for (std::size_t i = 0; i < pd.points.size(); ++i) {
+    EXPECT_NEAR(pd.points[i].y, values[static_cast<std::size_t>(vi[i])], 1e-5);
+  }
+  // Border edges of the skin.
+  const auto uses = edge_uses(torso);
+  std::vector<std::pair<Vec3, Vec3>> border;
+  for (const auto& [e, n] : uses) {
+    if (n == 1) border.push_back({torso.points[static_cast<std::size_t>(e.first)], torso.points[static_cast<std::size_t>(e.second)]});
+  }
+  auto on_border = [&](const Vec3& p) {
+    for (const auto& [a, b] : border) {
+      const Vec3 d = b - a;
+      const double t = std::clamp(dot(p - a, d) / dot(d, d), 0.0, 1.0);
+      if (norm(a + d * t - p) < 1e-3) return true;
+    }
+    return false;
+  };
+  std::size_t closed = 0;
+  for (std::size_t l = 0; l < pd.lines.size(); ++l) {
+    const auto ids = pd.lines.cell(l);
+    if (ids.front() == ids.back()) {
+      ++closed;
+      continue;
+    }
+    EXPECT_TRUE(on_border(pd.points[static_cast<std::size_t>(ids.front())]));
+    EXPECT_TRUE(on_border(pd.points[static_cast<std::size_t>(ids.back())]));
+  }
+  EXPECT_GT(closed, 0u);
 }
