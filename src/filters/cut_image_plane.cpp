@@ -25,15 +25,12 @@ namespace isoforge::cutting {
 
 namespace {
 
-/// A voxel edge: axis and the offsets of its first point.
-struct VoxelEdge {
-  int axis = 0, di = 0, dj = 0, dk = 0;
-};
-
-/// Per voxel case: its polygons as voxel edges (built once from the face walker).
+/// Per voxel case: its polygons as voxel edges (built once from the face walker). An edge is
+/// coded axis * 4 + the offsets of its first point along the two other axes (lower axis first).
 struct VoxelTable {
-  std::array<std::vector<VoxelEdge>, 256> edges;
-  std::array<std::vector<int>, 256> sizes;
+  std::array<std::array<std::uint8_t, 16>, 256> edges{};
+  std::array<std::array<std::uint8_t, 4>, 256> sizes{};
+  std::array<std::uint8_t, 256> loops{};
   VoxelTable() {
     const auto faces = cell_faces(CellType::Voxel);
     for (int cs = 1; cs < 255; ++cs) {
@@ -46,17 +43,20 @@ struct VoxelTable {
       PolyhedronCut pc;
       cut_polyhedron(faces, above, values, pc);
       int start = 0;
+      const auto c = static_cast<std::size_t>(cs);
       for (int l = 0; l < pc.loops; ++l) {
         const int end = pc.loop_end[static_cast<std::size_t>(l)];
         for (int e = start; e < end; ++e) {
           const LocalEdge le = pc.edges[static_cast<std::size_t>(e)];
           const int lo = std::min(le.a, le.b), bit = le.a ^ le.b;
-          edges[static_cast<std::size_t>(cs)].push_back(
-              {bit == 1 ? 0 : (bit == 2 ? 1 : 2), lo & 1, (lo >> 1) & 1, (lo >> 2) & 1});
+          const int di = lo & 1, dj = (lo >> 1) & 1, dk = (lo >> 2) & 1;
+          const int code = bit == 1 ? 0 * 4 + dj + 2 * dk : (bit == 2 ? 1 * 4 + di + 2 * dk : 2 * 4 + di + 2 * dj);
+          edges[c][static_cast<std::size_t>(e)] = static_cast<std::uint8_t>(code);
         }
-        sizes[static_cast<std::size_t>(cs)].push_back(end - start);
+        sizes[c][static_cast<std::size_t>(l)] = static_cast<std::uint8_t>(end - start);
         start = end;
       }
+      loops[c] = static_cast<std::uint8_t>(pc.loops);
     }
   }
 };
@@ -71,6 +71,9 @@ const VoxelTable& voxel_table() {
 std::optional<PolyData> cut_image_plane(const ImageData& image, const LinearField& field,
                                         double c, int value_index, const CutOptions& options) {
   const Index nx = image.dims[0], ny = image.dims[1], nz = image.dims[2];
+  if (std::max({nx * ny, ny * nz, nx * nz}) >= (Index{1} << 29) || std::max({nx, ny, nz}) >= (Index{1} << 30)) {
+    return std::nullopt;  // beyond the 32-bit line data: the general path
+  }
   const Vec3 o = image.origin, s = image.spacing;
   const double A = field.a + dot(field.g, o) - c;
   const double dx = field.g.x * s.x, dy = field.g.y * s.y, dz = field.g.z * s.z;
@@ -91,8 +94,9 @@ std::optional<PolyData> cut_image_plane(const ImageData& image, const LinearFiel
   // changes side, else -1.
   const std::array<Index, 3> n{nx, ny, nz};
   const std::array<double, 3> slope{dx, dy, dz};
-  std::array<std::vector<Index>, 3> lead;
-  std::array<std::vector<std::int64_t>, 3> ids;  // point id of each line's crossing, or -1
+  // 32-bit line data (memory traffic is most of the cost): lines and points stay below 2^31.
+  std::array<std::vector<std::int32_t>, 3> lead;
+  std::array<std::vector<std::int32_t>, 3> ids;  // point id of each line's crossing, or -1
   std::atomic<bool> exact{false};
   for (int a = 0; a < 3; ++a) {
     const int ua = a == 0 ? 1 : 0, va = a == 2 ? 1 : 2;
@@ -113,13 +117,19 @@ std::optional<PolyData> cut_image_plane(const ImageData& image, const LinearFiel
         };
         // Leading side: below (G < 0) when rising, above (G >= 0) otherwise.
         auto leading = [&](Index t) { return rising ? value(t) < 0 : value(t) >= 0; };
-        Index lo = 0, hi = len;  // first index not on the leading side, in [0, len]
-        while (lo < hi) {
-          const Index mid = lo + (hi - lo) / 2;
-          if (leading(mid)) lo = mid + 1;
-          else hi = mid;
+        // The first index not on the leading side, in [0, len]: from the real crossing
+        // t = -G(0) / slope, then stepped to where the (monotone) rounded values switch.
+        const double sl = slope[static_cast<std::size_t>(a)];
+        Index lo = 0;
+        if (sl != 0) {
+          const double t = std::ceil(-value(0) / sl);
+          lo = t <= 0 ? 0 : (t >= static_cast<double>(len) ? len : static_cast<Index>(t));
+        } else {
+          lo = leading(0) ? len : 0;
         }
-        L[l] = lo;
+        while (lo > 0 && !leading(lo - 1)) --lo;
+        while (lo < len && leading(lo)) ++lo;
+        L[l] = static_cast<std::int32_t>(lo);
         if (lo > 0 && lo < len && (value(lo - 1) == 0 || value(lo) == 0)) {
           exact.store(true, std::memory_order_relaxed);
         }
@@ -137,7 +147,7 @@ std::optional<PolyData> cut_image_plane(const ImageData& image, const LinearFiel
     I.resize(L.size());
     first_id[static_cast<std::size_t>(a)] = np;
     for (std::size_t l = 0; l < L.size(); ++l) {
-      I[l] = (L[l] > 0 && L[l] < len) ? static_cast<std::int64_t>(np++) : -1;
+      I[l] = (L[l] > 0 && L[l] < len) ? static_cast<std::int32_t>(np++) : -1;
     }
   }
 
@@ -145,8 +155,8 @@ std::optional<PolyData> cut_image_plane(const ImageData& image, const LinearFiel
   const Index cx = nx - 1, cy = ny - 1, cz = nz - 1;
   const std::size_t rows = static_cast<std::size_t>(cy * cz);
   const VoxelTable& table = voxel_table();
-  std::vector<Index> row_lo(rows), row_hi(rows);
-  std::vector<std::size_t> row_polys(rows + 1, 0), row_ids(rows + 1, 0);
+  std::vector<std::size_t> row_polys(rows + 1), row_ids(rows + 1);
+  row_polys[0] = row_ids[0] = 0;
   const auto& LX = lead[0];
   auto voxel_case = [&](Index i, Index j, Index k) {
     int cs = 0;
@@ -155,22 +165,26 @@ std::optional<PolyData> cut_image_plane(const ImageData& image, const LinearFiel
     }
     return cs;
   };
+  // The voxels of row (j, k) with points on both sides: between the crossings of its 4 lines.
+  auto active = [&](Index j, Index k) {
+    Index lo = nx, hi = 0;
+    for (int q = 0; q < 4; ++q) {
+      const Index b = LX[static_cast<std::size_t>((j + (q & 1)) + ny * (k + (q >> 1)))];
+      lo = std::min(lo, b), hi = std::max(hi, b);
+    }
+    return std::pair<Index, Index>{std::max<Index>(lo - 1, 0), std::min<Index>(hi - 1, cx - 1)};
+  };
   parallel_for_range(rows, 256, [&](std::size_t r0, std::size_t r1) {
     for (std::size_t r = r0; r < r1; ++r) {
       const Index j = static_cast<Index>(r) % cy, k = static_cast<Index>(r) / cy;
-      Index lo = nx, hi = 0;
-      for (int q = 0; q < 4; ++q) {
-        const Index b = LX[static_cast<std::size_t>((j + (q & 1)) + ny * (k + (q >> 1)))];
-        lo = std::min(lo, b), hi = std::max(hi, b);
-      }
-      const Index i0 = std::max<Index>(lo - 1, 0), i1 = std::min<Index>(hi - 1, cx - 1);
-      row_lo[r] = i0, row_hi[r] = i1;
+      const auto [i0, i1] = active(j, k);
       std::size_t polys = 0, vids = 0;
       for (Index i = i0; i <= i1; ++i) {
         const auto cs = static_cast<std::size_t>(voxel_case(i, j, k));
-        for (int sz : table.sizes[cs]) {
-          polys += options.triangulate ? static_cast<std::size_t>(sz - 2) : 1;
-          vids += options.triangulate ? 3 * static_cast<std::size_t>(sz - 2) : static_cast<std::size_t>(sz);
+        for (int l = 0; l < table.loops[cs]; ++l) {
+          const std::size_t sz = table.sizes[cs][static_cast<std::size_t>(l)];
+          polys += options.triangulate ? sz - 2 : 1;
+          vids += options.triangulate ? 3 * (sz - 2) : sz;
         }
       }
       row_polys[r + 1] = polys, row_ids[r + 1] = vids;
@@ -183,7 +197,7 @@ std::optional<PolyData> cut_image_plane(const ImageData& image, const LinearFiel
   const std::size_t npolys = row_polys[rows], nids = row_ids[rows];
 
   PolyData out;
-  out.points = Points(np);
+  out.points = Points(DataArray::uninitialized("Points", ScalarType::Float32, 3, np));
   Buffer<Index> offsets(npolys + 1), conn(nids);
   offsets[0] = 0;
   AttributeInterpolator interp;
@@ -191,38 +205,45 @@ std::optional<PolyData> cut_image_plane(const ImageData& image, const LinearFiel
     interp = AttributeInterpolator(image.point_data, image.cell_data, np, npolys);
   }
   // Pass 3: the polygons, written in place.
+  std::array<Index, 12> off{};  // offset of each edge code's line from the voxel's base line
+  for (int o = 0; o < 4; ++o) {
+    off[static_cast<std::size_t>(o)] = (o & 1) + ny * (o >> 1);
+    off[static_cast<std::size_t>(4 + o)] = (o & 1) + nx * (o >> 1);
+    off[static_cast<std::size_t>(8 + o)] = (o & 1) + nx * (o >> 1);
+  }
+  const bool cell_arrays = interp.has_cell_arrays();
   parallel_for_range(rows, 256, [&](std::size_t r0, std::size_t r1) {
-    std::vector<Index> loop;
+    Index loop[16];
     for (std::size_t r = r0; r < r1; ++r) {
+      if (row_polys[r + 1] == row_polys[r]) continue;
       const Index j = static_cast<Index>(r) % cy, k = static_cast<Index>(r) / cy;
       std::size_t p = row_polys[r], at = row_ids[r];
-      for (Index i = row_lo[r]; i <= row_hi[r]; ++i) {
+      const auto [i0, i1] = active(j, k);
+      const std::int32_t* line[3] = {ids[0].data() + j + ny * k, ids[1].data() + nx * k,
+                                     ids[2].data() + nx * j};
+      for (Index i = i0; i <= i1; ++i) {
         const auto cs = static_cast<std::size_t>(voxel_case(i, j, k));
-        if (table.sizes[cs].empty()) continue;
+        const int loops = table.loops[cs];
+        if (loops == 0) continue;
         const Index cell = i + cx * (j + cy * k);
+        const Index shift[3] = {0, i, i};
         std::size_t e = 0;
-        for (int sz : table.sizes[cs]) {
-          loop.clear();
+        for (int l = 0; l < loops; ++l) {
+          const int sz = table.sizes[cs][static_cast<std::size_t>(l)];
           for (int q = 0; q < sz; ++q, ++e) {
-            const VoxelEdge& ve = table.edges[cs][e];
-            const Index pi = i + ve.di, pj = j + ve.dj, pk = k + ve.dk;
-            const std::int64_t id =
-                ve.axis == 0   ? ids[0][static_cast<std::size_t>(pj + ny * pk)]
-                : ve.axis == 1 ? ids[1][static_cast<std::size_t>(pi + nx * pk)]
-                               : ids[2][static_cast<std::size_t>(pi + nx * pj)];
-            loop.push_back(id);
+            const int code = table.edges[cs][e];
+            loop[q] = line[code >> 2][shift[code >> 2] + off[static_cast<std::size_t>(code)]];
           }
-          auto emit = [&](std::initializer_list<Index> poly) {
-            for (Index id : poly) conn[at++] = id;
-            offsets[++p] = static_cast<Index>(at);
-            interp.copy_cell(p - 1, static_cast<std::size_t>(cell));
-          };
           if (options.triangulate) {
-            for (std::size_t t = 1; t + 1 < loop.size(); ++t) emit({loop[0], loop[t], loop[t + 1]});
+            for (int t = 1; t + 1 < sz; ++t) {
+              conn[at++] = loop[0], conn[at++] = loop[t], conn[at++] = loop[t + 1];
+              offsets[++p] = static_cast<Index>(at);
+              if (cell_arrays) interp.copy_cell(p - 1, static_cast<std::size_t>(cell));
+            }
           } else {
-            for (Index id : loop) conn[at++] = id;
+            for (int q = 0; q < sz; ++q) conn[at++] = loop[q];
             offsets[++p] = static_cast<Index>(at);
-            interp.copy_cell(p - 1, static_cast<std::size_t>(cell));
+            if (cell_arrays) interp.copy_cell(p - 1, static_cast<std::size_t>(cell));
           }
         }
       }
@@ -231,7 +252,7 @@ std::optional<PolyData> cut_image_plane(const ImageData& image, const LinearFiel
   out.polys = CellArray(std::move(offsets), std::move(conn));
 
   // Pass 4: the points, interpolated along their lines.
-  DataArray value_ids("CutValueIndex", ScalarType::Int32, 1, np);
+  DataArray value_ids = DataArray::uninitialized("CutValueIndex", ScalarType::Int32, 1, np);
   auto vids = value_ids.values<std::int32_t>();
   std::fill(vids.begin(), vids.end(), value_index);
   for (int a = 0; a < 3; ++a) {
