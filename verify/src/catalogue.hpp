@@ -75,5 +75,6 @@ void add_volume_cases(std::vector<Case>& cases);    ///< random/, real/
 void add_select_cases(std::vector<Case>& cases);    ///< select/, side/
 void add_model_cases(std::vector<Case>& cases);     ///< model/ (distance fields, figures 1.25-1.28)
 void add_decimate_cases(std::vector<Case>& cases);  ///< decimate/ (certified, compared with CGAL)
+void add_cut_cases(std::vector<Case>& cases);       ///< cut/, clip/ (on F = c, closed, conservative)
 
 }  // namespace isoforge::verify

@@ -78,6 +78,7 @@ int main(int argc, char** argv) {
   add_io_cases(catalogue);
   add_model_cases(catalogue);
   add_decimate_cases(catalogue);
+  add_cut_cases(catalogue);
 
   app.set_version_flag("--version", std::string(kVersion));
   bool list = false, all = false, quick = false, verbose = false;
