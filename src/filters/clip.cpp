@@ -42,7 +42,8 @@ struct Centre {
   double value = 0;      // F − c at the centre
 };
 
-/// What one input cell produced: the whole cell (`whole`) or `pieces` pieces.
+/// What input cells produced: `pieces` whole cells from `cell` on (`whole`), or `pieces` pieces
+/// of cell `cell`.
 struct Entry {
   Index cell = 0;
   bool whole = false;
@@ -89,7 +90,8 @@ void decompose(CellType type, std::span<const Index> g, std::vector<std::array<i
     case CellType::Hexahedron:
     case CellType::Voxel: {
       const int apex = type == CellType::Pyramid ? 4 : kCentre;
-      std::vector<std::array<int, 4>> tris;
+      static thread_local std::vector<std::array<int, 4>> tris;
+      tris.clear();
       for (const CellFace& f : cell_faces(type)) {
         if (type == CellType::Pyramid && f.size == 3) continue;  // the apex's faces
         if (f.size == 3) tris.push_back({f.ids[0], f.ids[1], f.ids[2], 0});
@@ -165,7 +167,12 @@ struct Clipper {
     }
     if (!any_kept) return;
     if (!any_dropped) {
-      blk.entries.push_back({cell, true, 0});
+      if (!blk.entries.empty() && blk.entries.back().whole &&
+          blk.entries.back().cell + blk.entries.back().pieces == cell) {
+        ++blk.entries.back().pieces;  // a run of whole cells
+      } else {
+        blk.entries.push_back({cell, true, 1});
+      }
       ++blk.kept;
       for (Index id : ids) mark(static_cast<std::uint64_t>(id));
       return;
@@ -320,6 +327,7 @@ ClipStats clip_impl(DatasetRef input, const ImplicitFunction& f, const ClipOptio
   validate(input);
   const std::uint64_t np = num_points(input);
   const std::size_t nc = num_cells(input);
+  if (np >= UINT32_MAX) throw Error("clip: more than 2^32 - 1 points");
   if (np + nc >= (std::uint64_t{1} << 62)) throw Error("clip: too many points and cells");
   cutting::LinearField plane;
   const bool is_plane = f.kind() == ImplicitFunction::Kind::Plane;
@@ -348,25 +356,61 @@ ClipStats clip_impl(DatasetRef input, const ImplicitFunction& f, const ClipOptio
       },
       progress_range(options.progress, 0.2, 0.6), "clip");
 
-  // Input points referenced by pieces; new points (cut points, centres) sorted and unique.
+  // Input points referenced by pieces; new points (cut points, centres): each block's sorted
+  // and unique in parallel, then all of them.
+  std::vector<std::vector<Ref>> block_fresh(blocks);
+  parallel_for_range(blocks, 1, [&](std::size_t b0, std::size_t b1) {
+    for (std::size_t b = b0; b < b1; ++b) {
+      auto& bf = block_fresh[b];
+      for (const Ref& r : out[b].refs) {
+        if (r.a == r.b && r.a < np) used[r.a].store(1, std::memory_order_relaxed);
+        else bf.push_back(r);
+      }
+      std::sort(bf.begin(), bf.end());
+      bf.erase(std::unique(bf.begin(), bf.end()), bf.end());
+    }
+  });
   std::vector<Ref> fresh;
   std::vector<Centre> centres;
-  for (const Block& b : out) {
-    for (const Ref& r : b.refs) {
-      if (r.a == r.b && r.a < np) used[r.a].store(1, std::memory_order_relaxed);
-      else fresh.push_back(r);
+  {
+    std::size_t total = 0;
+    for (const auto& bf : block_fresh) total += bf.size();
+    fresh.reserve(total);
+    for (auto& bf : block_fresh) {
+      fresh.insert(fresh.end(), bf.begin(), bf.end());
+      std::vector<Ref>().swap(bf);
     }
-    centres.insert(centres.end(), b.centres.begin(), b.centres.end());
+    for (const Block& b : out) centres.insert(centres.end(), b.centres.begin(), b.centres.end());
   }
   tbb::parallel_sort(fresh.begin(), fresh.end());
   fresh.erase(std::unique(fresh.begin(), fresh.end()), fresh.end());
-  std::vector<std::int64_t> input_id(np, -1);
-  std::size_t n_used = 0;
-  for (std::uint64_t p = 0; p < np; ++p) {
-    if (used[p].load(std::memory_order_relaxed)) input_id[p] = static_cast<std::int64_t>(n_used++);
-  }
+  // Output ids of the used input points (32-bit: memory traffic is much of the cost), by a
+  // parallel prefix sum over chunks.
+  Buffer<std::uint32_t> input_id(np);
+  constexpr std::size_t kChunk = 1 << 16;
+  const std::size_t chunks = (np + kChunk - 1) / kChunk;
+  std::vector<std::size_t> chunk_used(chunks + 1, 0);
+  parallel_for_range(chunks, 1, [&](std::size_t c0, std::size_t c1) {
+    for (std::size_t c = c0; c < c1; ++c) {
+      std::size_t n = 0;
+      for (std::size_t p = c * kChunk; p < std::min<std::size_t>(np, (c + 1) * kChunk); ++p) {
+        n += used[p].load(std::memory_order_relaxed) != 0;
+      }
+      chunk_used[c + 1] = n;
+    }
+  });
+  for (std::size_t c = 0; c < chunks; ++c) chunk_used[c + 1] += chunk_used[c];
+  parallel_for_range(chunks, 1, [&](std::size_t c0, std::size_t c1) {
+    for (std::size_t c = c0; c < c1; ++c) {
+      auto next = static_cast<std::uint32_t>(chunk_used[c]);
+      for (std::size_t p = c * kChunk; p < std::min<std::size_t>(np, (c + 1) * kChunk); ++p) {
+        input_id[p] = used[p].load(std::memory_order_relaxed) ? next++ : UINT32_MAX;
+      }
+    }
+  });
+  const std::size_t n_used = chunk_used[chunks];
   auto id_of = [&](const Ref& r) -> Index {
-    if (r.a == r.b && r.a < np) return input_id[r.a];
+    if (r.a == r.b && r.a < np) return static_cast<Index>(input_id[r.a]);
     return static_cast<Index>(n_used + static_cast<std::size_t>(
                                            std::lower_bound(fresh.begin(), fresh.end(), r) - fresh.begin()));
   };
@@ -375,7 +419,7 @@ ClipStats clip_impl(DatasetRef input, const ImplicitFunction& f, const ClipOptio
   // Cells.
   std::size_t total_cells = 0;
   for (const Block& b : out) {
-    for (const Entry& e : b.entries) total_cells += e.whole ? 1 : e.pieces;
+    for (const Entry& e : b.entries) total_cells += e.pieces;
   }
   AttributeInterpolator interp;
   if (options.interpolate_attributes) {
@@ -383,7 +427,8 @@ ClipStats clip_impl(DatasetRef input, const ImplicitFunction& f, const ClipOptio
   }
   ClipStats stats;
   for (const Block& b : out) stats.cells_kept += b.kept, stats.cells_split += b.split;
-  write_cells(out, id_of, interp);
+  auto input_index = [&](Index p) { return static_cast<Index>(input_id[static_cast<std::size_t>(p)]); };
+  write_cells(out, id_of, input_index, interp);
   stats.cells = total_cells;
 
   // Points.
@@ -398,7 +443,7 @@ ClipStats clip_impl(DatasetRef input, const ImplicitFunction& f, const ClipOptio
   points = Points(total_points, pts ? pts->type() : ScalarType::Float32);
   parallel_for_range(np, 1 << 14, [&](std::size_t a, std::size_t b) {
     for (std::size_t p = a; p < b; ++p) {
-      if (input_id[p] < 0) continue;
+      if (input_id[p] == UINT32_MAX) continue;
       const auto o = static_cast<std::size_t>(input_id[p]);
       points.set(o, position(p));
       interp.copy_point(o, p);
@@ -469,30 +514,42 @@ ClipResult clip(DatasetRef input, const ImplicitFunction& f, const ClipOptions& 
   UnstructuredGrid& g = r.output;
   r.stats = clip_impl(
       input, f, options,
-      [&](const std::vector<Block>& out, const auto& id_of, AttributeInterpolator& interp) {
+      [&](const std::vector<Block>& out, const auto& id_of, const auto& input_index,
+          AttributeInterpolator& interp) {
         // Offsets of each block's cells and ids, then every block written in parallel.
         std::vector<std::size_t> cell_at(out.size() + 1, 0), id_at(out.size() + 1, 0);
-        for (std::size_t b = 0; b < out.size(); ++b) {
-          std::size_t cells = 0, idn = 0, piece = 0;
-          for (const Entry& e : out[b].entries) {
-            if (e.whole) {
-              ++cells;
-              idn += input.visit([&](const auto& d) -> std::size_t {
-                using D = std::decay_t<decltype(d)>;
-                if constexpr (std::is_same_v<D, UnstructuredGrid>) return d.cells.cell_size(static_cast<std::size_t>(e.cell));
-                else {
-                  std::vector<Index> ids;
-                  cell_point_ids(d, e.cell, ids);
-                  return ids.size();
+        parallel_for_range(out.size(), 1, [&](std::size_t b0, std::size_t b1) {
+          std::vector<Index> ids;
+          for (std::size_t b = b0; b < b1; ++b) {
+            std::size_t cells = 0, idn = 0, piece = 0;
+            for (const Entry& e : out[b].entries) {
+              if (e.whole) {
+                cells += e.pieces;
+                if (const auto* ug = input.get_if<UnstructuredGrid>()) {
+                  for (std::uint32_t w = 0; w < e.pieces; ++w) {
+                    idn += ug->cells.cell_size(static_cast<std::size_t>(e.cell) + w);
+                  }
+                } else if (input.index() <= 1) {  // structured: every cell has as many points
+                  cell_point_ids(input, e.cell, ids);
+                  idn += ids.size() * e.pieces;
+                } else {
+                  for (std::uint32_t w = 0; w < e.pieces; ++w) {
+                    cell_point_ids(input, e.cell + static_cast<Index>(w), ids);
+                    idn += ids.size();
+                  }
                 }
-              });
-            } else {
-              cells += e.pieces;
-              for (std::uint32_t p = 0; p < e.pieces; ++p) idn += out[b].sizes[piece++];
+              } else {
+                cells += e.pieces;
+                for (std::uint32_t p = 0; p < e.pieces; ++p) idn += out[b].sizes[piece++];
+              }
             }
+            cell_at[b + 1] = cells;
+            id_at[b + 1] = idn;
           }
-          cell_at[b + 1] = cell_at[b] + cells;
-          id_at[b + 1] = id_at[b] + idn;
+        });
+        for (std::size_t b = 0; b < out.size(); ++b) {
+          cell_at[b + 1] += cell_at[b];
+          id_at[b + 1] += id_at[b];
         }
         const std::size_t nc = cell_at.back();
         g.types.resize(nc);
@@ -505,11 +562,14 @@ ClipResult clip(DatasetRef input, const ImplicitFunction& f, const ClipOptions& 
             const Block& blk = out[b];
             for (const Entry& e : blk.entries) {
               if (e.whole) {
-                cell_point_ids(input, e.cell, ids);
-                g.types[c] = cell_type(input, e.cell);
-                for (Index id : ids) conn[at++] = id_of(Ref{static_cast<std::uint64_t>(id), static_cast<std::uint64_t>(id)});
-                offsets[++c] = static_cast<Index>(at);
-                interp.copy_cell(c - 1, static_cast<std::size_t>(e.cell));
+                for (std::uint32_t w = 0; w < e.pieces; ++w) {
+                  const Index cell = e.cell + static_cast<Index>(w);
+                  cell_point_ids(input, cell, ids);
+                  g.types[c] = cell_type(input, cell);
+                  for (Index id : ids) conn[at++] = input_index(id);
+                  offsets[++c] = static_cast<Index>(at);
+                  interp.copy_cell(c - 1, static_cast<std::size_t>(cell));
+                }
                 continue;
               }
               for (std::uint32_t p = 0; p < e.pieces; ++p, ++piece) {
@@ -534,7 +594,8 @@ ClipPolyResult clip_polydata(const PolyData& input, const ImplicitFunction& f,
   PolyData& pd = r.output;
   r.stats = clip_impl(
       input, f, options,
-      [&](const std::vector<Block>& out, const auto& id_of, AttributeInterpolator& interp) {
+      [&](const std::vector<Block>& out, const auto& id_of, const auto& input_index,
+          AttributeInterpolator& interp) {
         // Each output cell goes to verts, lines, polys or strips by its type; cell data follows
         // the PolyData order (all verts, then lines, polys, strips).
         struct Made {
@@ -555,12 +616,15 @@ ClipPolyResult clip_polydata(const PolyData& input, const ImplicitFunction& f,
           std::size_t piece = 0, ref = 0;
           for (const Entry& e : blk.entries) {
             if (e.whole) {
-              cell_point_ids(input, e.cell, ids);
-              mapped.clear();
-              for (Index id : ids) mapped.push_back(id_of(Ref{static_cast<std::uint64_t>(id), static_cast<std::uint64_t>(id)}));
-              const int k = kind_of(cell_type(input, e.cell));
-              kinds[static_cast<std::size_t>(k)]->add(mapped);
-              made.push_back({k, e.cell});
+              for (std::uint32_t w = 0; w < e.pieces; ++w) {
+                const Index cell = e.cell + static_cast<Index>(w);
+                cell_point_ids(input, cell, ids);
+                mapped.clear();
+                for (Index id : ids) mapped.push_back(input_index(id));
+                const int k = kind_of(cell_type(input, cell));
+                kinds[static_cast<std::size_t>(k)]->add(mapped);
+                made.push_back({k, cell});
+              }
               continue;
             }
             for (std::uint32_t p = 0; p < e.pieces; ++p, ++piece) {
