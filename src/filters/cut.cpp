@@ -76,6 +76,45 @@ PolyData cut_general(DatasetRef input, const ImplicitFunction& f, const Buffer<d
   const std::size_t blocks = (nc + kBlockCells - 1) / kBlockCells;
   std::vector<Block> out(blocks);
   const std::vector<double>& values = options.values;
+  // Structured 3D input: the range of F along every point line (i), so that whole rows of
+  // cells on one side of every value are skipped (a plane crosses few rows).
+  const Dims* dims = nullptr;
+  if (const auto* im = input.get_if<ImageData>()) dims = &im->dims;
+  if (const auto* sg = input.get_if<StructuredGrid>()) dims = &sg->dims;
+  if (dims && structured_dimension(*dims) != 3) dims = nullptr;
+  std::vector<char> row_cut;
+  if (dims) {
+    const Index nx = (*dims)[0], ny = (*dims)[1], nz = (*dims)[2];
+    std::vector<std::pair<double, double>> line(static_cast<std::size_t>(ny * nz));
+    parallel_for_range(line.size(), 256, [&](std::size_t l0, std::size_t l1) {
+      for (std::size_t l = l0; l < l1; ++l) {
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        const double* v = F.data() + l * static_cast<std::size_t>(nx);
+        for (Index i = 0; i < nx; ++i) {
+          const double x = v[i];
+          if (std::isnan(x)) lo = -std::numeric_limits<double>::infinity();
+          else lo = std::min(lo, x), hi = std::max(hi, x);
+        }
+        line[l] = {lo, hi};
+      }
+    });
+    const std::size_t rows = static_cast<std::size_t>((ny - 1) * (nz - 1));
+    row_cut.resize(rows);
+    parallel_for_range(rows, 1024, [&](std::size_t r0, std::size_t r1) {
+      for (std::size_t r = r0; r < r1; ++r) {
+        const Index j = static_cast<Index>(r) % (ny - 1), k = static_cast<Index>(r) / (ny - 1);
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (int q = 0; q < 4; ++q) {
+          const auto& [a, b] = line[static_cast<std::size_t>((j + (q & 1)) + ny * (k + (q >> 1)))];
+          lo = std::min(lo, a), hi = std::max(hi, b);
+        }
+        bool cut = false;
+        for (double c : values) cut |= hi >= c && lo < c;
+        row_cut[r] = cut;
+      }
+    });
+  }
+  auto row_ok = [&](std::size_t r) { return row_cut.empty() || row_cut[r] != 0; };
   parallel_for_range(
       blocks, 1,
       [&](std::size_t b0, std::size_t b1) {
@@ -171,7 +210,7 @@ PolyData cut_general(DatasetRef input, const ImplicitFunction& f, const Buffer<d
                 }
               }
             }
-          });
+          }, row_ok);
         }
       },
       progress_range(options.progress, 0.3, 0.8), "cut");

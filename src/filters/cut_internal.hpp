@@ -26,8 +26,9 @@ struct LinearField {
 
 /// Calls fn(cell, type, ids) for the cells [c0, c1) of `ds`; structured 3D cells without
 /// going through the generic accessors.
-template <class Fn>
-void visit_cells(DatasetRef ds, std::size_t c0, std::size_t c1, Fn&& fn) {
+/// `row_ok(r)` (structured 3D only) may skip whole rows of cells along i (row r = j + (ny−1) k).
+template <class Fn, class RowOk>
+void visit_cells(DatasetRef ds, std::size_t c0, std::size_t c1, Fn&& fn, RowOk&& row_ok) {
   const Dims* dims = nullptr;
   bool image = false;
   if (const auto* im = ds.get_if<ImageData>()) {
@@ -44,6 +45,10 @@ void visit_cells(DatasetRef ds, std::size_t c0, std::size_t c1, Fn&& fn) {
     Index ids[8];
     for (std::size_t c = c0; c < c1; ++c) {
       const auto ci = static_cast<Index>(c);
+      if (!row_ok(static_cast<std::size_t>(ci / cx))) {
+        c = static_cast<std::size_t>((ci / cx + 1) * cx) - 1;  // to the end of the row
+        continue;
+      }
       const Index i = ci % cx, j = (ci / cx) % cy, k = ci / (cx * cy);
       const Index p = i + nx * (j + ny * k);
       if (image) {
@@ -62,6 +67,11 @@ void visit_cells(DatasetRef ds, std::size_t c0, std::size_t c1, Fn&& fn) {
     cell_point_ids(ds, ci, ids);
     fn(ci, cell_type(ds, ci), std::span<const Index>(ids));
   }
+}
+
+template <class Fn>
+void visit_cells(DatasetRef ds, std::size_t c0, std::size_t c1, Fn&& fn) {
+  visit_cells(ds, c0, c1, std::forward<Fn>(fn), [](std::size_t) { return true; });
 }
 
 /// Values of F at the points of `ds`: `plane` (when given) evaluated directly, else `f` in
