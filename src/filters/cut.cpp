@@ -270,15 +270,27 @@ PolyData cut_general(DatasetRef input, const ImplicitFunction& f, const Buffer<d
     }
   }
   {
-    Buffer<Index> offsets{0}, conn;
-    for (const Block& b : out) {
-      std::size_t at = 0;
-      for (std::size_t p = 0; p < b.poly_size.size(); ++p) {
-        for (std::uint32_t q = 0; q < b.poly_size[p]; ++q) conn.push_back(id_of(b.poly_keys[at++]));
-        offsets.push_back(static_cast<Index>(conn.size()));
-      }
-      poly_src.insert(poly_src.end(), b.poly_src.begin(), b.poly_src.end());
+    // Each block's polygons written in parallel at its offsets.
+    std::vector<std::size_t> poly_at(out.size() + 1, 0), id_at(out.size() + 1, 0);
+    for (std::size_t b = 0; b < out.size(); ++b) {
+      poly_at[b + 1] = poly_at[b] + out[b].poly_size.size();
+      id_at[b + 1] = id_at[b] + out[b].poly_keys.size();
     }
+    Buffer<Index> offsets(poly_at.back() + 1), conn(id_at.back());
+    offsets[0] = 0;
+    poly_src.resize(poly_at.back());
+    parallel_for_range(out.size(), 1, [&](std::size_t b0, std::size_t b1) {
+      for (std::size_t b = b0; b < b1; ++b) {
+        const Block& blk = out[b];
+        std::size_t at = id_at[b];
+        for (std::size_t k = 0; k < blk.poly_keys.size(); ++k) conn[at + k] = id_of(blk.poly_keys[k]);
+        for (std::size_t p = 0; p < blk.poly_size.size(); ++p) {
+          at += blk.poly_size[p];
+          offsets[poly_at[b] + p + 1] = static_cast<Index>(at);
+          poly_src[poly_at[b] + p] = blk.poly_src[p];
+        }
+      }
+    });
     result.polys = CellArray(std::move(offsets), std::move(conn));
   }
 
