@@ -37,7 +37,7 @@ struct CutStats {
   std::size_t polygons = 0;       ///< polygons (or triangles) from 3D cells
   std::size_t lines = 0;          ///< polylines from 2D cells
   std::size_t vertices = 0;       ///< vertices from 1D cells
-  std::size_t cells_cut = 0;      ///< input cells with points on both sides (per value)
+  std::size_t cells_cut = 0;      ///< input cells with points on both sides, counted once per value (general path; 0 on the fast path)
   bool fast_path = false;         ///< the plane fast path was taken
 };
 
