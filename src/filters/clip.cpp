@@ -75,6 +75,39 @@ void split_quad(const int q[4], std::span<const Index> g, std::vector<std::array
   out.push_back({a, c, d, apex});
 }
 
+/// A hexahedron or voxel whose every face's smallest-id diagonal passes through its corner 0 or
+/// the opposite corner (always so in image data and structured grids, whose ids grow with i, j
+/// and k) splits into the 6 tetrahedra around that main diagonal, honouring every face's split
+/// without a centre point. Returns false (nothing added) otherwise.
+bool six_tetrahedra(CellType type, std::span<const Index> g, std::vector<std::array<int, 4>>& out) {
+  // Local ids by corner bits (i, j, k): voxel order, or the hexahedron's.
+  static constexpr int kVoxel[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+  static constexpr int kHex[8] = {0, 1, 3, 2, 4, 5, 7, 6};
+  const int* at = type == CellType::Voxel ? kVoxel : kHex;
+  const int lo = at[0], hi = at[7];
+  for (const CellFace& f : cell_faces(type)) {
+    int m = 0;
+    for (int i = 1; i < 4; ++i) {
+      if (g[static_cast<std::size_t>(f.ids[static_cast<std::size_t>(i)])] <
+          g[static_cast<std::size_t>(f.ids[static_cast<std::size_t>(m)])]) {
+        m = i;
+      }
+    }
+    const int a = f.ids[static_cast<std::size_t>(m)], b = f.ids[static_cast<std::size_t>((m + 2) % 4)];
+    if (a != lo && a != hi && b != lo && b != hi) return false;
+  }
+  // Corner 0 -> one axis -> two axes -> corner 7, for the 6 orders of the axes; (0, a, b, 7) is
+  // positive when the axes (p, q, r) are an even permutation, else (0, b, a, 7).
+  static constexpr int kOrders[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {0, 2, 1}, {2, 1, 0}, {1, 0, 2}};
+  for (int o = 0; o < 6; ++o) {
+    const int p = kOrders[o][0], q = kOrders[o][1];
+    const int a = at[1 << p], b = at[(1 << p) | (1 << q)];
+    if (o < 3) out.push_back({lo, a, b, hi});
+    else out.push_back({lo, b, a, hi});
+  }
+  return true;
+}
+
 /// The simplices of a cell, by local ids (kCentre = the centre): tetrahedra for 3D cells
 /// (positively oriented), triangles (the cell's orientation), lines, vertices. `dim` is set to
 /// the simplices' dimension.
@@ -85,10 +118,12 @@ void decompose(CellType type, std::span<const Index> g, std::vector<std::array<i
   dim = cell_dimension(type);
   switch (type) {
     case CellType::Tetra: out.push_back({0, 1, 2, 3}); return;
-    case CellType::Pyramid:
-    case CellType::Wedge:
     case CellType::Hexahedron:
-    case CellType::Voxel: {
+    case CellType::Voxel:
+      if (six_tetrahedra(type, g, out)) return;
+      [[fallthrough]];
+    case CellType::Pyramid:
+    case CellType::Wedge: {
       const int apex = type == CellType::Pyramid ? 4 : kCentre;
       static thread_local std::vector<std::array<int, 4>> tris;
       tris.clear();

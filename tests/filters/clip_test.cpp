@@ -57,6 +57,30 @@ double measure(DatasetRef ds) {
   return total;
 }
 
+CutOptions triangles() {
+  CutOptions o;
+  o.triangulate = true;
+  return o;
+}
+
+CutOptions three_values() {
+  CutOptions o;
+  o.values = {-0.4, 0.0, 0.4};
+  return o;
+}
+
+ClipOptions inside_out() {
+  ClipOptions o;
+  o.inside_out = true;
+  return o;
+}
+
+ClipOptions at_value(double v) {
+  ClipOptions o;
+  o.value = v;
+  return o;
+}
+
 UnstructuredGrid single_cell(CellType type, std::vector<Vec3> pts) {
   UnstructuredGrid g;
   std::vector<Index> ids;
@@ -90,7 +114,7 @@ TEST(Clip, TetrahedronPiecesHaveExactVolumes) {
   const UnstructuredGrid g =
       single_cell(CellType::Tetra, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}});
   const ImplicitFunction f = ImplicitFunction::plane({0.6, 0, 0}, {1, 1, 1});
-  const auto [below, sb] = clip(g, f, {.inside_out = true});
+  const auto [below, sb] = clip(g, f, inside_out());
   const auto [above, sa] = clip(g, f);
   ASSERT_EQ(below.num_cells(), 1u);
   EXPECT_EQ(below.types[0], CellType::Tetra);
@@ -102,7 +126,7 @@ TEST(Clip, TetrahedronPiecesHaveExactVolumes) {
   // Two points on each side: two wedges.
   const ImplicitFunction g2 = ImplicitFunction::plane({0, 0.25, 0.25}, {0, 1, 1});
   const auto [w1, s1] = clip(g, g2);
-  const auto [w2, s2] = clip(g, g2, {.inside_out = true});
+  const auto [w2, s2] = clip(g, g2, inside_out());
   EXPECT_EQ(w1.types, std::vector<CellType>{CellType::Wedge});
   EXPECT_EQ(w2.types, std::vector<CellType>{CellType::Wedge});
   EXPECT_NEAR(measure(w1) + measure(w2), 1.0 / 6, 1e-7);
@@ -135,7 +159,7 @@ TEST(Clip, EveryCellTypeConservesVolume) {
     EXPECT_GT(whole, 0);
     for (const ImplicitFunction& f : planes) {
       const auto [a, sa] = clip(g, f);
-      const auto [b, sb] = clip(g, f, {.inside_out = true});
+      const auto [b, sb] = clip(g, f, inside_out());
       EXPECT_NEAR(measure(a) + measure(b), whole, 1e-7);
       EXPECT_GT(measure(a), 0);
       EXPECT_GT(measure(b), 0);
@@ -154,7 +178,7 @@ TEST(Clip, EveryCellTypeConservesVolume) {
 TEST(Clip, ImageBySphereIsCrackFreeAndConservative) {
   const ImageData img = box_image(9);
   const ImplicitFunction f = ImplicitFunction::sphere({0.1, -0.05, 0.2}, 0.7);
-  const auto [out, stats] = clip(img, f, {.inside_out = true});
+  const auto [out, stats] = clip(img, f, inside_out());
   const auto [rest, rs] = clip(img, f);
   const double volume = 8.0;
   EXPECT_NEAR(measure(out) + measure(rest), volume, 1e-9);
@@ -214,19 +238,19 @@ TEST(Clip, ImageBySphereIsCrackFreeAndConservative) {
 // area; lines keep their length.
 TEST(Clip, PolyDataAreasAndLengthsAreKept) {
   const auto [surface, s0] =
-      cut(box_image(12), ImplicitFunction::sphere({0, 0, 0}, 0.8), {.triangulate = true});
+      cut(box_image(12), ImplicitFunction::sphere({0, 0, 0}, 0.8), triangles());
   const ImplicitFunction f = ImplicitFunction::plane({0, 0, 0.1}, {0.3, 0.2, 1});
   const auto [a, sa] = clip_polydata(surface, f);
-  const auto [b, sb] = clip_polydata(surface, f, {.inside_out = true});
+  const auto [b, sb] = clip_polydata(surface, f, inside_out());
   EXPECT_NEAR(measure(a) + measure(b), measure(surface), 1e-6);
   EXPECT_GT(a.polys.size(), 0u);
   EXPECT_EQ(a.lines.size(), 0u);
   // Lines: the cut loops of the surface by z = c, clipped by x = 0.
   const auto [loops, s1] = cut(surface, ImplicitFunction::plane({0, 0, 0}, {0, 0, 1}),
-                               {.values = {-0.4, 0.0, 0.4}});
+                               three_values());
   const ImplicitFunction xf = ImplicitFunction::plane({0, 0, 0}, {1, 0, 0});
   const auto [la, s2] = clip_polydata(loops, xf);
-  const auto [lb, s3] = clip_polydata(loops, xf, {.inside_out = true});
+  const auto [lb, s3] = clip_polydata(loops, xf, inside_out());
   EXPECT_NEAR(measure(la) + measure(lb), measure(loops), 1e-6);
   for (std::size_t i = 0; i < la.points.size(); ++i) EXPECT_GE(la.points[i].x, -1e-7);
 }
@@ -234,5 +258,5 @@ TEST(Clip, PolyDataAreasAndLengthsAreKept) {
 TEST(Clip, ValueIsChecked) {
   const UnstructuredGrid g =
       single_cell(CellType::Tetra, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}});
-  EXPECT_THROW((void)clip(g, ImplicitFunction::sphere({0, 0, 0}, 1), {.value = NAN}), Error);
+  EXPECT_THROW((void)clip(g, ImplicitFunction::sphere({0, 0, 0}, 1), at_value(NAN)), Error);
 }

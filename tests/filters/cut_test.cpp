@@ -18,6 +18,22 @@ using namespace isoforge;
 
 namespace {
 
+CutOptions values_opt(std::vector<double> values) {
+  CutOptions o;
+  o.values = std::move(values);
+  return o;
+}
+CutOptions linear_opt() {
+  CutOptions o;
+  o.refine = false;
+  return o;
+}
+CutOptions triangles_opt() {
+  CutOptions o;
+  o.triangulate = true;
+  return o;
+}
+
 Vec3 polygon_area_vector(const PolyData& pd, std::size_t c) {
   const auto ids = pd.polys.cell(c);
   Vec3 n{};
@@ -162,9 +178,9 @@ TEST(Cut, SingleCellsGiveTheirCrossSections) {
 TEST(Cut, ValuesAreChecked) {
   UnstructuredGrid g = single_cell(CellType::Tetra, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}});
   const ImplicitFunction f = ImplicitFunction::plane({0, 0, 0}, {0, 0, 1});
-  EXPECT_THROW((void)cut(g, f, {.values = {}}), Error);
-  EXPECT_THROW((void)cut(g, f, {.values = {NAN}}), Error);
-  EXPECT_THROW((void)cut(g, f, {.values = {0.5, INFINITY}}), Error);
+  EXPECT_THROW((void)cut(g, f, values_opt({})), Error);
+  EXPECT_THROW((void)cut(g, f, values_opt({NAN})), Error);
+  EXPECT_THROW((void)cut(g, f, values_opt({0.5, INFINITY})), Error);
   EXPECT_THROW((void)generate_values(0, 0, 1), Error);
   EXPECT_THROW((void)generate_values(2, 1, 0), Error);
   EXPECT_THROW((void)generate_values(1, 0, 1), Error);
@@ -197,8 +213,8 @@ TEST(Cut, ImagePlaneFastPathMatchesTheGeneralPath) {
   const ImplicitFunction f = ImplicitFunction::plane({0.1, 0.2, 1.3}, {-0.287, 0.3, 0.9579});
   const UnstructuredGrid ug = to_unstructured(img);
   const std::vector<double> values{-0.3, 0.05, 0.4};
-  const auto [fast, fs] = cut(img, f, {.values = values});
-  const auto [slow, ss] = cut(ug, f, {.values = values});
+  const auto [fast, fs] = cut(img, f, values_opt(values));
+  const auto [slow, ss] = cut(ug, f, values_opt(values));
   EXPECT_TRUE(fs.fast_path);
   EXPECT_FALSE(ss.fast_path);
   const std::vector<double> F = values_at_points(f, img);
@@ -289,14 +305,14 @@ TEST(Cut, SphereThroughACurvilinearGridIsClosed) {
     EXPECT_NEAR(dens.get(i), 2 * p.x - p.y + 0.5 * p.z, 1e-5);
   }
   // Without refinement the points are the linear estimates: off the sphere by O(h^2).
-  const auto [rough, rs] = cut(sg, f, {.refine = false});
+  const auto [rough, rs] = cut(sg, f, linear_opt());
   double worst = 0;
   for (std::size_t i = 0; i < rough.points.size(); ++i) {
     worst = std::max(worst, std::abs(f.value(rough.points[i])));
   }
   EXPECT_GT(worst, 1e-4);
   // Triangulated: the same points, every polygon of k points becomes k - 2 triangles.
-  const auto [tri, ts] = cut(sg, f, {.triangulate = true});
+  const auto [tri, ts] = cut(sg, f, triangles_opt());
   EXPECT_EQ(tri.points.size(), pd.points.size());
   EXPECT_EQ(tri.polys.connectivity().size(), 3 * (pd.polys.connectivity().size() - 2 * pd.polys.size()));
 }
@@ -305,10 +321,10 @@ TEST(Cut, SphereThroughACurvilinearGridIsClosed) {
 TEST(Cut, SurfacesGiveClosedLinesAndLinesGivePoints) {
   // A closed surface: the cut of a sampled sphere's volume (from this filter), 3 planes z = c.
   const ImplicitFunction ball = ImplicitFunction::sphere({0, 0, 0}, 1);
-  const auto [surface, s0] = cut(bent_grid(20), ball, {.triangulate = true});
+  const auto [surface, s0] = cut(bent_grid(20), ball, triangles_opt());
   const std::vector<double> values{-0.5, 0.0, 0.5};
   const ImplicitFunction zf = ImplicitFunction::plane({0, 0, 0}, {0, 0, 1});
-  const auto [lines, s1] = cut(surface, zf, {.values = values});
+  const auto [lines, s1] = cut(surface, zf, values_opt(values));
   EXPECT_EQ(lines.polys.size(), 0u);
   ASSERT_EQ(lines.lines.size(), 3u);  // one closed loop per plane
   std::vector<double> F = values_at_points(zf, surface);
@@ -341,11 +357,11 @@ TEST(Cut, DeterministicForAnyThreadCount) {
   PolyData one, two;
   {
     tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 1);
-    one = cut(sg, f, {.values = {-0.2, 0.0}}).output;
+    one = cut(sg, f, values_opt({-0.2, 0.0})).output;
   }
   {
     tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 2);
-    two = cut(sg, f, {.values = {-0.2, 0.0}}).output;
+    two = cut(sg, f, values_opt({-0.2, 0.0})).output;
   }
   EXPECT_TRUE(one == two);
 }
@@ -355,8 +371,9 @@ TEST(Cut, DeterministicForAnyThreadCount) {
 namespace {
 
 StructuredGrid combustor() {
-  return std::get<StructuredGrid>(read(ISOFORGE_DATA_DIR "/combxyz.bin",
-                                       {.plot3d_q = ISOFORGE_DATA_DIR "/combq.bin"}));
+  ReadOptions ro;
+  ro.plot3d_q = ISOFORGE_DATA_DIR "/combq.bin";
+  return std::get<StructuredGrid>(read(ISOFORGE_DATA_DIR "/combxyz.bin", ro));
 }
 
 /// Independent expectation: every crossed edge of the grid's hexahedra with its linearly
@@ -444,7 +461,7 @@ TEST(CutFigures, Fig132HundredPlanes) {
   const auto [lo, hi] = std::minmax_element(F.begin(), F.end());
   const double step = (*hi - *lo) / 101;
   const std::vector<double> values = generate_values(100, *lo + step, *hi - step);
-  const auto [pd, stats] = cut(sg, f, {.values = values});
+  const auto [pd, stats] = cut(sg, f, values_opt(values));
   std::size_t expected = 0;
   for (double c : values) expected += crossed_edges(sg, F, c);
   EXPECT_EQ(pd.points.size(), expected);
@@ -466,7 +483,7 @@ TEST(CutFigures, Fig133TorsoContourLines) {
   const PolyData torso = std::get<PolyData>(read(ISOFORGE_DATA_DIR "/Torso.vtp"));
   const ImplicitFunction f = ImplicitFunction::plane({0, 0, 0}, {0, 1, 0});
   const std::vector<double> values = generate_values(46, 1.5, 136.5);
-  const auto [pd, stats] = cut(torso, f, {.values = values});
+  const auto [pd, stats] = cut(torso, f, values_opt(values));
   EXPECT_EQ(pd.polys.size(), 0u);
   const std::vector<double> F = values_at_points(f, torso);
   std::size_t expected = 0;
