@@ -5,8 +5,9 @@
 ///
 /// A point is *above* when F ≥ c. Cells entirely on the kept side are kept unchanged; cells with
 /// points on both sides are decomposed into simplices (tetrahedra, triangles, lines; quad faces
-/// split along the diagonal from their smallest point id, hexahedra, voxels and wedges around an
-/// added centre point) and each simplex is clipped. Neighbouring cells share their cut points
+/// split along the diagonal from their smallest point id; voxels and hexahedra into 6 tetrahedra
+/// around their main diagonal where their faces allow it, else, like wedges, around an added
+/// centre point) and each simplex is clipped. Neighbouring cells share their cut points
 /// (one per crossed edge), so the output has no cracks. Point arrays are interpolated, cell
 /// arrays copied from the cell each piece came from.
 
