@@ -40,6 +40,8 @@
 #include "isoforge/filters/glyph.hpp"
 #include "isoforge/filters/mask_points.hpp"
 #include "isoforge/filters/tube.hpp"
+#include "isoforge/filters/clip.hpp"
+#include "isoforge/filters/cut.hpp"
 #include "isoforge/fit/fit_primitive.hpp"
 #include "isoforge/fit/refine.hpp"
 #include "isoforge/implicit/function.hpp"

@@ -32,5 +32,7 @@ void add_surface_command(CLI::App& app, Context& ctx);
 void add_glyph_command(CLI::App& app, Context& ctx);
 void add_normals_command(CLI::App& app, Context& ctx);
 void add_tube_command(CLI::App& app, Context& ctx);
+void add_cut_command(CLI::App& app, Context& ctx);
+void add_clip_command(CLI::App& app, Context& ctx);
 
 }  // namespace isoforge::cli

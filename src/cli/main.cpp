@@ -133,6 +133,8 @@ int main(int argc, char** argv) {
   add_glyph_command(app, ctx);
   add_normals_command(app, ctx);
   add_tube_command(app, ctx);
+  add_cut_command(app, ctx);
+  add_clip_command(app, ctx);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {  // --help, --version

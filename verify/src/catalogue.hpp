@@ -78,5 +78,6 @@ void add_decimate_cases(std::vector<Case>& cases);  ///< decimate/ (certified, c
 void add_probe_cases(std::vector<Case>& cases);     ///< probe/ (every cell type, linear fields)
 void add_threshold_cases(std::vector<Case>& cases);  ///< surface/, threshold/
 void add_glyph_cases(std::vector<Case>& cases);     ///< glyph/, normals/, tube/
+void add_cut_cases(std::vector<Case>& cases);       ///< cut/, clip/ (on F = c, closed, conservative)
 
 }  // namespace isoforge::verify

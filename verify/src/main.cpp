@@ -81,6 +81,7 @@ int main(int argc, char** argv) {
   add_decimate_cases(catalogue);
   add_probe_cases(catalogue);
   add_glyph_cases(catalogue);
+  add_cut_cases(catalogue);
 
   app.set_version_flag("--version", std::string(kVersion));
   bool list = false, all = false, quick = false, verbose = false;
