@@ -70,16 +70,12 @@ void add_normals_command(CLI::App& app, Context& ctx) {
     bar.stage("reading");
     ReadOptions ro;
     ro.plot3d_q = args->q;
-    Dataset ds = read_input(args->in, bar, ro);
-    auto* input = std::get_if<PolyData>(&ds);
-    if (!input) {
-      throw Error(fmt::format("normals: {} is {}; only polygonal data has surface normals",
-                              args->in, dataset_type_name(ds)));
-    }
+    const PolyData input =
+        read_polydata(args->in, bar, "normals: only polygonal data has surface normals", ro);
     bar.stage("normals");
     o.progress = bar.callback();
     const auto t0 = std::chrono::steady_clock::now();
-    auto [out, stats] = compute_normals(*input, o);
+    auto [out, stats] = compute_normals(input, o);
     const double ms = elapsed_ms(t0);
     write_output(out, args->out, bar);
     bar.finish();

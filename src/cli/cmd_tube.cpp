@@ -76,20 +76,16 @@ void add_tube_command(CLI::App& app, Context& ctx) {
     bar.stage("reading");
     ReadOptions ro;
     ro.plot3d_q = args->q;
-    Dataset ds = read_input(args->in, bar, ro);
-    auto* input = std::get_if<PolyData>(&ds);
-    if (!input) {
-      throw Error(fmt::format("tube: {} is {}; tubes go around the lines of polygonal data",
-                              args->in, dataset_type_name(ds)));
-    }
-    if (input->lines.empty()) {
+    const PolyData input =
+        read_polydata(args->in, bar, "tube: tubes go around the lines of polygonal data", ro);
+    if (input.lines.empty()) {
       throw Error(fmt::format("tube: {} has no lines (it has {} polygons, {} vertices)", args->in,
-                              input->polys.size(), input->verts.size()));
+                              input.polys.size(), input.verts.size()));
     }
     bar.stage("tubing");
     o.progress = bar.callback();
     const auto t0 = std::chrono::steady_clock::now();
-    auto [out, stats] = tube(*input, o);
+    auto [out, stats] = tube(input, o);
     const double ms = elapsed_ms(t0);
     write_output(out, args->out, bar);
     bar.finish();

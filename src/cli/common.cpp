@@ -164,8 +164,9 @@ Dataset read_input(const std::string& path, ProgressBar& bar, ReadOptions option
   return read(path, options);
 }
 
-PolyData read_polydata(const std::string& path, ProgressBar& bar, std::string_view why) {
-  Dataset ds = read_input(path, bar);
+PolyData read_polydata(const std::string& path, ProgressBar& bar, std::string_view why,
+                       ReadOptions options) {
+  Dataset ds = read_input(path, bar, std::move(options));
   if (auto* pd = std::get_if<PolyData>(&ds)) return std::move(*pd);
   const auto colon = why.find(": ");
   throw Error(fmt::format("{}: {} is {}; {}", why.substr(0, colon), path, dataset_type_name(ds),

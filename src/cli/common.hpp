@@ -100,7 +100,7 @@ void require_vdb_input(const CLI::Option* grid_option, const std::string& input)
 /// `read_input` of a file that must hold polygonal data. \throw Error "<why>: <path> is <type>"
 /// otherwise, e.g. why = "decimate: only polygonal data can be decimated".
 [[nodiscard]] PolyData read_polydata(const std::string& path, ProgressBar& bar,
-                                     std::string_view why);
+                                     std::string_view why, ReadOptions options = {});
 /// `write(ds, path, options)` as the stage "writing" of `bar`.
 void write_output(DatasetRef ds, const std::filesystem::path& path, ProgressBar& bar,
                   WriteOptions options = {});

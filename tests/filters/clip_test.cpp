@@ -12,8 +12,10 @@
 
 #include "isoforge/core/cell.hpp"
 #include "isoforge/filters/cut.hpp"
+#include "support/sample_datasets.hpp"
 
 using namespace isoforge;
+using isoforge::test::single_cell;
 
 namespace {
 
@@ -79,17 +81,6 @@ ClipOptions at_value(double v) {
   ClipOptions o;
   o.value = v;
   return o;
-}
-
-UnstructuredGrid single_cell(CellType type, std::vector<Vec3> pts) {
-  UnstructuredGrid g;
-  std::vector<Index> ids;
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    g.points.push_back(pts[i]);
-    ids.push_back(static_cast<Index>(i));
-  }
-  g.add_cell(type, ids);
-  return g;
 }
 
 ImageData box_image(Index n) {

@@ -13,8 +13,10 @@
 #include "isoforge/core/cell.hpp"
 #include "isoforge/implicit/sample.hpp"
 #include "isoforge/io/io.hpp"
+#include "support/sample_datasets.hpp"
 
 using namespace isoforge;
+using isoforge::test::single_cell;
 
 namespace {
 
@@ -89,17 +91,6 @@ std::vector<double> values_at_points(const ImplicitFunction& f, DatasetRef ds) {
   std::vector<double> F(num_points(ds));
   for (std::size_t i = 0; i < F.size(); ++i) F[i] = f.value(point(ds, static_cast<Index>(i)));
   return F;
-}
-
-UnstructuredGrid single_cell(CellType type, std::vector<Vec3> pts) {
-  UnstructuredGrid g;
-  std::vector<Index> ids;
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    g.points.push_back(pts[i]);
-    ids.push_back(static_cast<Index>(i));
-  }
-  g.add_cell(type, ids);
-  return g;
 }
 
 /// A curvilinear grid: the box [-1.2, 1.2]^3 sampled n^3 with a smooth bend (non-planar cells).

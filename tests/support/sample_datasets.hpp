@@ -143,4 +143,16 @@ inline ImageData sphere_distance_image(const std::string& name = "distance") {
   return img;
 }
 
+/// One cell of `type` over the points `pts`, in order.
+inline UnstructuredGrid single_cell(CellType type, const std::vector<Vec3>& pts) {
+  UnstructuredGrid g;
+  std::vector<Index> ids;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    g.points.push_back(pts[i]);
+    ids.push_back(static_cast<Index>(i));
+  }
+  g.add_cell(type, ids);
+  return g;
+}
+
 }  // namespace isoforge::test
