@@ -14,7 +14,8 @@
 #                 make test, and its three CGAL translation units and decimation cases would
 #                 take a quarter of CI's 45 minutes under the sanitizers; so is the headless
 #                 browser test (a minute of Chromium; the sanitized HTTP server it talks to is
-#                 tested by cli_gltf_view)
+#                 tested by cli_gltf_view) and cli_examples (every --help and README example:
+#                 4.5 minutes under the sanitizers; the commands' own CLI tests run there)
 #   make install  install into PREFIX (default /usr/local); the installed programs find the
 #                 library through a relative RPATH, so the prefix can be moved
 #
@@ -135,7 +136,7 @@ sanitize: deps
 	$(SANITIZE_CONFIGURE)
 	cmake --build $(SANITIZE_BUILD) -j $(JOBS)
 	cd $(SANITIZE_BUILD) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-	  ctest --output-on-failure -j $(JOBS) --timeout 1800 -E '^viewer_browser$$'
+	  ctest --output-on-failure -j $(JOBS) --timeout 1800 -E '^(viewer_browser|cli_examples)$$'
 
 install: build
 	cmake --install $(BUILD) --prefix $(PREFIX)
