@@ -137,20 +137,22 @@ void check_probe(CaseResult& r, DatasetRef ds, const std::vector<Vec3>& pts,
 
 /// Random points of the box [-0.1, 1.1]^3, inside iff in [0, 1]^3 (points within 1e-6 of a
 /// face are left out: their side is a matter of rounding).
+// Appends p with whether it lies in the unit cube, unless it is within 1e-6 of a face (where
+// inside or outside is up to rounding).
+void add_box_point(const Vec3& p, std::vector<Vec3>& pts, std::vector<bool>& in) {
+  bool inside = true;
+  for (int a = 0; a < 3; ++a) {
+    if (std::abs(p[a]) < 1e-6 || std::abs(p[a] - 1) < 1e-6) return;
+    inside = inside && p[a] >= 0 && p[a] <= 1;
+  }
+  pts.push_back(p);
+  in.push_back(inside);
+}
+
 void box_points(std::size_t n, unsigned seed, std::vector<Vec3>& pts, std::vector<bool>& in) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-0.1, 1.1);
-  while (pts.size() < n) {
-    const Vec3 p{u(rng), u(rng), u(rng)};
-    bool inside = true, near = false;
-    for (int a = 0; a < 3; ++a) {
-      inside = inside && p[a] >= 0 && p[a] <= 1;
-      near = near || std::abs(p[a]) < 1e-6 || std::abs(p[a] - 1) < 1e-6;
-    }
-    if (near) continue;
-    pts.push_back(p);
-    in.push_back(inside);
-  }
+  while (pts.size() < n) add_box_point({u(rng), u(rng), u(rng)}, pts, in);
 }
 
 void volume_case(CaseResult& r, CellType type) {
@@ -254,15 +256,8 @@ void curvilinear_case(CaseResult& r) {
   for (int k = 0; k < 40; ++k)
     for (int j = 0; j < 40; ++j)
       for (int i = 0; i < 40; ++i) {
-        const Vec3 p = Vec3{double(i), double(j), double(k)} * (1.1 / 39) - Vec3{0.05, 0.05, 0.05};
-        bool inside = true, near = false;
-        for (int a = 0; a < 3; ++a) {
-          inside = inside && p[a] >= 0 && p[a] <= 1;
-          near = near || std::abs(p[a]) < 1e-6 || std::abs(p[a] - 1) < 1e-6;
-        }
-        if (near) continue;
-        pts.push_back(p);
-        in.push_back(inside);
+        add_box_point(Vec3{double(i), double(j), double(k)} * (1.1 / 39) - Vec3{0.05, 0.05, 0.05},
+                      pts, in);
       }
   check_probe(r, g, pts, in);
 }
