@@ -2,11 +2,34 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <numeric>
 
 namespace isoforge {
 namespace {
+
+// A freed large block is kept and handed to the next request of the same size (memory already
+// mapped), while live blocks stay distinct; a zero-filling resize of a reused block is zeros.
+TEST(Buffer, FreedLargeBlocksAreReused) {
+  const std::size_t n = detail::kLargeBlockBytes / sizeof(double) + 5;
+  const double* first = nullptr;
+  {
+    Buffer<double> a(n);
+    std::fill(a.begin(), a.end(), 42.0);
+    first = a.data();
+  }
+  Buffer<double> b(n);
+  EXPECT_EQ(b.data(), first);
+  Buffer<double> c;
+  c.resize(n, 0.0);
+  EXPECT_NE(c.data(), b.data());
+  b.clear();
+  b.shrink_to_fit();  // back to the cache
+  Buffer<double> d;
+  d.resize(n, 0.0);
+  EXPECT_EQ(std::accumulate(d.begin(), d.end(), 0.0), 0.0);
+}
 
 TEST(Buffer, LargeBlocksAreHugePageAligned) {
   Buffer<float> b;
