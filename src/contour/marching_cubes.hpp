@@ -30,6 +30,7 @@
 #include "bit_rows.hpp"
 #include "contour_output.hpp"
 #include "isoforge/core/parallel.hpp"
+#include "isoforge/core/prefetch.hpp"
 #include "tables.hpp"
 
 namespace isoforge::contour_detail {
@@ -337,15 +338,6 @@ class LatticeContourer {
   // once, in pass 1). Some rows ahead, the cache lines of the three sample rows (j, k),
   // (j + 1, k) and (j, k + 1) that hold crossed edges' ends are prefetched.
   static constexpr Index kPrefetchRows = 8;
-  // GCC deletes a loop that only calls __builtin_prefetch (it counts as no side effect, and
-  // C++ loops may be assumed to terminate), so on x86 the instruction is written out.
-  static void prefetch(const T* p) {
-#if defined(__x86_64__) || defined(__i386__)
-    asm volatile("prefetcht0 %0" : : "m"(*reinterpret_cast<const char*>(p)));
-#else
-    __builtin_prefetch(p);
-#endif
-  }
   void prefetch_row(Index row) const {
     const RowCounts& rc = counts_[static_cast<std::size_t>(row)];
     if (rc.x + rc.y + rc.z == 0) return;
@@ -362,9 +354,9 @@ class LatticeContourer {
         const Index g = std::countr_zero(m) / kLine * kLine;  // first sample of the line
         m &= g + kLine >= 64 ? Word{0} : ~Word{0} << (g + kLine);
         const Index i = 64 * w + g;
-        prefetch(v_ + id(i, j, k));
-        if (b10) prefetch(v_ + id(i, j + 1, k));
-        if (b01) prefetch(v_ + id(i, j, k + 1));
+        isoforge::prefetch(v_ + id(i, j, k));
+        if (b10) isoforge::prefetch(v_ + id(i, j + 1, k));
+        if (b01) isoforge::prefetch(v_ + id(i, j, k + 1));
       }
     }
   }
