@@ -20,6 +20,7 @@
 #include "cut_internal.hpp"
 #include "isoforge/core/interpolate.hpp"
 #include "isoforge/core/parallel.hpp"
+#include "isoforge/core/prefetch.hpp"
 
 namespace isoforge::cutting {
 
@@ -87,100 +88,115 @@ std::optional<PolyData> cut_image_plane(const ImageData& image, const LinearFiel
            Z[static_cast<std::size_t>(k)];
   };
 
-  // Pass 1: the crossing of every grid line, by bisection on the monotone values. For axis a,
-  // line (u, v) holds the points along a with the other two indices (u, v) (i fastest first).
-  // `first[a][line]`: the number of leading points on the side the line starts from in the
-  // direction of increase (below when the slope is >= 0); cross = that count - 1 if the line
-  // changes side, else -1.
-  const std::array<Index, 3> n{nx, ny, nz};
-  const std::array<double, 3> slope{dx, dy, dz};
-  // 32-bit line data (memory traffic is most of the cost): lines and points stay below 2^31.
-  std::array<std::vector<std::int32_t>, 3> lead;
-  std::array<std::vector<std::int32_t>, 3> ids;  // point id of each line's crossing, or -1
+  // Pass 1: where the plane crosses each grid row along x (row r = j + ny k). `lead[r]`: the
+  // number of leading points of the row, those on the side it starts from in the direction of
+  // increase (below, G < 0, when dx >= 0; above otherwise). Every side of every grid point
+  // follows from these numbers, since G is monotone along x: point i of row r is above iff
+  // i >= lead[r] (rising) or i < lead[r] (falling). 32-bit: memory traffic is most of the cost.
+  const bool rising = dx >= 0;
+  const std::size_t grid_rows = static_cast<std::size_t>(ny * nz);
+  Buffer<std::int32_t> lead(grid_rows);
   std::atomic<bool> exact{false};
-  for (int a = 0; a < 3; ++a) {
-    const int ua = a == 0 ? 1 : 0, va = a == 2 ? 1 : 2;
-    const Index nu = n[static_cast<std::size_t>(ua)], nv = n[static_cast<std::size_t>(va)];
-    const Index len = n[static_cast<std::size_t>(a)];
-    const bool rising = slope[static_cast<std::size_t>(a)] >= 0;
-    auto& L = lead[static_cast<std::size_t>(a)];
-    L.resize(static_cast<std::size_t>(nu * nv));
-    parallel_for_range(static_cast<std::size_t>(nu * nv), 4096, [&](std::size_t l0, std::size_t l1) {
-      for (std::size_t l = l0; l < l1; ++l) {
-        const Index u = static_cast<Index>(l) % nu, v = static_cast<Index>(l) / nu;
-        auto value = [&](Index t) {
-          std::array<Index, 3> ijk{};
-          ijk[static_cast<std::size_t>(a)] = t;
-          ijk[static_cast<std::size_t>(ua)] = u;
-          ijk[static_cast<std::size_t>(va)] = v;
-          return G(ijk[0], ijk[1], ijk[2]);
-        };
-        // Leading side: below (G < 0) when rising, above (G >= 0) otherwise.
-        auto leading = [&](Index t) { return rising ? value(t) < 0 : value(t) >= 0; };
-        // The first index not on the leading side, in [0, len]: from the real crossing
-        // t = -G(0) / slope, then stepped to where the (monotone) rounded values switch.
-        const double sl = slope[static_cast<std::size_t>(a)];
-        Index lo = 0;
-        if (sl != 0) {
-          const double t = std::ceil(-value(0) / sl);
-          lo = t <= 0 ? 0 : (t >= static_cast<double>(len) ? len : static_cast<Index>(t));
-        } else {
-          lo = leading(0) ? len : 0;
-        }
-        while (lo > 0 && !leading(lo - 1)) --lo;
-        while (lo < len && leading(lo)) ++lo;
-        L[l] = static_cast<std::int32_t>(lo);
-        if (lo > 0 && lo < len && (value(lo - 1) == 0 || value(lo) == 0)) {
-          exact.store(true, std::memory_order_relaxed);
-        }
+  const double inv_dx = dx != 0 ? 1 / dx : 0;
+  parallel_for_range(grid_rows, 4096, [&](std::size_t r0, std::size_t r1) {
+    bool zero = false;
+    for (std::size_t r = r0; r < r1; ++r) {
+      const Index j = static_cast<Index>(r) % ny, k = static_cast<Index>(r) / ny;
+      const double yz = Y[static_cast<std::size_t>(j)], zk = Z[static_cast<std::size_t>(k)];
+      auto value = [&](Index i) { return (X[static_cast<std::size_t>(i)] + yz) + zk; };
+      auto leading = [&](Index i) { return rising ? value(i) < 0 : value(i) >= 0; };
+      // From the real crossing -G(0) / dx, stepped to where the rounded values switch.
+      Index lo = 0;
+      if (dx != 0) {
+        const double t = std::ceil(-value(0) * inv_dx);
+        lo = t <= 0 ? 0 : (t >= static_cast<double>(nx) ? nx : static_cast<Index>(t));
+      } else {
+        lo = leading(0) ? nx : 0;
       }
-    });
-    if (exact.load()) return std::nullopt;
-  }
-  // Point ids: x-line crossings first, then y, then z, each in line order.
-  std::size_t np = 0;
-  std::array<std::size_t, 3> first_id{};
-  for (int a = 0; a < 3; ++a) {
-    const Index len = n[static_cast<std::size_t>(a)];
-    auto& L = lead[static_cast<std::size_t>(a)];
-    auto& I = ids[static_cast<std::size_t>(a)];
-    I.resize(L.size());
-    first_id[static_cast<std::size_t>(a)] = np;
-    for (std::size_t l = 0; l < L.size(); ++l) {
-      I[l] = (L[l] > 0 && L[l] < len) ? static_cast<std::int32_t>(np++) : -1;
+      while (lo > 0 && !leading(lo - 1)) --lo;
+      while (lo < nx && leading(lo)) ++lo;
+      lead[r] = static_cast<std::int32_t>(lo);
+      // Zeros of a monotone row sit next to its switch: at lo (rising) or lo - 1 (falling).
+      zero = zero || (lo < nx && value(lo) == 0) || (lo > 0 && value(lo - 1) == 0);
     }
-  }
+    if (zero) exact.store(true, std::memory_order_relaxed);
+  });
+  if (exact.load()) return std::nullopt;
 
-  // Pass 2: count the polygons of each voxel row (j, k), over its active range only.
+  // The output points are the crossed grid edges, owned by grid rows: row r owns its x edge
+  // crossing (if any), then the y edges (i, j, k)-(i, j + 1, k) and the z edges
+  // (i, j, k)-(i, j, k + 1) it starts, for i in a range given by two leads.
+  auto x_points = [&](std::size_t r) -> Index { return lead[r] > 0 && lead[r] < nx ? 1 : 0; };
+  auto span_of = [&](std::size_t r, std::size_t q) {  // edges between rows r and q: [lo, hi)
+    const Index a = lead[r], b = lead[q];
+    return std::pair<Index, Index>{std::min(a, b), std::max(a, b)};
+  };
+  // The prefix counts of grid rows (points) and voxel rows (polygons, ids) share one block: on
+  // small pages each array would be first touched with hundreds of page faults.
   const Index cx = nx - 1, cy = ny - 1, cz = nz - 1;
   const std::size_t rows = static_cast<std::size_t>(cy * cz);
+  Buffer<std::size_t> counts(grid_rows + 1 + 2 * (rows + 1));
+  std::size_t* const row_points = counts.data();
+  std::size_t* const row_polys = row_points + grid_rows + 1;
+  std::size_t* const row_ids = row_polys + rows + 1;
+  row_points[0] = 0;
+  parallel_for_range(grid_rows, 4096, [&](std::size_t r0, std::size_t r1) {
+    for (std::size_t r = r0; r < r1; ++r) {
+      const Index j = static_cast<Index>(r) % ny, k = static_cast<Index>(r) / ny;
+      Index count = x_points(r);
+      if (j + 1 < ny) {
+        const auto [lo, hi] = span_of(r, r + 1);
+        count += hi - lo;
+      }
+      if (k + 1 < nz) {
+        const auto [lo, hi] = span_of(r, r + static_cast<std::size_t>(ny));
+        count += hi - lo;
+      }
+      row_points[r + 1] = static_cast<std::size_t>(count);
+    }
+  });
+  for (std::size_t r = 0; r < grid_rows; ++r) row_points[r + 1] += row_points[r];
+  const std::size_t np = row_points[grid_rows];
+
+  // Pass 2: count the polygons of each voxel row (j, k), over its active range only.
   const VoxelTable& table = voxel_table();
-  std::vector<std::size_t> row_polys(rows + 1), row_ids(rows + 1);
   row_polys[0] = row_ids[0] = 0;
-  const auto& LX = lead[0];
-  auto voxel_case = [&](Index i, Index j, Index k) {
+  // The grid rows of voxel row (j, k)'s corners q = di + 2 dj + 4 dk (without di).
+  auto corner_rows = [&](Index j, Index k, std::size_t (&g)[4]) {
+    for (int q = 0; q < 4; ++q) {
+      g[q] = static_cast<std::size_t>((j + (q & 1)) + ny * (k + (q >> 1)));
+    }
+  };
+  // Case of voxel i: bit di + 2 dj + 4 dk set when that corner is above.
+  auto voxel_case = [&](Index i, const Index (&b)[4]) {
     int cs = 0;
-    for (int q = 0; q < 8; ++q) {
-      if (G(i + (q & 1), j + ((q >> 1) & 1), k + ((q >> 2) & 1)) >= 0) cs |= 1 << q;
+    for (int q = 0; q < 4; ++q) {
+      const bool a0 = rising ? i >= b[q] : i < b[q];
+      const bool a1 = rising ? i + 1 >= b[q] : i + 1 < b[q];
+      const int bit = (q & 1) * 2 + (q >> 1) * 4;
+      cs |= (a0 ? 1 << bit : 0) | (a1 ? 2 << bit : 0);
     }
     return cs;
   };
-  // The voxels of row (j, k) with points on both sides: between the crossings of its 4 lines.
-  auto active = [&](Index j, Index k) {
-    Index lo = nx, hi = 0;
-    for (int q = 0; q < 4; ++q) {
-      const Index b = LX[static_cast<std::size_t>((j + (q & 1)) + ny * (k + (q >> 1)))];
-      lo = std::min(lo, b), hi = std::max(hi, b);
-    }
+  // The voxels of a row with corners on both sides: between the switches of its 4 grid rows.
+  auto active = [&](const Index (&b)[4]) {
+    const Index lo = std::min({b[0], b[1], b[2], b[3]}), hi = std::max({b[0], b[1], b[2], b[3]});
     return std::pair<Index, Index>{std::max<Index>(lo - 1, 0), std::min<Index>(hi - 1, cx - 1)};
   };
-  parallel_for_range(rows, 256, [&](std::size_t r0, std::size_t r1) {
+  auto leads_of = [&](std::size_t r, std::size_t (&g)[4], Index (&b)[4]) {
+    const Index j = static_cast<Index>(r) % cy, k = static_cast<Index>(r) / cy;
+    corner_rows(j, k, g);
+    for (int q = 0; q < 4; ++q) b[q] = lead[g[q]];
+  };
+  parallel_for_range(rows, 1024, [&](std::size_t r0, std::size_t r1) {
+    std::size_t g[4];
+    Index b[4];
     for (std::size_t r = r0; r < r1; ++r) {
-      const Index j = static_cast<Index>(r) % cy, k = static_cast<Index>(r) / cy;
-      const auto [i0, i1] = active(j, k);
+      leads_of(r, g, b);
+      const auto [i0, i1] = active(b);
       std::size_t polys = 0, vids = 0;
       for (Index i = i0; i <= i1; ++i) {
-        const auto cs = static_cast<std::size_t>(voxel_case(i, j, k));
+        const auto cs = static_cast<std::size_t>(voxel_case(i, b));
         for (int l = 0; l < table.loops[cs]; ++l) {
           const std::size_t sz = table.sizes[cs][static_cast<std::size_t>(l)];
           polys += options.triangulate ? sz - 2 : 1;
@@ -204,35 +220,51 @@ std::optional<PolyData> cut_image_plane(const ImageData& image, const LinearFiel
   if (options.interpolate_attributes) {
     interp = AttributeInterpolator(image.point_data, image.cell_data, np, npolys);
   }
-  // Pass 3: the polygons, written in place.
-  std::array<Index, 12> off{};  // offset of each edge code's line from the voxel's base line
-  for (int o = 0; o < 4; ++o) {
-    off[static_cast<std::size_t>(o)] = (o & 1) + ny * (o >> 1);
-    off[static_cast<std::size_t>(4 + o)] = (o & 1) + nx * (o >> 1);
-    off[static_cast<std::size_t>(8 + o)] = (o & 1) + nx * (o >> 1);
-  }
+  // Pass 3: the polygons, written in place. The point of a voxel edge is found in the grid row
+  // that owns it (see above).
   const bool cell_arrays = interp.has_cell_arrays();
-  parallel_for_range(rows, 256, [&](std::size_t r0, std::size_t r1) {
+  parallel_for_range(rows, 1024, [&](std::size_t r0, std::size_t r1) {
     Index loop[16];
+    std::size_t g[4];
+    Index b[4];
     for (std::size_t r = r0; r < r1; ++r) {
       if (row_polys[r + 1] == row_polys[r]) continue;
+      leads_of(r, g, b);
       const Index j = static_cast<Index>(r) % cy, k = static_cast<Index>(r) / cy;
       std::size_t p = row_polys[r], at = row_ids[r];
-      const auto [i0, i1] = active(j, k);
-      const std::int32_t* line[3] = {ids[0].data() + j + ny * k, ids[1].data() + nx * k,
-                                     ids[2].data() + nx * j};
+      // Per edge code: the owning grid row's first point id and the start of its range, so
+      // that id = base + (i + di) - start (x edges: the row's single crossing, start = i).
+      Index base[12], start[12];
+      for (int q = 0; q < 4; ++q) {
+        const auto e = static_cast<std::size_t>(q);
+        // x edges: code dj + 2 dk, grid row g[code].
+        base[e] = static_cast<Index>(row_points[g[e]]);
+        // y edges: code 4 + di + 2 dk, grid row (j, k + dk) = g[2 dk]; y points follow x's.
+        const std::size_t gy = g[(q >> 1) * 2];
+        base[4 + e] = static_cast<Index>(row_points[gy]) + x_points(gy);
+        start[4 + e] = span_of(gy, gy + 1).first - (q & 1);
+        // z edges: code 8 + di + 2 dj, grid row (j + dj, k) = g[dj]; z points follow y's.
+        const std::size_t gz = g[q >> 1];
+        Index before = x_points(gz);
+        if (j + (q >> 1) + 1 < ny) {
+          const auto [lo, hi] = span_of(gz, gz + 1);
+          before += hi - lo;
+        }
+        base[8 + e] = static_cast<Index>(row_points[gz]) + before;
+        start[8 + e] = span_of(gz, gz + static_cast<std::size_t>(ny)).first - (q & 1);
+      }
+      const auto [i0, i1] = active(b);
       for (Index i = i0; i <= i1; ++i) {
-        const auto cs = static_cast<std::size_t>(voxel_case(i, j, k));
+        const auto cs = static_cast<std::size_t>(voxel_case(i, b));
         const int loops = table.loops[cs];
         if (loops == 0) continue;
         const Index cell = i + cx * (j + cy * k);
-        const Index shift[3] = {0, i, i};
         std::size_t e = 0;
         for (int l = 0; l < loops; ++l) {
           const int sz = table.sizes[cs][static_cast<std::size_t>(l)];
           for (int q = 0; q < sz; ++q, ++e) {
-            const int code = table.edges[cs][e];
-            loop[q] = line[code >> 2][shift[code >> 2] + off[static_cast<std::size_t>(code)]];
+            const auto code = static_cast<std::size_t>(table.edges[cs][e]);
+            loop[q] = code < 4 ? base[code] : base[code] + i - start[code];
           }
           if (options.triangulate) {
             for (int t = 1; t + 1 < sz; ++t) {
@@ -251,36 +283,71 @@ std::optional<PolyData> cut_image_plane(const ImageData& image, const LinearFiel
   });
   out.polys = CellArray(std::move(offsets), std::move(conn));
 
-  // Pass 4: the points, interpolated along their lines.
+  // Pass 4: the points, by grid row (consecutive rows read neighbouring memory), interpolated
+  // along their edges. The input values at the ends of a row's edges are scattered over three
+  // grid rows, cache misses by the time they are read: some rows ahead, their cache lines are
+  // prefetched.
+  float* xyz = out.points.floats().data();
+  const bool point_arrays = interp.has_point_arrays();
+  std::vector<std::pair<const std::byte*, std::size_t>> sources;  // each point array: base, tuple bytes
+  if (point_arrays) {
+    for (const DataArray& a : image.point_data) {
+      sources.emplace_back(a.bytes(), scalar_size(a.type()) * static_cast<std::size_t>(a.components()));
+    }
+  }
+  auto prefetch_row = [&](std::size_t r) {
+    if (row_points[r] == row_points[r + 1]) return;
+    const Index j = static_cast<Index>(r) % ny, k = static_cast<Index>(r) / ny;
+    Index lo = lead[r] > 0 ? lead[r] - 1 : 0;
+    if (j + 1 < ny) lo = std::min<Index>(lo, lead[r + 1]);
+    if (k + 1 < nz) lo = std::min<Index>(lo, lead[r + static_cast<std::size_t>(ny)]);
+    for (const auto& [base, bytes] : sources) {
+      prefetch(base + bytes * static_cast<std::size_t>(image.point_id(lo, j, k)));
+      if (j + 1 < ny) prefetch(base + bytes * static_cast<std::size_t>(image.point_id(lo, j + 1, k)));
+      if (k + 1 < nz) prefetch(base + bytes * static_cast<std::size_t>(image.point_id(lo, j, k + 1)));
+    }
+  };
+  constexpr std::size_t kPrefetchRows = 8;
+  parallel_for_range(grid_rows, 1024, [&](std::size_t r0, std::size_t r1) {
+    if (!sources.empty()) {
+      for (std::size_t r = r0; r < std::min(r1, r0 + kPrefetchRows); ++r) prefetch_row(r);
+    }
+    for (std::size_t r = r0; r < r1; ++r) {
+      if (!sources.empty() && r + kPrefetchRows < r1) prefetch_row(r + kPrefetchRows);
+      std::size_t id = row_points[r];
+      if (id == row_points[r + 1]) continue;
+      const Index j = static_cast<Index>(r) % ny, k = static_cast<Index>(r) / ny;
+      // The point on edge (i, j, k) + t (unit step along `axis`).
+      auto emit = [&](Index i, Index j1, Index k1, int axis, double g0, double g1) {
+        const double t = g0 / (g0 - g1);
+        Vec3 q = image.point(i, j, k);
+        q[axis] += t * s[axis];
+        float* w = xyz + 3 * id;
+        w[0] = static_cast<float>(q.x), w[1] = static_cast<float>(q.y), w[2] = static_cast<float>(q.z);
+        if (point_arrays) {
+          const Index i1 = axis == 0 ? i + 1 : i;
+          interp.interpolate(id, static_cast<std::size_t>(image.point_id(i, j, k)),
+                             static_cast<std::size_t>(image.point_id(i1, j1, k1)), t);
+        }
+        ++id;
+      };
+      if (x_points(r) != 0) {
+        const Index i = lead[r] - 1;
+        emit(i, j, k, 0, G(i, j, k), G(i + 1, j, k));
+      }
+      if (j + 1 < ny) {
+        const auto [lo, hi] = span_of(r, r + 1);
+        for (Index i = lo; i < hi; ++i) emit(i, j + 1, k, 1, G(i, j, k), G(i, j + 1, k));
+      }
+      if (k + 1 < nz) {
+        const auto [lo, hi] = span_of(r, r + static_cast<std::size_t>(ny));
+        for (Index i = lo; i < hi; ++i) emit(i, j, k + 1, 2, G(i, j, k), G(i, j, k + 1));
+      }
+    }
+  });
   DataArray value_ids = DataArray::uninitialized("CutValueIndex", ScalarType::Int32, 1, np);
   auto vids = value_ids.values<std::int32_t>();
   std::fill(vids.begin(), vids.end(), value_index);
-  for (int a = 0; a < 3; ++a) {
-    const int ua = a == 0 ? 1 : 0, va = a == 2 ? 1 : 2;
-    const Index nu = n[static_cast<std::size_t>(ua)];
-    const auto& L = lead[static_cast<std::size_t>(a)];
-    const auto& I = ids[static_cast<std::size_t>(a)];
-    parallel_for_range(L.size(), 4096, [&](std::size_t l0, std::size_t l1) {
-      for (std::size_t l = l0; l < l1; ++l) {
-        if (I[l] < 0) continue;
-        const Index u = static_cast<Index>(l) % nu, v = static_cast<Index>(l) / nu;
-        std::array<Index, 3> p0{}, p1{};
-        p0[static_cast<std::size_t>(a)] = L[l] - 1;
-        p0[static_cast<std::size_t>(ua)] = u;
-        p0[static_cast<std::size_t>(va)] = v;
-        p1 = p0;
-        ++p1[static_cast<std::size_t>(a)];
-        const double g0 = G(p0[0], p0[1], p0[2]), g1 = G(p1[0], p1[1], p1[2]);
-        const double t = g0 / (g0 - g1);
-        Vec3 q = image.point(p0[0], p0[1], p0[2]);
-        q[a] += t * s[a];
-        const auto out_id = static_cast<std::size_t>(I[l]);
-        out.points.set(out_id, q);
-        interp.interpolate(out_id, static_cast<std::size_t>(image.point_id(p0[0], p0[1], p0[2])),
-                           static_cast<std::size_t>(image.point_id(p1[0], p1[1], p1[2])), t);
-      }
-    });
-  }
   interp.move_into(out.point_data, out.cell_data);
   out.point_data.add(std::move(value_ids));
   return out;

@@ -201,54 +201,73 @@ TEST(Cut, ImagePlaneFastPathMatchesTheGeneralPath) {
   DataArray cid("cell", ScalarType::Int32, 1, img.num_cells());
   for (std::size_t i = 0; i < img.num_cells(); ++i) cid.set(i, 0, static_cast<double>(i));
   img.cell_data.add(std::move(cid));
-  const ImplicitFunction f = ImplicitFunction::plane({0.1, 0.2, 1.3}, {-0.287, 0.3, 0.9579});
   const UnstructuredGrid ug = to_unstructured(img);
   const std::vector<double> values{-0.3, 0.05, 0.4};
-  const auto [fast, fs] = cut(img, f, values_opt(values));
-  const auto [slow, ss] = cut(ug, f, values_opt(values));
-  EXPECT_TRUE(fs.fast_path);
-  EXPECT_FALSE(ss.fast_path);
-  const std::vector<double> F = values_at_points(f, img);
-  std::size_t expected_points = 0;
-  for (double c : values) expected_points += crossed_edges(img, F, c);
-  EXPECT_GT(expected_points, 100u);
-  EXPECT_EQ(fast.points.size(), expected_points);
-  EXPECT_EQ(slow.points.size(), expected_points);
-  EXPECT_EQ(fast.polys.size(), slow.polys.size());
-  EXPECT_EQ(fast.polys.connectivity().size(), slow.polys.connectivity().size());
-  for (const PolyData* pd : {&fast, &slow}) {
-    const auto vi = pd->point_data.get("CutValueIndex").values<std::int32_t>();
-    const DataArray& dens = pd->point_data.get("density");
-    for (std::size_t i = 0; i < pd->points.size(); ++i) {
-      const Vec3 p = pd->points[i];
-      const double c = values[static_cast<std::size_t>(vi[i])];
-      // Float storage: within a few ulps of the coordinates (|grad F| = 1).
-      EXPECT_NEAR(f.value(p), c, 4e-7);
-      EXPECT_NEAR(dens.get(i), 3 * p.x - 2 * p.y + p.z, 2e-6);
+  // Every sign of the normal's components (the fast path treats rows rising and falling along x
+  // differently), normals along the axes, and triangulated output.
+  const Vec3 normals[] = {{-0.287, 0.3, 0.9579},
+                          {0.287, -0.3, 0.9579},
+                          {0.6, 0.5, -0.4},
+                          {-0.6, -0.5, -0.4},
+                          {0, 0, 1},
+                          {1, 0, 0},
+                          {0, -1, 0},
+                          {0.7, 0, -0.7}};
+  for (const Vec3& normal : normals) {
+    for (const bool triangulate : {false, true}) {
+      SCOPED_TRACE("normal " + std::to_string(normal.x) + " " + std::to_string(normal.y) + " " +
+                   std::to_string(normal.z) + (triangulate ? " triangulated" : ""));
+      const ImplicitFunction f = ImplicitFunction::plane({0.13, 0.21, 1.3}, normal);
+      CutOptions opt = values_opt(values);
+      opt.triangulate = triangulate;
+      const auto [fast, fs] = cut(img, f, opt);
+      const auto [slow, ss] = cut(ug, f, opt);
+      EXPECT_TRUE(fs.fast_path);
+      EXPECT_FALSE(ss.fast_path);
+      const std::vector<double> F = values_at_points(f, img);
+      std::size_t expected_points = 0;
+      for (double c : values) expected_points += crossed_edges(img, F, c);
+      EXPECT_GT(expected_points, 100u);
+      EXPECT_EQ(fast.points.size(), expected_points);
+      EXPECT_EQ(slow.points.size(), expected_points);
+      EXPECT_EQ(fast.polys.size(), slow.polys.size());
+      EXPECT_EQ(fast.polys.connectivity().size(), slow.polys.connectivity().size());
+      for (const PolyData* pd : {&fast, &slow}) {
+        const auto vi = pd->point_data.get("CutValueIndex").values<std::int32_t>();
+        const DataArray& dens = pd->point_data.get("density");
+        for (std::size_t i = 0; i < pd->points.size(); ++i) {
+          const Vec3 p = pd->points[i];
+          const double c = values[static_cast<std::size_t>(vi[i])];
+          // Float storage: within a few ulps of the coordinates (|grad F| = 1).
+          EXPECT_NEAR(f.value(p), c, 4e-7);
+          EXPECT_NEAR(dens.get(i), 3 * p.x - 2 * p.y + p.z, 2e-6);
+        }
+        // The cell array says which voxel each polygon came from: its centroid lies in that voxel.
+        const DataArray& cells = pd->cell_data.get("cell");
+        for (std::size_t c = 0; c < pd->polys.size(); ++c) {
+          const auto ids = pd->polys.cell(c);
+          Vec3 m{};
+          for (Index id : ids) m += pd->points[static_cast<std::size_t>(id)];
+          m = m / static_cast<double>(ids.size());
+          const auto v = static_cast<Index>(cells.get(c));
+          const Index i = v % 12, j = (v / 12) % 10, k = v / 120;
+          EXPECT_GE(m.x, img.point(i, j, k).x - 1e-6);
+          EXPECT_LE(m.x, img.point(i + 1, j, k).x + 1e-6);
+          EXPECT_GE(m.z, img.point(i, j, k).z - 1e-6);
+          EXPECT_LE(m.z, img.point(i, j, k + 1).z + 1e-6);
+          EXPECT_GT(dot(polygon_area_vector(*pd, c), f.gradient({})), 0);
+        }
+        // Each plane's cut of the box is one closed disc: interior edges are shared by two
+        // polygons, the boundary edges form closed loops (every boundary point has two boundary
+        // edges).
+        std::map<Index, int> boundary_degree;
+        for (const auto& [e, uses] : edge_uses(*pd)) {
+          ASSERT_LE(uses, 2);
+          if (uses == 1) ++boundary_degree[e.first], ++boundary_degree[e.second];
+        }
+        for (const auto& [p, deg] : boundary_degree) EXPECT_EQ(deg, 2);
+      }
     }
-    // The cell array says which voxel each polygon came from: its centroid lies in that voxel.
-    const DataArray& cells = pd->cell_data.get("cell");
-    for (std::size_t c = 0; c < pd->polys.size(); ++c) {
-      const auto ids = pd->polys.cell(c);
-      Vec3 m{};
-      for (Index id : ids) m += pd->points[static_cast<std::size_t>(id)];
-      m = m / static_cast<double>(ids.size());
-      const auto v = static_cast<Index>(cells.get(c));
-      const Index i = v % 12, j = (v / 12) % 10, k = v / 120;
-      EXPECT_GE(m.x, img.point(i, j, k).x - 1e-6);
-      EXPECT_LE(m.x, img.point(i + 1, j, k).x + 1e-6);
-      EXPECT_GE(m.z, img.point(i, j, k).z - 1e-6);
-      EXPECT_LE(m.z, img.point(i, j, k + 1).z + 1e-6);
-      EXPECT_GT(dot(polygon_area_vector(*pd, c), f.gradient({})), 0);
-    }
-    // Each plane's cut of the box is one closed disc: interior edges are shared by two polygons,
-    // the boundary edges form closed loops (every boundary point has two boundary edges).
-    std::map<Index, int> boundary_degree;
-    for (const auto& [e, uses] : edge_uses(*pd)) {
-      ASSERT_LE(uses, 2);
-      if (uses == 1) ++boundary_degree[e.first], ++boundary_degree[e.second];
-    }
-    for (const auto& [p, deg] : boundary_degree) EXPECT_EQ(deg, 2);
   }
 }
 
@@ -258,7 +277,7 @@ TEST(Cut, PlaneThroughGridPointsMergesThem) {
   ImageData img;
   img.dims = {5, 4, 6};
   const auto [pd, stats] = cut(img, ImplicitFunction::plane({0, 0, 2}, {0, 0, 1}));
-  EXPECT_FALSE(stats.fast_path);  // exact hits take the general path
+  EXPECT_FALSE(stats.fast_path);     // exact hits take the general path
   EXPECT_EQ(pd.points.size(), 20u);  // the 5 x 4 points of layer k = 2
   EXPECT_EQ(pd.polys.size(), 12u);   // from the voxels below the layer only
   for (std::size_t i = 0; i < pd.points.size(); ++i) EXPECT_EQ(pd.points[i].z, 2.0);
