@@ -55,15 +55,18 @@ inline void store_normal(float* n, Vec3 g, bool flip) {
 /// Adds the Int32 point array "IsovalueIndex" filled with `index`.
 void add_isovalue_index(PolyData& pd, int index);
 
-/// Reverses cells when options.flip is set, then adds "Normals" computed from the triangles when
-/// options ask for ContourNormals::Triangles.
-void finish_output(PolyData& pd, const ContourOptions& options);
+/// Drops undefined points (see crossing() in tables.hpp: not finite, from an edge with a NaN
+/// end) and the cells using them, reverses cells when options.flip is set, then adds "Normals"
+/// computed from the triangles when options ask for ContourNormals::Triangles. Subtracts what
+/// it dropped from `stats` (points, and cells in its units: triangles, segments or vertices).
+void finish_output(PolyData& pd, const ContourOptions& options, ContourStats& stats);
 
 /// The driver every contour shares: part(v, progress) contours isovalue options.values[v],
 /// reporting its own fraction through `progress`; each part's points are tagged with
 /// IsovalueIndex v, and the parts come back appended and finished (finish_output).
 template <class Part>
-[[nodiscard]] PolyData contour_each_value(const ContourOptions& options, Part&& part) {
+[[nodiscard]] PolyData contour_each_value(const ContourOptions& options, ContourStats& stats,
+                                          Part&& part) {
   const std::size_t n = options.values.size();
   std::vector<PolyData> parts;
   parts.reserve(n);
@@ -75,7 +78,7 @@ template <class Part>
     report_progress(options.progress, to, "contour");
   }
   PolyData out = append(std::move(parts));
-  finish_output(out, options);
+  finish_output(out, options, stats);
   return out;
 }
 

@@ -628,7 +628,7 @@ VdbContourResult contour_vdb(const openvdb::FloatGrid& grid, const ContourOption
   local.leaves = c.leaves();
   local.blocks = c.blocks();
   const bool gradient = options.normals == ContourNormals::Gradient;
-  r.output = contour_each_value(options, [&](std::size_t v, const ProgressCallback& progress) {
+  r.output = contour_each_value(options, local, [&](std::size_t v, const ProgressCallback& progress) {
     c.set_isovalue(options.values[v]);
     c.count(progress_range(progress, 0.0, 0.4));
     const auto totals = c.offsets();

@@ -463,7 +463,7 @@ PolyData marching_cells(const Points& points, const Attributes& point_data,
     gradients = point_gradients(points, scalars, runs);
   std::size_t total = 0;
   for (const CellRun& r : runs) total += r.cells->size();
-  return contour_each_value(options, [&](std::size_t v, const ProgressCallback& progress) {
+  return contour_each_value(options, stats, [&](std::size_t v, const ProgressCallback& progress) {
     return scalars.visit([&](const auto& vec) {
       using T = typename std::decay_t<decltype(vec)>::value_type;
       CellContourer<T> c(points, vec.data(), options.values[v], options);

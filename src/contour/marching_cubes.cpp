@@ -36,7 +36,7 @@ template <class Geometry>
 PolyData lattice(const Geometry& geometry, const Dims& dims, const DataArray& scalars,
                  const Attributes& point_data, const Attributes& cell_data,
                  const ContourOptions& options, ContourStats& stats) {
-  return contour_each_value(options, [&](std::size_t v, const ProgressCallback& progress) {
+  return contour_each_value(options, stats, [&](std::size_t v, const ProgressCallback& progress) {
     return scalars.visit([&](const auto& vec) {
       return lattice_value(geometry, dims, vec.data(), options.values[v], point_data, cell_data,
                            options, stats, progress);

@@ -460,7 +460,7 @@ template <class Lattice>
 PolyData lattice_lines(const Lattice& lat, Index nu, Index nv, const Attributes& point_data,
                        const Attributes& cell_data, const DataArray& scalars,
                        const ContourOptions& options, ContourStats& stats) {
-  return contour_each_value(options, [&](std::size_t v, const ProgressCallback& progress) {
+  return contour_each_value(options, stats, [&](std::size_t v, const ProgressCallback& progress) {
     const double iso = options.values[v];
     return scalars.visit([&](const auto& vec) {
       using T = typename std::decay_t<decltype(vec)>::value_type;

@@ -23,6 +23,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -125,11 +126,11 @@ inline bool above_connected(double v0, double v1, double v2, double v3, double c
 /// Where a crossing lies on an edge from value a to value b (a and b on opposite sides of c):
 /// t = (c − a) / (b − a), kept within [kMinT, 1 − kMinT] so that crossings never coincide with
 /// grid points (values equal to the isovalue count as above it) and no two vertices or
-/// triangles degenerate. A NaN end (NaN counts as below every isovalue) puts the crossing at
-/// the middle of the edge.
+/// triangles degenerate. A NaN end (NaN counts as below every isovalue) gives NaN: the value
+/// is undefined there, and the output drops such points and the cells using them.
 inline constexpr double kMinT = 1.0 / 1024.0;
 inline double crossing(double a, double b, double c) {
-  if (a != a || b != b) return 0.5;  // NaN
+  if (a != a || b != b) return std::numeric_limits<double>::quiet_NaN();
   double t = (c - a) / (b - a);
   if (!(t >= kMinT)) t = kMinT;
   if (t > 1.0 - kMinT) t = 1.0 - kMinT;

@@ -1,8 +1,10 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <random>
 
@@ -156,17 +158,93 @@ TEST(ContourImage, IntegerDataAtAnIntegerValueStaysManifoldWithoutDegeneracies) 
   }
 }
 
-TEST(ContourImage, NaNSamplesCountAsBelow) {
+// A NaN sample is undefined: the crossings of its edges are not made, and the triangles that
+// would use them are left out (a hole), while every other triangle is as if it were below.
+TEST(ContourImage, NaNSamplesLeaveHoles) {
   std::vector<float> v(125, -1.0f);
   v[static_cast<std::size_t>(2 + 5 * (2 + 5 * 2))] = 1.0f;  // one above sample in the middle
+  const PolyData full = contour_image(image_of({5, 5, 5}, v)).output;
+  expect_closed_manifold(full, "full");
   v[static_cast<std::size_t>(3 + 5 * (2 + 5 * 2))] = std::numeric_limits<float>::quiet_NaN();
-  const PolyData pd = contour_image(image_of({5, 5, 5}, v)).output;
-  expect_closed_manifold(pd, "nan");
-  for (std::size_t i = 0; i < pd.points.size(); ++i) ASSERT_TRUE(is_finite(pd.points[i]));
-  // The crossing toward the NaN sample sits at the middle of its edge.
-  bool found = false;
-  for (std::size_t i = 0; i < pd.points.size(); ++i) found = found || pd.points[i] == Vec3{2.5, 2, 2};
-  EXPECT_TRUE(found);
+  ContourStats st;
+  const PolyData pd = test::split_result(contour_image(image_of({5, 5, 5}, v)), st);
+  // The full surface less the point on the edge toward the NaN sample and its triangles.
+  std::size_t mid = full.points.size();
+  for (std::size_t i = 0; i < full.points.size(); ++i) {
+    if (full.points[i] == Vec3{2.5, 2, 2}) mid = i;
+  }
+  ASSERT_LT(mid, full.points.size());
+  std::size_t using_mid = 0;
+  for (std::size_t c = 0; c < full.polys.size(); ++c) {
+    const auto ids = full.polys.cell(c);
+    using_mid += std::count(ids.begin(), ids.end(), static_cast<Index>(mid)) > 0 ? 1 : 0;
+  }
+  EXPECT_GT(using_mid, 0u);
+  EXPECT_EQ(pd.points.size(), full.points.size() - 1);
+  EXPECT_EQ(pd.polys.size(), full.polys.size() - using_mid);
+  EXPECT_EQ(st.points, pd.points.size());
+  EXPECT_EQ(st.cells, pd.polys.size());
+  const DataArray& s = pd.point_data.get("s");
+  for (std::size_t i = 0; i < pd.points.size(); ++i) {
+    ASSERT_TRUE(is_finite(pd.points[i]));
+    ASSERT_TRUE(std::isfinite(s.get(i)));
+    ASSERT_NE(pd.points[i], (Vec3{2.5, 2, 2}));
+  }
+}
+
+// Probed data is NaN outside the probed dataset: the surface ends at the last layer of defined
+// samples, with exactly the triangles of the fully defined cells, and nothing undefined.
+TEST(ContourImage, NaNRegionEndsTheSurfaceAtTheDefinedSamples) {
+  const Index n = 24;
+  const ImageData whole = sample_image(F::sphere({0.1, -0.05, 0.02}, 0.7),
+                                       GridSpec::from_bounds(Bounds{{-1, -1, -1}, {1, 1, 1}}, {n, n, n}));
+  const PolyData full = contour_image(whole).output;
+  ImageData holed = whole;
+  const Index first = 7;  // samples with i < first are undefined
+  auto values = holed.point_data.get(holed.point_data.scalars()->name()).values<float>();
+  for (Index k = 0; k < n; ++k)
+    for (Index j = 0; j < n; ++j)
+      for (Index i = 0; i < first; ++i)
+        values[static_cast<std::size_t>(holed.point_id(i, j, k))] = std::numeric_limits<float>::quiet_NaN();
+  const PolyData pd = contour_image(holed).output;
+  const double x0 = holed.point(first, 0, 0).x;
+  // Points of edges between defined samples have x >= x0 (crossings never sit on a sample).
+  std::size_t expected = 0;
+  for (std::size_t c = 0; c < full.polys.size(); ++c) {
+    const auto ids = full.polys.cell(c);
+    expected += std::all_of(ids.begin(), ids.end(), [&](Index id) {
+                  return full.points[static_cast<std::size_t>(id)].x >= x0 - 1e-6;
+                }) ? 1 : 0;
+  }
+  EXPECT_GT(expected, 100u);
+  EXPECT_LT(expected, full.polys.size());
+  EXPECT_EQ(pd.polys.size(), expected);
+  const DataArray& s = pd.point_data.get(whole.point_data.scalars()->name());
+  for (std::size_t i = 0; i < pd.points.size(); ++i) {
+    ASSERT_TRUE(is_finite(pd.points[i]));
+    ASSERT_GE(pd.points[i].x, x0 - 1e-6);
+    ASSERT_TRUE(std::isfinite(s.get(i)));
+  }
+  // Manifold, and the edges used once (the hole's rim) lie in the plane of the first defined
+  // layer.
+  std::map<std::pair<Index, Index>, int> uses;
+  for (std::size_t c = 0; c < pd.polys.size(); ++c) {
+    const auto ids = pd.polys.cell(c);
+    for (std::size_t e = 0; e < 3; ++e) {
+      const Index a = ids[e], b = ids[(e + 1) % 3];
+      ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+  }
+  std::size_t rim = 0;
+  for (const auto& [e, u] : uses) {
+    ASSERT_LE(u, 2);
+    if (u == 1) {
+      ++rim;
+      EXPECT_NEAR(pd.points[static_cast<std::size_t>(e.first)].x, x0, 1e-6);
+      EXPECT_NEAR(pd.points[static_cast<std::size_t>(e.second)].x, x0, 1e-6);
+    }
+  }
+  EXPECT_GT(rim, 8u);
 }
 
 TEST(ContourImage, DeterministicForAnyThreadCount) {

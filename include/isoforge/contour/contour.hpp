@@ -5,11 +5,12 @@
 /// and isolines/points on polygonal data.
 ///
 /// **Conventions** (the same for every input type):
-/// - A sample counts as *above* when value ≥ isovalue; NaN counts as below every isovalue.
+/// - A sample counts as *above* when value ≥ isovalue. NaN is undefined (as outside a probed
+///   dataset): an edge with a NaN end gives no crossing, and the cells that would use one are
+///   left out, so the surface ends at the defined samples.
 /// - Crossings are interpolated linearly along cell edges and kept at least 1/1024 of the edge
 ///   length away from its ends, so a value equal to the isovalue never produces duplicate points
-///   or zero-area triangles (the surface passes just beside such a sample). An edge with a NaN end
-///   is crossed at its midpoint.
+///   or zero-area triangles (the surface passes just beside such a sample).
 /// - Ambiguous quad faces are resolved by the asymptotic decider, identically in the two cells
 ///   sharing the face, so surfaces are watertight and 2-manifold wherever they do not leave the
 ///   domain.
