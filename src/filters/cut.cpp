@@ -381,8 +381,24 @@ Buffer<double> evaluate_at_points(DatasetRef ds, const ImplicitFunction& f,
             }
             continue;
           }
+          // Image data: (i, j, k) stepped along (the same coordinates as ImageData::point(id)).
+          Index ii = 0, jj = 0, kk = 0;
+          if (image) {
+            const auto id = static_cast<Index>(p0);
+            ii = id % image->dims[0], jj = (id / image->dims[0]) % image->dims[1];
+            kk = id / (image->dims[0] * image->dims[1]);
+          }
           for (std::size_t i = p0; i < p1; ++i) {
-            const Vec3 p = image ? image->point(static_cast<Index>(i)) : (*pts)[i];
+            Vec3 p;
+            if (image) {
+              p = image->point(ii, jj, kk);
+              if (++ii == image->dims[0]) {
+                ii = 0;
+                if (++jj == image->dims[1]) jj = 0, ++kk;
+              }
+            } else {
+              p = (*pts)[i];
+            }
             xyz[3 * (i - p0)] = p.x, xyz[3 * (i - p0) + 1] = p.y, xyz[3 * (i - p0) + 2] = p.z;
             if (plane) values[i] = plane->a + dot(plane->g, p);
           }
