@@ -495,6 +495,16 @@ CutResult cut(DatasetRef input, const ImplicitFunction& f, const CutOptions& opt
       return r;
     }
   }
+  if (const auto* sg = input.get_if<StructuredGrid>();
+      sg && is_plane && options.values.size() == 1 && structured_dimension(sg->dims) == 3) {
+    CutStats stats;
+    if (auto out = cutting::cut_structured_plane(*sg, plane, options.values[0], options, stats)) {
+      r.output = std::move(*out);
+      r.stats = stats;
+      r.stats.fast_path = true;
+      return r;
+    }
+  }
   const Buffer<double> F =
       cutting::evaluate_at_points(input, f, is_plane ? &plane : nullptr, progress_range(options.progress, 0, 0.3));
   r.stats.fast_path = is_plane && input.get_if<StructuredGrid>() != nullptr;
