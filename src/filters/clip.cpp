@@ -411,17 +411,19 @@ void full_line(const std::uint8_t* __restrict s, std::uint8_t* __restrict m, std
 /// numbering them in (p, offset) order — the order of the sorted (lo, hi) keys — is a prefix
 /// sum: per group of 8 points in `first` (their masks are one 64-bit word), then a popcount.
 struct EdgeNumbering {
-  std::vector<std::uint8_t> mask;
+  Buffer<std::uint8_t> mask;
   std::vector<std::uint32_t> first;  ///< cut edges before each group of 8 points
   std::array<std::uint64_t, 7> offset{};
   std::size_t total = 0;
 
-  void build(const Structured3D& g, const std::vector<std::uint8_t>& side) {
+  void build(const Structured3D& g, const Buffer<std::uint8_t>& side) {
     const auto nx = static_cast<std::size_t>(g.nx), ny = static_cast<std::size_t>(g.ny),
                nz = static_cast<std::size_t>(g.nz);
     const std::size_t dy = nx, dz = nx * ny, np = side.size();
     offset = {1, dy, dy + 1, dz, dz + 1, dz + dy, dz + dy + 1};
-    mask.resize(np);
+    const std::size_t groups = (np + 7) / 8;
+    mask.resize(groups * 8);
+    for (std::size_t p = np; p < groups * 8; ++p) mask[p] = 0;  // whole words: no edges in the padding
     parallel_for_range(ny * nz, 64, [&](std::size_t l0, std::size_t l1) {
       for (std::size_t l = l0; l < l1; ++l) {
         const std::size_t j = l % ny, k = l / ny, p0 = l * nx;
@@ -458,8 +460,6 @@ struct EdgeNumbering {
       }
     });
     // Cut edges before each group of 8 points (one 64-bit word of masks).
-    const std::size_t groups = (np + 7) / 8;
-    mask.resize(groups * 8, 0);  // whole words (the padding has no edges)
     first.resize(groups + 1);
     constexpr std::size_t kChunk = 1 << 14;
     const std::size_t chunks = (groups + kChunk - 1) / kChunk;
@@ -508,6 +508,21 @@ struct EdgeNumbering {
   }
 };
 
+/// Cells [0, n) of a row whose point lines (kept bytes) are a0..a3: all[i] = every corner kept,
+/// any[i] = some corner kept. Byte operations the compiler vectorizes.
+void classify_row(const std::uint8_t* __restrict a0, const std::uint8_t* __restrict a1,
+                  const std::uint8_t* __restrict a2, const std::uint8_t* __restrict a3,
+                  std::uint8_t* __restrict all, std::uint8_t* __restrict any, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto x = static_cast<std::uint8_t>(a0[i] & a0[i + 1] & a1[i] & a1[i + 1]);
+    const auto y = static_cast<std::uint8_t>(a2[i] & a2[i + 1] & a3[i] & a3[i + 1]);
+    const auto u = static_cast<std::uint8_t>(a0[i] | a0[i + 1] | a1[i] | a1[i + 1]);
+    const auto v = static_cast<std::uint8_t>(a2[i] | a2[i + 1] | a3[i] | a3[i + 1]);
+    all[i] = static_cast<std::uint8_t>(x & y);
+    any[i] = static_cast<std::uint8_t>(u | v);
+  }
+}
+
 /// The cell pass of a 3D structured input, row of cells by row of cells (along i): the kept side
 /// of every point is known first, so the cells of a row wholly kept (runs of them) or wholly
 /// dropped are found with byte operations, and only the cells on the surface go through
@@ -516,7 +531,7 @@ std::vector<Block> clip_structured(const Clipper& clipper, const Structured3D& g
                                    EdgeNumbering& edges, const ProgressCallback& progress) {
   const std::size_t np = clipper.np;
   // Per point: bit 0 above (F ≥ c; NaN is below), bit 1 F = c exactly.
-  std::vector<std::uint8_t> side(np);
+  Buffer<std::uint8_t> side(np);
   parallel_for_range(np, 1 << 16, [&](std::size_t a, std::size_t b) {
     const double* F = clipper.F.data();
     const double c = clipper.c;
@@ -527,7 +542,7 @@ std::vector<Block> clip_structured(const Clipper& clipper, const Structured3D& g
   edges.build(g, side);
   // 1 where the point is on the kept side.
   const auto flip = static_cast<std::uint8_t>(clipper.keep_above ? 0 : 1);
-  std::vector<std::uint8_t> kept(np);
+  Buffer<std::uint8_t> kept(np);
   parallel_for_range(np, 1 << 16, [&](std::size_t a, std::size_t b) {
     for (std::size_t p = a; p < b; ++p) kept[p] = static_cast<std::uint8_t>((side[p] & 1) ^ flip);
   });
@@ -558,18 +573,25 @@ std::vector<Block> clip_structured(const Clipper& clipper, const Structured3D& g
             const std::uint8_t* a3 = a0 + dy + dz;
             std::uint8_t* al = all.data();
             std::uint8_t* an = any.data();
-            for (Index i = 0; i < cx; ++i) {
-              const std::uint8_t x = a0[i] & a0[i + 1] & a1[i] & a1[i + 1];
-              const std::uint8_t y = a2[i] & a2[i + 1] & a3[i] & a3[i + 1];
-              const std::uint8_t u = a0[i] | a0[i + 1] | a1[i] | a1[i + 1];
-              const std::uint8_t v = a2[i] | a2[i + 1] | a3[i] | a3[i + 1];
-              al[i] = x & y;
-              an[i] = u | v;
-            }
+            classify_row(a0, a1, a2, a3, al, an, static_cast<std::size_t>(cx));
             const Index row_cell = r * cx;
             for (Index i = 0; i < cx;) {
+              // Cells with no kept corner, 8 at a time.
+              while (i + 8 <= cx) {
+                std::uint64_t w;
+                std::memcpy(&w, an + i, 8);
+                if (w != 0) break;
+                i += 8;
+              }
+              if (i >= cx) break;
               if (al[i]) {  // a run of whole cells
                 Index e = i + 1;
+                while (e + 8 <= cx) {
+                  std::uint64_t w;
+                  std::memcpy(&w, al + e, 8);
+                  if (w != 0x0101010101010101ull) break;
+                  e += 8;
+                }
                 while (e < cx && al[e]) ++e;
                 const Index cell = row_cell + i;
                 const auto n = static_cast<std::uint32_t>(e - i);
@@ -581,7 +603,8 @@ std::vector<Block> clip_structured(const Clipper& clipper, const Structured3D& g
                 }
                 blk.kept += n;
                 for (const std::size_t line : {p00, p00 + dy, p00 + dz, p00 + dy + dz}) {
-                  for (Index q = i; q <= e; ++q) clipper.mark(line + static_cast<std::size_t>(q));
+                  std::atomic<char>* u = clipper.used + line;
+                  for (Index q = i; q <= e; ++q) u[q].store(1, std::memory_order_relaxed);
                 }
                 i = e;
                 continue;
@@ -818,11 +841,23 @@ ClipStats clip_impl(DatasetRef input, const ImplicitFunction& f, const ClipOptio
   };
   points = Points(total_points, pts ? pts->type() : ScalarType::Float32);
   parallel_for_range(np, 1 << 14, [&](std::size_t a, std::size_t b) {
+    // Image data: (i, j, k) stepped along (the coordinates of ImageData::point(id)).
+    Index ii = 0, jj = 0, kk = 0;
+    if (image) {
+      const auto id = static_cast<Index>(a);
+      ii = id % image->dims[0], jj = (id / image->dims[0]) % image->dims[1];
+      kk = id / (image->dims[0] * image->dims[1]);
+    }
     for (std::size_t p = a; p < b; ++p) {
-      if (input_id[p] == UINT32_MAX) continue;
-      const auto o = static_cast<std::size_t>(input_id[p]);
-      points.set(o, position(p));
-      interp.copy_point(o, p);
+      if (input_id[p] != UINT32_MAX) {
+        const auto o = static_cast<std::size_t>(input_id[p]);
+        points.set(o, image ? image->point(ii, jj, kk) : (*pts)[p]);
+        interp.copy_point(o, p);
+      }
+      if (image && ++ii == image->dims[0]) {
+        ii = 0;
+        if (++jj == image->dims[1]) jj = 0, ++kk;
+      }
     }
   });
   const bool linear = is_plane;
@@ -943,9 +978,10 @@ ClipResult clip(DatasetRef input, const ImplicitFunction& f, const ClipOptions& 
                 Index sid[8];
                 grid.ids(e.cell, sid);
                 const CellType type = grid.image ? CellType::Voxel : CellType::Hexahedron;
-                for (std::uint32_t w = 0; w < e.pieces; ++w) {
+                Index in_row = e.cell % grid.cx();  // the cell's i
+                for (std::uint32_t w = 0; w < e.pieces; ++w, ++in_row) {
                   const Index cell = e.cell + static_cast<Index>(w);
-                  if (w > 0 && cell % grid.cx() == 0) grid.ids(cell, sid);  // next row
+                  if (in_row == grid.cx()) grid.ids(cell, sid), in_row = 0;  // next row
                   g.types[c] = type;
                   for (Index& id : sid) conn[at++] = input_index(id++);
                   offsets[++c] = static_cast<Index>(at);

@@ -381,26 +381,37 @@ Buffer<double> evaluate_at_points(DatasetRef ds, const ImplicitFunction& f,
             }
             continue;
           }
-          // Image data: (i, j, k) stepped along (the same coordinates as ImageData::point(id)).
-          Index ii = 0, jj = 0, kk = 0;
           if (image) {
+            // (i, j, k) stepped along, a line at a time (the coordinates of
+            // ImageData::point(id)).
             const auto id = static_cast<Index>(p0);
-            ii = id % image->dims[0], jj = (id / image->dims[0]) % image->dims[1];
-            kk = id / (image->dims[0] * image->dims[1]);
-          }
-          for (std::size_t i = p0; i < p1; ++i) {
-            Vec3 p;
-            if (image) {
-              p = image->point(ii, jj, kk);
-              if (++ii == image->dims[0]) {
-                ii = 0;
-                if (++jj == image->dims[1]) jj = 0, ++kk;
+            const Index nx = image->dims[0];
+            Index ii = id % nx, jj = (id / nx) % image->dims[1], kk = id / (nx * image->dims[1]);
+            for (std::size_t i = p0; i < p1;) {
+              const auto run = std::min<std::size_t>(p1 - i, static_cast<std::size_t>(nx - ii));
+              const Vec3 first = image->point(ii, jj, kk);
+              double* out = xyz.data() + 3 * (i - p0);
+              for (std::size_t q = 0; q < run; ++q) {
+                out[3 * q] = image->origin.x + static_cast<double>(ii + static_cast<Index>(q)) * image->spacing.x;
+                out[3 * q + 1] = first.y;
+                out[3 * q + 2] = first.z;
               }
-            } else {
-              p = (*pts)[i];
+              if (plane) {
+                for (std::size_t q = 0; q < run; ++q) {
+                  const Vec3 p{out[3 * q], out[3 * q + 1], out[3 * q + 2]};
+                  values[i + q] = plane->a + dot(plane->g, p);
+                }
+              }
+              i += run;
+              ii = 0;
+              if (++jj == image->dims[1]) jj = 0, ++kk;
             }
-            xyz[3 * (i - p0)] = p.x, xyz[3 * (i - p0) + 1] = p.y, xyz[3 * (i - p0) + 2] = p.z;
-            if (plane) values[i] = plane->a + dot(plane->g, p);
+          } else {
+            for (std::size_t i = p0; i < p1; ++i) {
+              const Vec3 p = (*pts)[i];
+              xyz[3 * (i - p0)] = p.x, xyz[3 * (i - p0) + 1] = p.y, xyz[3 * (i - p0) + 2] = p.z;
+              if (plane) values[i] = plane->a + dot(plane->g, p);
+            }
           }
           if (!plane) {
             f.evaluate(std::span<const double>(xyz.data(), 3 * (p1 - p0)),
