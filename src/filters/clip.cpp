@@ -508,18 +508,22 @@ struct EdgeNumbering {
   }
 };
 
-/// Cells [0, n) of a row whose point lines (kept bytes) are a0..a3: all[i] = every corner kept,
-/// any[i] = some corner kept. Byte operations the compiler vectorizes.
+/// Cells [0, n) of a row whose point lines (side bytes, bit 0: F ≥ c) are a0..a3: all[i] = every
+/// corner kept, any[i] = some corner kept, where kept is bit 0 (flip = 0) or its complement
+/// (flip = 1). Byte operations the compiler vectorizes.
 void classify_row(const std::uint8_t* __restrict a0, const std::uint8_t* __restrict a1,
                   const std::uint8_t* __restrict a2, const std::uint8_t* __restrict a3,
-                  std::uint8_t* __restrict all, std::uint8_t* __restrict any, std::size_t n) {
+                  std::uint8_t* __restrict all, std::uint8_t* __restrict any, std::size_t n,
+                  std::uint8_t flip) {
+  const auto fm = static_cast<std::uint8_t>(flip ? 0xff : 0);
   for (std::size_t i = 0; i < n; ++i) {
     const auto x = static_cast<std::uint8_t>(a0[i] & a0[i + 1] & a1[i] & a1[i + 1]);
     const auto y = static_cast<std::uint8_t>(a2[i] & a2[i + 1] & a3[i] & a3[i + 1]);
     const auto u = static_cast<std::uint8_t>(a0[i] | a0[i + 1] | a1[i] | a1[i + 1]);
     const auto v = static_cast<std::uint8_t>(a2[i] | a2[i + 1] | a3[i] | a3[i + 1]);
-    all[i] = static_cast<std::uint8_t>(x & y);
-    any[i] = static_cast<std::uint8_t>(u | v);
+    const auto a = static_cast<std::uint8_t>(x & y), o = static_cast<std::uint8_t>(u | v);
+    all[i] = static_cast<std::uint8_t>(((a & ~fm) | (~o & fm)) & 1);
+    any[i] = static_cast<std::uint8_t>(((o & ~fm) | (~a & fm)) & 1);
   }
 }
 
@@ -540,12 +544,7 @@ std::vector<Block> clip_structured(const Clipper& clipper, const Structured3D& g
     }
   });
   edges.build(g, side);
-  // 1 where the point is on the kept side.
   const auto flip = static_cast<std::uint8_t>(clipper.keep_above ? 0 : 1);
-  Buffer<std::uint8_t> kept(np);
-  parallel_for_range(np, 1 << 16, [&](std::size_t a, std::size_t b) {
-    for (std::size_t p = a; p < b; ++p) kept[p] = static_cast<std::uint8_t>((side[p] & 1) ^ flip);
-  });
   const Index cx = g.cx(), rows = g.cy() * (g.nz - 1);
   const Index rows_per_block = std::max<Index>(1, static_cast<Index>(kBlockCells) / cx);
   const auto blocks = static_cast<std::size_t>((rows + rows_per_block - 1) / rows_per_block);
@@ -567,13 +566,13 @@ std::vector<Block> clip_structured(const Clipper& clipper, const Structured3D& g
             const Index j = r % g.cy(), k = r / g.cy();
             const std::size_t p00 = static_cast<std::size_t>(g.nx * (j + g.ny * k));
             const std::size_t dy = static_cast<std::size_t>(g.nx), dz = static_cast<std::size_t>(g.nx * g.ny);
-            const std::uint8_t* a0 = kept.data() + p00;
+            const std::uint8_t* a0 = side.data() + p00;
             const std::uint8_t* a1 = a0 + dy;
             const std::uint8_t* a2 = a0 + dz;
             const std::uint8_t* a3 = a0 + dy + dz;
             std::uint8_t* al = all.data();
             std::uint8_t* an = any.data();
-            classify_row(a0, a1, a2, a3, al, an, static_cast<std::size_t>(cx));
+            classify_row(a0, a1, a2, a3, al, an, static_cast<std::size_t>(cx), flip);
             const Index row_cell = r * cx;
             for (Index i = 0; i < cx;) {
               // Cells with no kept corner, 8 at a time.
