@@ -15,8 +15,10 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 
 #include "cut_internal.hpp"
@@ -346,6 +348,280 @@ struct Clipper {
   }
 };
 
+/// 3D image data or structured grid: dimensions and cell type.
+struct Structured3D {
+  bool valid = false;
+  bool image = false;
+  Index nx = 0, ny = 0, nz = 0;
+  [[nodiscard]] Index cx() const { return nx - 1; }
+  [[nodiscard]] Index cy() const { return ny - 1; }
+  /// The point ids of cell `cell` in the order of visit_cells (voxel or hexahedron).
+  void ids(Index cell, Index* out) const {
+    const Index i = cell % cx(), j = (cell / cx()) % cy(), k = cell / (cx() * cy());
+    const Index p = i + nx * (j + ny * k), dy = nx, dz = nx * ny;
+    if (image) {
+      out[0] = p, out[1] = p + 1, out[2] = p + dy, out[3] = p + dy + 1;
+    } else {
+      out[0] = p, out[1] = p + 1, out[2] = p + dy + 1, out[3] = p + dy;
+    }
+    for (int q = 0; q < 4; ++q) out[q + 4] = out[q] + dz;
+  }
+};
+
+Structured3D structured_3d(DatasetRef ds) {
+  Structured3D s;
+  const Dims* dims = nullptr;
+  if (const auto* im = ds.get_if<ImageData>()) dims = &im->dims, s.image = true;
+  if (const auto* sg = ds.get_if<StructuredGrid>()) dims = &sg->dims;
+  if (dims == nullptr || structured_dimension(*dims) != 3) return s;
+  s.valid = true;
+  s.nx = (*dims)[0], s.ny = (*dims)[1], s.nz = (*dims)[2];
+  return s;
+}
+
+/// Cut-edge masks (see EdgeNumbering) of the first n points of a line with neighbours in +j and
+/// +k: byte operations the compiler vectorizes.
+void full_line(const std::uint8_t* __restrict s, std::uint8_t* __restrict m, std::size_t n,
+               std::size_t dy, std::size_t dz) {
+  const std::uint8_t* __restrict s1 = s + 1;
+  const std::uint8_t* __restrict s2 = s + dy;
+  const std::uint8_t* __restrict s3 = s + dy + 1;
+  const std::uint8_t* __restrict s4 = s + dz;
+  const std::uint8_t* __restrict s5 = s + dz + 1;
+  const std::uint8_t* __restrict s6 = s + dz + dy;
+  const std::uint8_t* __restrict s7 = s + dz + dy + 1;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint8_t a = s[i];
+    // Per neighbour b: bit 0 of (a ^ b) = sides differ; bit 1 of (a | b) = one is on F = c.
+    auto cut = [a](std::uint8_t b) {
+      return static_cast<std::uint8_t>((a ^ b) & ~((a | b) >> 1) & 1);
+    };
+    m[i] = static_cast<std::uint8_t>(cut(s1[i]) | cut(s2[i]) << 1 | cut(s3[i]) << 2 |
+                                     cut(s4[i]) << 3 | cut(s5[i]) << 4 | cut(s6[i]) << 5 |
+                                     cut(s7[i]) << 6);
+  }
+}
+
+/// The cut points of a 3D structured input, numbered without sorting. Every voxel (hexahedron)
+/// splits into the 6 tetrahedra around its main diagonal, whose edges are exactly the edges from
+/// each point p to p + o for the 7 offsets o of (di, dj, dk) in {0, 1}³ \ {0}: the 3 axes, the 3
+/// face diagonals from a face's smallest corner, the main diagonal. A cut point is such an edge
+/// with ends on both sides whose end above is not exactly on F = c (that end is the point
+/// itself). `mask` holds the cut edges of every point as bits in increasing offset order, so
+/// numbering them in (p, offset) order — the order of the sorted (lo, hi) keys — is a prefix
+/// sum: per group of 8 points in `first` (their masks are one 64-bit word), then a popcount.
+struct EdgeNumbering {
+  Buffer<std::uint8_t> mask;
+  std::vector<std::uint32_t> first;  ///< cut edges before each group of 8 points
+  std::array<std::uint64_t, 7> offset{};
+  std::size_t total = 0;
+
+  void build(const Structured3D& g, const Buffer<std::uint8_t>& side) {
+    const auto nx = static_cast<std::size_t>(g.nx), ny = static_cast<std::size_t>(g.ny),
+               nz = static_cast<std::size_t>(g.nz);
+    const std::size_t dy = nx, dz = nx * ny, np = side.size();
+    offset = {1, dy, dy + 1, dz, dz + 1, dz + dy, dz + dy + 1};
+    const std::size_t groups = (np + 7) / 8;
+    mask.resize(groups * 8);
+    for (std::size_t p = np; p < groups * 8; ++p) mask[p] = 0;  // whole words: no edges in the padding
+    parallel_for_range(ny * nz, 64, [&](std::size_t l0, std::size_t l1) {
+      for (std::size_t l = l0; l < l1; ++l) {
+        const std::size_t j = l % ny, k = l / ny, p0 = l * nx;
+        const bool yok = j + 1 < ny, zok = k + 1 < nz;
+        const std::uint8_t* s = side.data() + p0;
+        std::uint8_t* m = mask.data() + p0;
+        // Bit of edge (p, q): ends on both sides, neither exactly on F = c (the one on it is
+        // above, so "the end above is on it" is "either is on it").
+        auto cut = [](std::uint8_t a, std::uint8_t b) {
+          return static_cast<std::uint8_t>(((a ^ b) & 1) & ~((a | b) >> 1));
+        };
+        // The last point of the line has no +x edges; the others have all those of the line.
+        const std::size_t n = nx - 1;
+        if (yok && zok) {
+          full_line(s, m, n, dy, dz);
+          m[n] = static_cast<std::uint8_t>(cut(s[n], s[n + dy]) << 1 | cut(s[n], s[n + dz]) << 3 |
+                                           cut(s[n], s[n + dz + dy]) << 5);
+        } else if (yok) {
+          for (std::size_t i = 0; i < n; ++i) {
+            m[i] = static_cast<std::uint8_t>(cut(s[i], s[i + 1]) | cut(s[i], s[i + dy]) << 1 |
+                                             cut(s[i], s[i + dy + 1]) << 2);
+          }
+          m[n] = static_cast<std::uint8_t>(cut(s[n], s[n + dy]) << 1);
+        } else if (zok) {
+          for (std::size_t i = 0; i < n; ++i) {
+            m[i] = static_cast<std::uint8_t>(cut(s[i], s[i + 1]) | cut(s[i], s[i + dz]) << 3 |
+                                             cut(s[i], s[i + dz + 1]) << 4);
+          }
+          m[n] = static_cast<std::uint8_t>(cut(s[n], s[n + dz]) << 3);
+        } else {
+          for (std::size_t i = 0; i < n; ++i) m[i] = cut(s[i], s[i + 1]);
+          m[n] = 0;
+        }
+      }
+    });
+    // Cut edges before each group of 8 points (one 64-bit word of masks).
+    first.resize(groups + 1);
+    constexpr std::size_t kChunk = 1 << 14;
+    const std::size_t chunks = (groups + kChunk - 1) / kChunk;
+    std::vector<std::size_t> chunk_sum(chunks + 1, 0);
+    auto word = [&](std::size_t g8) {
+      std::uint64_t x;
+      std::memcpy(&x, mask.data() + 8 * g8, 8);
+      return x;
+    };
+    parallel_for_range(chunks, 1, [&](std::size_t c0, std::size_t c1) {
+      for (std::size_t c = c0; c < c1; ++c) {
+        std::size_t n = 0;
+        for (std::size_t g8 = c * kChunk; g8 < std::min(groups, (c + 1) * kChunk); ++g8) {
+          n += static_cast<std::size_t>(std::popcount(word(g8)));
+        }
+        chunk_sum[c + 1] = n;
+      }
+    });
+    for (std::size_t c = 0; c < chunks; ++c) chunk_sum[c + 1] += chunk_sum[c];
+    const std::size_t sum = chunk_sum[chunks];
+    if (sum >= UINT32_MAX) throw Error("clip: more than 2^32 - 1 new points");
+    parallel_for_range(chunks, 1, [&](std::size_t c0, std::size_t c1) {
+      for (std::size_t c = c0; c < c1; ++c) {
+        std::size_t n = chunk_sum[c];
+        for (std::size_t g8 = c * kChunk; g8 < std::min(groups, (c + 1) * kChunk); ++g8) {
+          first[g8] = static_cast<std::uint32_t>(n);
+          n += static_cast<std::size_t>(std::popcount(word(g8)));
+        }
+      }
+    });
+    first[groups] = static_cast<std::uint32_t>(sum);
+    total = sum;
+  }
+
+  /// The number of edge (lo, hi), or UINT32_MAX if it is not a cut edge.
+  [[nodiscard]] std::uint32_t number(std::uint64_t lo, std::uint64_t hi) const {
+    int d = 0;
+    while (d < 7 && offset[static_cast<std::size_t>(d)] != hi - lo) ++d;
+    if (d == 7 || lo >= mask.size() || !((mask[lo] >> d) & 1)) return UINT32_MAX;
+    const std::size_t g8 = lo / 8, before = lo % 8;
+    std::uint64_t x;
+    std::memcpy(&x, mask.data() + 8 * g8, 8);
+    const std::uint64_t low = before == 0 ? 0 : x & (~std::uint64_t{0} >> (64 - 8 * before));
+    const std::uint32_t n = first[g8] + static_cast<std::uint32_t>(std::popcount(low));
+    return n + static_cast<std::uint32_t>(std::popcount(static_cast<unsigned>(mask[lo] & ((1u << d) - 1))));
+  }
+};
+
+/// Cells [0, n) of a row whose point lines (side bytes, bit 0: F ≥ c) are a0..a3: all[i] = every
+/// corner kept, any[i] = some corner kept, where kept is bit 0 (flip = 0) or its complement
+/// (flip = 1). Byte operations the compiler vectorizes.
+void classify_row(const std::uint8_t* __restrict a0, const std::uint8_t* __restrict a1,
+                  const std::uint8_t* __restrict a2, const std::uint8_t* __restrict a3,
+                  std::uint8_t* __restrict all, std::uint8_t* __restrict any, std::size_t n,
+                  std::uint8_t flip) {
+  const auto fm = static_cast<std::uint8_t>(flip ? 0xff : 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto x = static_cast<std::uint8_t>(a0[i] & a0[i + 1] & a1[i] & a1[i + 1]);
+    const auto y = static_cast<std::uint8_t>(a2[i] & a2[i + 1] & a3[i] & a3[i + 1]);
+    const auto u = static_cast<std::uint8_t>(a0[i] | a0[i + 1] | a1[i] | a1[i + 1]);
+    const auto v = static_cast<std::uint8_t>(a2[i] | a2[i + 1] | a3[i] | a3[i + 1]);
+    const auto a = static_cast<std::uint8_t>(x & y), o = static_cast<std::uint8_t>(u | v);
+    all[i] = static_cast<std::uint8_t>(((a & ~fm) | (~o & fm)) & 1);
+    any[i] = static_cast<std::uint8_t>(((o & ~fm) | (~a & fm)) & 1);
+  }
+}
+
+/// The cell pass of a 3D structured input, row of cells by row of cells (along i): the kept side
+/// of every point is known first, so the cells of a row wholly kept (runs of them) or wholly
+/// dropped are found with byte operations, and only the cells on the surface go through
+/// Clipper::process. Same blocks' content as the generic pass, in cell order.
+std::vector<Block> clip_structured(const Clipper& clipper, const Structured3D& g,
+                                   EdgeNumbering& edges, const ProgressCallback& progress) {
+  const std::size_t np = clipper.np;
+  // Per point: bit 0 above (F ≥ c; NaN is below), bit 1 F = c exactly.
+  Buffer<std::uint8_t> side(np);
+  parallel_for_range(np, 1 << 16, [&](std::size_t a, std::size_t b) {
+    const double* F = clipper.F.data();
+    const double c = clipper.c;
+    for (std::size_t p = a; p < b; ++p) {
+      side[p] = static_cast<std::uint8_t>((F[p] >= c) | ((F[p] == c) << 1));
+    }
+  });
+  edges.build(g, side);
+  const auto flip = static_cast<std::uint8_t>(clipper.keep_above ? 0 : 1);
+  const Index cx = g.cx(), rows = g.cy() * (g.nz - 1);
+  const Index rows_per_block = std::max<Index>(1, static_cast<Index>(kBlockCells) / cx);
+  const auto blocks = static_cast<std::size_t>((rows + rows_per_block - 1) / rows_per_block);
+  std::vector<Block> out(blocks);
+  const CellType type = g.image ? CellType::Voxel : CellType::Hexahedron;
+  parallel_for_range(
+      blocks, 1,
+      [&](std::size_t b0, std::size_t b1) {
+        std::vector<std::array<int, 4>> simplices;
+        std::vector<double> val;
+        std::vector<std::uint64_t> gid;
+        std::vector<std::uint8_t> all(static_cast<std::size_t>(cx)), any(static_cast<std::size_t>(cx));
+        Index ids[8];
+        for (std::size_t b = b0; b < b1; ++b) {
+          Block& blk = out[b];
+          const Index r0 = static_cast<Index>(b) * rows_per_block;
+          const Index r1 = std::min(rows, r0 + rows_per_block);
+          for (Index r = r0; r < r1; ++r) {
+            const Index j = r % g.cy(), k = r / g.cy();
+            const std::size_t p00 = static_cast<std::size_t>(g.nx * (j + g.ny * k));
+            const std::size_t dy = static_cast<std::size_t>(g.nx), dz = static_cast<std::size_t>(g.nx * g.ny);
+            const std::uint8_t* a0 = side.data() + p00;
+            const std::uint8_t* a1 = a0 + dy;
+            const std::uint8_t* a2 = a0 + dz;
+            const std::uint8_t* a3 = a0 + dy + dz;
+            std::uint8_t* al = all.data();
+            std::uint8_t* an = any.data();
+            classify_row(a0, a1, a2, a3, al, an, static_cast<std::size_t>(cx), flip);
+            const Index row_cell = r * cx;
+            for (Index i = 0; i < cx;) {
+              // Cells with no kept corner, 8 at a time.
+              while (i + 8 <= cx) {
+                std::uint64_t w;
+                std::memcpy(&w, an + i, 8);
+                if (w != 0) break;
+                i += 8;
+              }
+              if (i >= cx) break;
+              if (al[i]) {  // a run of whole cells
+                Index e = i + 1;
+                while (e + 8 <= cx) {
+                  std::uint64_t w;
+                  std::memcpy(&w, al + e, 8);
+                  if (w != 0x0101010101010101ull) break;
+                  e += 8;
+                }
+                while (e < cx && al[e]) ++e;
+                const Index cell = row_cell + i;
+                const auto n = static_cast<std::uint32_t>(e - i);
+                if (!blk.entries.empty() && blk.entries.back().whole &&
+                    blk.entries.back().cell + blk.entries.back().pieces == cell) {
+                  blk.entries.back().pieces += n;
+                } else {
+                  blk.entries.push_back({cell, true, n});
+                }
+                blk.kept += n;
+                for (const std::size_t line : {p00, p00 + dy, p00 + dz, p00 + dy + dz}) {
+                  std::atomic<char>* u = clipper.used + line;
+                  for (Index q = i; q <= e; ++q) u[q].store(1, std::memory_order_relaxed);
+                }
+                i = e;
+                continue;
+              }
+              if (an[i]) {
+                g.ids(row_cell + i, ids);
+                clipper.process(row_cell + i, type, std::span<const Index>(ids, 8), blk, simplices,
+                                val, gid);
+              }
+              ++i;
+            }
+          }
+        }
+      },
+      progress_range(progress, 0.2, 0.6), "clip");
+  return out;
+}
+
 struct Assembled {
   std::vector<std::int64_t> input_id;  // output id of each used input point, or -1
   std::vector<Ref> new_points;         // sorted
@@ -374,51 +650,137 @@ ClipStats clip_impl(DatasetRef input, const ImplicitFunction& f, const ClipOptio
     for (std::size_t i = a; i < b; ++i) used[i].store(0, std::memory_order_relaxed);
   });
   const Clipper clipper{input, f, F, options.value, !options.inside_out, np, used.data()};
-  const std::size_t blocks = (nc + kBlockCells - 1) / kBlockCells;
-  std::vector<Block> out(blocks);
-  parallel_for_range(
-      blocks, 1,
-      [&](std::size_t b0, std::size_t b1) {
-        std::vector<std::array<int, 4>> simplices;
-        std::vector<double> val;
-        std::vector<std::uint64_t> gid;
-        for (std::size_t b = b0; b < b1; ++b) {
-          cutting::visit_cells(input, b * kBlockCells, std::min(nc, (b + 1) * kBlockCells),
-                               [&](Index cell, CellType type, std::span<const Index> ids) {
-                                 clipper.process(cell, type, ids, out[b], simplices, val, gid);
-                               });
-        }
-      },
-      progress_range(options.progress, 0.2, 0.6), "clip");
+  const Structured3D grid = structured_3d(input);
+  EdgeNumbering edges;
+  std::vector<Block> out;
+  if (grid.valid) {
+    out = clip_structured(clipper, grid, edges, options.progress);
+  } else {
+    const std::size_t blocks = (nc + kBlockCells - 1) / kBlockCells;
+    out.resize(blocks);
+    parallel_for_range(
+        blocks, 1,
+        [&](std::size_t b0, std::size_t b1) {
+          std::vector<std::array<int, 4>> simplices;
+          std::vector<double> val;
+          std::vector<std::uint64_t> gid;
+          for (std::size_t b = b0; b < b1; ++b) {
+            cutting::visit_cells(input, b * kBlockCells, std::min(nc, (b + 1) * kBlockCells),
+                                 [&](Index cell, CellType type, std::span<const Index> ids) {
+                                   clipper.process(cell, type, ids, out[b], simplices, val, gid);
+                                 });
+          }
+        },
+        progress_range(options.progress, 0.2, 0.6), "clip");
+  }
+  const std::size_t blocks = out.size();
 
   // Input points referenced by pieces; new points (cut points, centres): each block's sorted
-  // and unique in parallel, then all of them.
+  // and unique in parallel, then all of them. Every ref of a block gets a slot: its place in the
+  // block's unique list, turned into its place in the global list below (kInput: an input point).
+  constexpr std::uint32_t kInput = UINT32_MAX;
   std::vector<std::vector<Ref>> block_fresh(blocks);
-  parallel_for_range(blocks, 1, [&](std::size_t b0, std::size_t b1) {
-    for (std::size_t b = b0; b < b1; ++b) {
-      auto& bf = block_fresh[b];
-      for (const Ref& r : out[b].refs) {
-        if (r.a == r.b && r.a < np) used[r.a].store(1, std::memory_order_relaxed);
-        else bf.push_back(r);
+  std::vector<std::vector<std::uint32_t>> slots(blocks);
+  if (grid.valid) {
+    // Structured: cut points numbered by edge (EdgeNumbering), nothing to sort.
+    parallel_for_range(blocks, 1, [&](std::size_t b0, std::size_t b1) {
+      for (std::size_t b = b0; b < b1; ++b) {
+        const auto& refs = out[b].refs;
+        auto& slot = slots[b];
+        slot.resize(refs.size());
+        for (std::size_t i = 0; i < refs.size(); ++i) {
+          const Ref& r = refs[i];
+          if (r.a == r.b && r.a < np) {
+            used[r.a].store(1, std::memory_order_relaxed);
+            slot[i] = kInput;
+          } else {
+            slot[i] = edges.number(r.a, r.b);
+            check_invariant(slot[i] != kInput, "clip: a cut point off the structured edges");
+          }
+        }
       }
-      std::sort(bf.begin(), bf.end());
-      bf.erase(std::unique(bf.begin(), bf.end()), bf.end());
+    });
+  } else {
+  parallel_for_range(blocks, 1, [&](std::size_t b0, std::size_t b1) {
+    std::vector<std::pair<Ref, std::uint32_t>> items;  // fresh refs with their place in the block
+    for (std::size_t b = b0; b < b1; ++b) {
+      const auto& refs = out[b].refs;
+      auto& slot = slots[b];
+      slot.resize(refs.size());
+      items.clear();
+      for (std::size_t i = 0; i < refs.size(); ++i) {
+        const Ref& r = refs[i];
+        if (r.a == r.b && r.a < np) {
+          used[r.a].store(1, std::memory_order_relaxed);
+          slot[i] = kInput;
+        } else {
+          items.emplace_back(r, static_cast<std::uint32_t>(i));
+        }
+      }
+      std::sort(items.begin(), items.end(),
+                [](const auto& x, const auto& y) { return x.first < y.first; });
+      auto& bf = block_fresh[b];
+      for (const auto& [r, i] : items) {
+        if (bf.empty() || !(bf.back() == r)) bf.push_back(r);
+        slot[i] = static_cast<std::uint32_t>(bf.size() - 1);
+      }
     }
   });
+  }
   std::vector<Ref> fresh;
   std::vector<Centre> centres;
-  {
+  if (grid.valid) {
+    // The cut edges in number order (EdgeNumbering).
+    fresh.resize(edges.total);
+    parallel_for_range(edges.first.size() - 1, 4096, [&](std::size_t c0, std::size_t c1) {
+      for (std::size_t c = c0; c < c1; ++c) {
+        std::size_t at = edges.first[c];
+        if (at == edges.first[c + 1]) continue;
+        for (std::size_t p = 8 * c; p < std::min<std::size_t>(np, 8 * c + 8); ++p) {
+          for (std::size_t d = 0; d < 7; ++d) {
+            if ((edges.mask[p] >> d) & 1) fresh[at++] = Ref{p, p + edges.offset[d]};
+          }
+        }
+      }
+    });
+  } else {
     std::size_t total = 0;
     for (const auto& bf : block_fresh) total += bf.size();
     fresh.reserve(total);
-    for (auto& bf : block_fresh) {
-      fresh.insert(fresh.end(), bf.begin(), bf.end());
-      std::vector<Ref>().swap(bf);
-    }
+    for (auto& bf : block_fresh) fresh.insert(fresh.end(), bf.begin(), bf.end());
     for (const Block& b : out) centres.insert(centres.end(), b.centres.begin(), b.centres.end());
+    tbb::parallel_sort(fresh.begin(), fresh.end());
+    fresh.erase(std::unique(fresh.begin(), fresh.end()), fresh.end());
+    if (fresh.size() >= kInput) throw Error("clip: more than 2^32 - 1 new points");
+    // Block slots to global places: each block's sorted list is found in the global one by
+    // galloping forward from its previous element.
+    parallel_for_range(blocks, 1, [&](std::size_t b0, std::size_t b1) {
+      std::vector<std::uint32_t> place;
+      for (std::size_t b = b0; b < b1; ++b) {
+        const auto& bf = block_fresh[b];
+        place.resize(bf.size());
+        std::size_t at = 0;
+        for (std::size_t u = 0; u < bf.size(); ++u) {
+          std::size_t step = 1, hi = at;
+          while (hi < fresh.size() && fresh[hi] < bf[u]) {
+            at = hi + 1;
+            hi += step;
+            step *= 2;
+          }
+          at = static_cast<std::size_t>(
+              std::lower_bound(fresh.begin() + static_cast<std::ptrdiff_t>(at),
+                               fresh.begin() + static_cast<std::ptrdiff_t>(std::min(hi, fresh.size())),
+                               bf[u]) -
+              fresh.begin());
+          place[u] = static_cast<std::uint32_t>(at);
+        }
+        for (auto& sl : slots[b]) {
+          if (sl != kInput) sl = place[sl];
+        }
+        std::vector<Ref>().swap(block_fresh[b]);
+      }
+    });
   }
-  tbb::parallel_sort(fresh.begin(), fresh.end());
-  fresh.erase(std::unique(fresh.begin(), fresh.end()), fresh.end());
   // Output ids of the used input points (32-bit: memory traffic is much of the cost), by a
   // parallel prefix sum over chunks.
   Buffer<std::uint32_t> input_id(np);
@@ -444,10 +806,11 @@ ClipStats clip_impl(DatasetRef input, const ImplicitFunction& f, const ClipOptio
     }
   });
   const std::size_t n_used = chunk_used[chunks];
-  auto id_of = [&](const Ref& r) -> Index {
-    if (r.a == r.b && r.a < np) return static_cast<Index>(input_id[r.a]);
-    return static_cast<Index>(n_used + static_cast<std::size_t>(
-                                           std::lower_bound(fresh.begin(), fresh.end(), r) - fresh.begin()));
+  // The output id of ref `i` of block `b`.
+  auto id_of = [&](std::size_t b, std::size_t i) -> Index {
+    const std::uint32_t sl = slots[b][i];
+    if (sl == kInput) return static_cast<Index>(input_id[out[b].refs[i].a]);
+    return static_cast<Index>(n_used + sl);
   };
   const std::size_t total_points = n_used + fresh.size();
 
@@ -477,11 +840,23 @@ ClipStats clip_impl(DatasetRef input, const ImplicitFunction& f, const ClipOptio
   };
   points = Points(total_points, pts ? pts->type() : ScalarType::Float32);
   parallel_for_range(np, 1 << 14, [&](std::size_t a, std::size_t b) {
+    // Image data: (i, j, k) stepped along (the coordinates of ImageData::point(id)).
+    Index ii = 0, jj = 0, kk = 0;
+    if (image) {
+      const auto id = static_cast<Index>(a);
+      ii = id % image->dims[0], jj = (id / image->dims[0]) % image->dims[1];
+      kk = id / (image->dims[0] * image->dims[1]);
+    }
     for (std::size_t p = a; p < b; ++p) {
-      if (input_id[p] == UINT32_MAX) continue;
-      const auto o = static_cast<std::size_t>(input_id[p]);
-      points.set(o, position(p));
-      interp.copy_point(o, p);
+      if (input_id[p] != UINT32_MAX) {
+        const auto o = static_cast<std::size_t>(input_id[p]);
+        points.set(o, image ? image->point(ii, jj, kk) : (*pts)[p]);
+        interp.copy_point(o, p);
+      }
+      if (image && ++ii == image->dims[0]) {
+        ii = 0;
+        if (++jj == image->dims[1]) jj = 0, ++kk;
+      }
     }
   });
   const bool linear = is_plane;
@@ -589,6 +964,8 @@ ClipResult clip(DatasetRef input, const ImplicitFunction& f, const ClipOptions& 
         const std::size_t nc = cell_at.back();
         g.types.resize(nc);
         Buffer<Index> offsets(nc + 1), conn(id_at.back());
+        const Structured3D grid = structured_3d(input);
+        const bool cell_arrays = interp.has_cell_arrays();
         offsets[0] = 0;
         parallel_for_range(out.size(), 1, [&](std::size_t b0, std::size_t b1) {
           std::vector<Index> ids;
@@ -596,6 +973,21 @@ ClipResult clip(DatasetRef input, const ImplicitFunction& f, const ClipOptions& 
             std::size_t c = cell_at[b], at = id_at[b], piece = 0, ref = 0;
             const Block& blk = out[b];
             for (const Entry& e : blk.entries) {
+              if (e.whole && grid.valid) {  // a run along i: ids by arithmetic
+                Index sid[8];
+                grid.ids(e.cell, sid);
+                const CellType type = grid.image ? CellType::Voxel : CellType::Hexahedron;
+                Index in_row = e.cell % grid.cx();  // the cell's i
+                for (std::uint32_t w = 0; w < e.pieces; ++w, ++in_row) {
+                  const Index cell = e.cell + static_cast<Index>(w);
+                  if (in_row == grid.cx()) grid.ids(cell, sid), in_row = 0;  // next row
+                  g.types[c] = type;
+                  for (Index& id : sid) conn[at++] = input_index(id++);
+                  offsets[++c] = static_cast<Index>(at);
+                  if (cell_arrays) interp.copy_cell(c - 1, static_cast<std::size_t>(cell));
+                }
+                continue;
+              }
               if (e.whole) {
                 for (std::uint32_t w = 0; w < e.pieces; ++w) {
                   const Index cell = e.cell + static_cast<Index>(w);
@@ -609,7 +1001,7 @@ ClipResult clip(DatasetRef input, const ImplicitFunction& f, const ClipOptions& 
               }
               for (std::uint32_t p = 0; p < e.pieces; ++p, ++piece) {
                 g.types[c] = blk.types[piece];
-                for (int q = 0; q < blk.sizes[piece]; ++q) conn[at++] = id_of(blk.refs[ref++]);
+                for (int q = 0; q < blk.sizes[piece]; ++q) conn[at++] = id_of(b, ref++);
                 offsets[++c] = static_cast<Index>(at);
                 interp.copy_cell(c - 1, static_cast<std::size_t>(e.cell));
               }
@@ -664,7 +1056,7 @@ ClipPolyResult clip_polydata(const PolyData& input, const ImplicitFunction& f,
             }
             for (std::uint32_t p = 0; p < e.pieces; ++p, ++piece) {
               mapped.clear();
-              for (int q = 0; q < blk.sizes[piece]; ++q) mapped.push_back(id_of(blk.refs[ref++]));
+              for (int q = 0; q < blk.sizes[piece]; ++q) mapped.push_back(id_of(static_cast<std::size_t>(&blk - out.data()), ref++));
               const int k = kind_of(blk.types[piece]);
               kinds[static_cast<std::size_t>(k)]->add(mapped);
               made.push_back({k, e.cell});

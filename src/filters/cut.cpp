@@ -381,10 +381,37 @@ Buffer<double> evaluate_at_points(DatasetRef ds, const ImplicitFunction& f,
             }
             continue;
           }
-          for (std::size_t i = p0; i < p1; ++i) {
-            const Vec3 p = image ? image->point(static_cast<Index>(i)) : (*pts)[i];
-            xyz[3 * (i - p0)] = p.x, xyz[3 * (i - p0) + 1] = p.y, xyz[3 * (i - p0) + 2] = p.z;
-            if (plane) values[i] = plane->a + dot(plane->g, p);
+          if (image) {
+            // (i, j, k) stepped along, a line at a time (the coordinates of
+            // ImageData::point(id)).
+            const auto id = static_cast<Index>(p0);
+            const Index nx = image->dims[0];
+            Index ii = id % nx, jj = (id / nx) % image->dims[1], kk = id / (nx * image->dims[1]);
+            for (std::size_t i = p0; i < p1;) {
+              const auto run = std::min<std::size_t>(p1 - i, static_cast<std::size_t>(nx - ii));
+              const Vec3 first = image->point(ii, jj, kk);
+              double* out = xyz.data() + 3 * (i - p0);
+              for (std::size_t q = 0; q < run; ++q) {
+                out[3 * q] = image->origin.x + static_cast<double>(ii + static_cast<Index>(q)) * image->spacing.x;
+                out[3 * q + 1] = first.y;
+                out[3 * q + 2] = first.z;
+              }
+              if (plane) {
+                for (std::size_t q = 0; q < run; ++q) {
+                  const Vec3 p{out[3 * q], out[3 * q + 1], out[3 * q + 2]};
+                  values[i + q] = plane->a + dot(plane->g, p);
+                }
+              }
+              i += run;
+              ii = 0;
+              if (++jj == image->dims[1]) jj = 0, ++kk;
+            }
+          } else {
+            for (std::size_t i = p0; i < p1; ++i) {
+              const Vec3 p = (*pts)[i];
+              xyz[3 * (i - p0)] = p.x, xyz[3 * (i - p0) + 1] = p.y, xyz[3 * (i - p0) + 2] = p.z;
+              if (plane) values[i] = plane->a + dot(plane->g, p);
+            }
           }
           if (!plane) {
             f.evaluate(std::span<const double>(xyz.data(), 3 * (p1 - p0)),
@@ -476,6 +503,16 @@ CutResult cut(DatasetRef input, const ImplicitFunction& f, const CutOptions& opt
       r.stats.points = r.output.points.size();
       r.stats.polygons = r.output.polys.size();
       report_progress(options.progress, 1.0, "cut");
+      return r;
+    }
+  }
+  if (const auto* sg = input.get_if<StructuredGrid>();
+      sg && is_plane && options.values.size() == 1 && structured_dimension(sg->dims) == 3) {
+    CutStats stats;
+    if (auto out = cutting::cut_structured_plane(*sg, plane, options.values[0], options, stats)) {
+      r.output = std::move(*out);
+      r.stats = stats;
+      r.stats.fast_path = true;
       return r;
     }
   }

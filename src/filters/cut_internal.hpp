@@ -24,6 +24,14 @@ struct LinearField {
                                                       const LinearField& field, double c,
                                                       int value_index, const CutOptions& options);
 
+/// The cut of a 3D structured grid by the plane `field` = c (one value): exactly the general
+/// path's output, from one pass over the points and the rows of cells the plane crosses. nullopt
+/// when a point has F = c exactly or F is not finite somewhere (the general path handles those).
+[[nodiscard]] std::optional<PolyData> cut_structured_plane(const StructuredGrid& sg,
+                                                           const LinearField& field, double c,
+                                                           const CutOptions& options,
+                                                           CutStats& stats);
+
 /// Calls fn(cell, type, ids) for the cells [c0, c1) of `ds`; structured 3D cells without
 /// going through the generic accessors.
 /// `row_ok(r)` (structured 3D only) may skip whole rows of cells along i (row r = j + (ny−1) k).

@@ -529,3 +529,81 @@ TEST(CutFigures, Fig133TorsoContourLines) {
   }
   EXPECT_GT(closed, 0u);
 }
+
+// ---- The plane fast path of structured grids ----
+
+namespace {
+
+/// bent_grid with a cell array (the cell index), so that copied cell data is compared too.
+StructuredGrid bent_grid_with_cells(Index n) {
+  StructuredGrid sg = bent_grid(n);
+  DataArray cell("cell", ScalarType::Int32, 1, sg.num_cells());
+  for (std::size_t c = 0; c < sg.num_cells(); ++c) cell.set(c, 0, static_cast<double>(c));
+  sg.cell_data.add(std::move(cell));
+  return sg;
+}
+
+}  // namespace
+
+// The fast path (one pass over the points, only the rows of cells the plane crosses) gives
+// exactly the general path's output: the same grid as an unstructured grid of hexahedra takes
+// the general path. Planes in several directions, polygons and triangles, a value off 0.
+TEST(Cut, StructuredPlaneFastPathMatchesTheGeneralPath) {
+  const StructuredGrid sg = bent_grid_with_cells(17);
+  const UnstructuredGrid ug = to_unstructured(sg);
+  const std::vector<std::pair<Vec3, Vec3>> planes = {
+      {{0.01, 0.02, 0.03}, {-0.287, 0, 0.9579}},
+      {{0.1, -0.2, 0.05}, {1, 0, 0}},     // across the lines along i
+      {{0, 0.3, -0.1}, {0, 1, 0.001}},    // nearly parallel to the lines along i
+      {{0.2, 0.1, 0}, {0.5, -0.6, 0.62}}};
+  for (std::size_t pi = 0; pi < planes.size(); ++pi) {
+    const ImplicitFunction f = ImplicitFunction::plane(planes[pi].first, planes[pi].second);
+    for (const bool tri : {false, true}) {
+      CutOptions o = values_opt({pi == 3 ? 0.13 : 0.0});
+      o.triangulate = tri;
+      const auto [fast, fs] = cut(sg, f, o);
+      const auto [slow, ss] = cut(ug, f, o);
+      EXPECT_TRUE(fs.fast_path);
+      EXPECT_GT(fast.polys.size(), 10u);
+      EXPECT_TRUE(fast == slow) << "plane " << pi << (tri ? ", triangles" : "");
+      EXPECT_EQ(fs.points, ss.points);
+      EXPECT_EQ(fs.polygons, ss.polygons);
+      EXPECT_EQ(fs.cells_cut, ss.cells_cut);
+    }
+  }
+}
+
+// A plane through grid points (F = c exactly there) is left to the general path, which merges
+// the cut points at those grid points; the output still equals the unstructured grid's.
+TEST(Cut, StructuredPlaneThroughGridPointsTakesTheGeneralPath) {
+  StructuredGrid sg;
+  sg.dims = {5, 4, 3};
+  for (Index k = 0; k < 3; ++k)
+    for (Index j = 0; j < 4; ++j)
+      for (Index i = 0; i < 5; ++i) {
+        sg.points.push_back({0.5 * static_cast<double>(i) + 0.125 * static_cast<double>(j),
+                             0.5 * static_cast<double>(j), 0.5 * static_cast<double>(k)});
+      }
+  const ImplicitFunction f = ImplicitFunction::plane({0, 0, 0.5}, {0, 0, 1});  // the layer k = 1
+  const auto [a, as] = cut(sg, f);
+  const auto [b, bs] = cut(to_unstructured(sg), f);
+  EXPECT_TRUE(a == b);
+  EXPECT_EQ(a.points.size(), 20u);  // the layer's 5 × 4 points, one each
+  EXPECT_EQ(a.polys.size(), 12u);   // its 4 × 3 quads, once each
+}
+
+TEST(Cut, StructuredPlaneFastPathIsDeterministicForAnyThreadCount) {
+  const StructuredGrid sg = bent_grid_with_cells(60);
+  const ImplicitFunction f = ImplicitFunction::plane({0.01, 0.02, 0.03}, {-0.287, 0.1, 0.9579});
+  PolyData one, two;
+  {
+    tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 1);
+    one = cut(sg, f).output;
+  }
+  {
+    tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 2);
+    two = cut(sg, f).output;
+  }
+  EXPECT_GT(one.polys.size(), 1000u);
+  EXPECT_TRUE(one == two);
+}
