@@ -100,35 +100,45 @@ void interpolate_block(const DataArray& src, DataArray& dst, const BlockHits& h,
       d[at] = static_cast<T>(std::nearbyint(v));
     }
   };
+  if (h.trilinear) {
+    // The weights of the corners, summed in the order of the terms of the other cells; zero
+    // weights skipped (a NaN at a corner of weight 0 does not spread).
+    std::size_t off[8];
+    for (int k = 0; k < 8; ++k) off[k] = h.offsets[std::size_t(k)] * nc;
+    for (std::size_t q = 0; q < h.size; ++q) {
+      const std::size_t o = h.out[q];
+      if (h.cell[q] < 0) {
+        if (h.cell[q] == BlockHits::kMissed) std::fill_n(d + o * nc, nc, nil_t);
+        continue;
+      }
+      const probe_detail::GridHit& g = h.grid[q];
+      const double r0 = 1 - g.r, s0 = 1 - g.s, t0 = 1 - g.t;
+      const double rs00 = r0 * s0, rs10 = g.r * s0, rs01 = r0 * g.s, rs11 = g.r * g.s;
+      const double w[8] = {rs00 * t0, rs10 * t0, rs01 * t0, rs11 * t0,
+                           rs00 * g.t, rs10 * g.t, rs01 * g.t, rs11 * g.t};
+      const T* sb = s + g.base * nc;
+      const bool interior = g.r > 0 && g.r < 1 && g.s > 0 && g.s < 1 && g.t > 0 && g.t < 1;
+      if (interior && nc == 1) {  // the common case: no weight is 0, one component
+        double v = 0;
+        for (int k = 0; k < 8; ++k) v += w[k] * static_cast<double>(sb[off[k]]);
+        store(o, v);
+        continue;
+      }
+      for (std::size_t c = 0; c < nc; ++c) {
+        double v = 0;
+        for (int k = 0; k < 8; ++k) {
+          if (w[k] != 0) v += w[k] * static_cast<double>(sb[off[k] + c]);
+        }
+        store(o * nc + c, v);
+      }
+    }
+    return;
+  }
   const Term* terms = h.terms.data();
-  std::size_t off[8];
-  for (int k = 0; k < 8; ++k) off[k] = h.offsets[std::size_t(k)] * nc;
   for (std::size_t q = 0; q < h.size; ++q) {
     const std::size_t o = h.out[q];
     if (h.cell[q] < 0) {
       if (h.cell[q] == BlockHits::kMissed) std::fill_n(d + o * nc, nc, nil_t);
-      continue;
-    }
-    if (h.trilinear) {
-      // The weights of the corners, summed in the order of the terms of the other cells; zero
-      // weights skipped (a NaN at a corner of weight 0 does not spread).
-      const probe_detail::GridHit& g = h.grid[q];
-      const double wr[2] = {1 - g.r, g.r}, ws[2] = {1 - g.s, g.s}, wt[2] = {1 - g.t, g.t};
-      double w[8];
-      for (int k = 0; k < 8; ++k) w[k] = wr[k & 1] * ws[(k >> 1) & 1] * wt[k >> 2];
-      const T* sb = s + g.base * nc;
-      const bool interior = g.r > 0 && g.r < 1 && g.s > 0 && g.s < 1 && g.t > 0 && g.t < 1;
-      for (std::size_t c = 0; c < nc; ++c) {
-        double v = 0;
-        if (interior) {  // no weight is 0
-          for (int k = 0; k < 8; ++k) v += w[k] * static_cast<double>(sb[off[k] + c]);
-        } else {
-          for (int k = 0; k < 8; ++k) {
-            if (w[k] != 0) v += w[k] * static_cast<double>(sb[off[k] + c]);
-          }
-        }
-        store(o * nc + c, v);
-      }
       continue;
     }
     const std::uint32_t t0 = h.first[q], t1 = h.first[q + 1];
@@ -351,8 +361,12 @@ Prober::Prober(DatasetRef input, const ProbeOptions& options)
     throw Error("probe: distance tolerance must be finite");
   }
   if (options.mask_name.empty()) throw Error("probe: the mask array needs a name");
-  const Bounds box = bounds(input);
-  m.dtol = options.distance_tolerance >= 0 ? options.distance_tolerance : 1e-6 * box.diagonal();
+  // The distance tolerance, resolved where surface, line and vertex cells may need it (a 3D
+  // structured grid and a mesh of tetrahedra have none: their bounds are not computed).
+  const auto resolve_dtol = [&] {
+    m.dtol = options.distance_tolerance >= 0 ? options.distance_tolerance
+                                             : 1e-6 * bounds(input).diagonal();
+  };
 
   // Blanking: cells marked invalid, or with a blanked point.
   const std::size_t nc = num_cells(input);
@@ -383,7 +397,10 @@ Prober::Prober(DatasetRef input, const ProbeOptions& options)
     if (m.blanked == 0) m.cell_ok.clear();
   }
 
-  if (input.get_if<ImageData>()) return;  // arithmetic: no locator
+  if (input.get_if<ImageData>()) {  // arithmetic: no locator
+    resolve_dtol();
+    return;
+  }
   if (const auto* g = input.get_if<StructuredGrid>()) {
     if (g->points.first_non_finite() < g->points.size()) {
       throw Error(fmt::format("probe: point {} of the input is not finite",
@@ -394,6 +411,7 @@ Prober::Prober(DatasetRef input, const ProbeOptions& options)
       return;
     }
   }
+  resolve_dtol();
   m.locator_options.tolerance = options.tolerance;
   m.locator_options.distance_tolerance = m.dtol;
   if (const auto* ug = input.get_if<UnstructuredGrid>();
@@ -516,8 +534,46 @@ ProbeResult Prober::probe(DatasetRef probe_ds) const {
           bool have_row = false, row_saved = false;
           Index last_tet = -1;
           const std::size_t end = std::min(n, (b + 1) * kBlock);
-          PointSequence seq(pp, b * kBlock);
           h.clear();
+          if (m.grid && pp.image) {
+            // An image probe in a structured grid: its rows point by point, hits written in
+            // place.
+            const ImageData& img = *pp.image;
+            const auto first = static_cast<Index>(b * kBlock);
+            Index x = first % img.dims[0], y = (first / img.dims[0]) % img.dims[1],
+                  z = first / (img.dims[0] * img.dims[1]);
+            for (std::size_t i = b * kBlock; i < end; ++i) {
+              if (x == 0) {
+                if (have_row) cursor = row_cursor;
+                row_saved = false;
+              }
+              const Vec3 p = img.point(x, y, z);
+              if (++x == img.dims[0]) {
+                x = 0;
+                if (++y == img.dims[1]) {
+                  y = 0;
+                  ++z;
+                }
+              }
+              probe_detail::GridHit& g = h.grid[h.size];
+              if (is_finite(p) && m.grid->find(p, cursor, g)) {
+                mask[i] = 1;
+                ++count;
+                h.out[h.size] = i;
+                h.cell[h.size++] = g.cell;
+                if (!row_saved) {
+                  row_cursor = cursor;
+                  have_row = row_saved = true;
+                }
+              } else {
+                mask[i] = 0;
+                h.missed(i);
+              }
+            }
+            carry(h);
+            continue;
+          }
+          PointSequence seq(pp, b * kBlock);
           for (std::size_t i = b * kBlock; i < end; ++i) {
             if (seq.row_start()) {
               if (have_row) cursor = row_cursor;

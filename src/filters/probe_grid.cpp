@@ -399,17 +399,26 @@ GridLocator::GridLocator(const StructuredGrid& grid, std::span<const std::uint8_
     for (std::size_t b = b0; b < b1; ++b) {
       const Index blk = Index(b);
       const Index bi = blk % m.bx, bj = (blk / m.bx) % m.by, bk = blk / (m.bx * m.by);
-      Vec3 lo = m.pt(m.point_id(bi * kBlock, bj * kBlock, bk * kBlock)), hi = lo;
-      for (Index k = bk * kBlock; k <= std::min(m.cz, (bk + 1) * kBlock); ++k)
-        for (Index j = bj * kBlock; j <= std::min(m.cy, (bj + 1) * kBlock); ++j)
-          for (Index i = bi * kBlock; i <= std::min(m.cx, (bi + 1) * kBlock); ++i) {
-            const Vec3 q = m.pt(m.point_id(i, j, k));
-            for (int a = 0; a < 3; ++a) {
-              lo[a] = std::min(lo[a], q[a]);
-              hi[a] = std::max(hi[a], q[a]);
+      double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+      const auto extend = [&](const auto* pts) {
+        for (Index k = bk * kBlock; k <= std::min(m.cz, (bk + 1) * kBlock); ++k)
+          for (Index j = bj * kBlock; j <= std::min(m.cy, (bj + 1) * kBlock); ++j) {
+            const Index i0 = bi * kBlock, i1 = std::min(m.cx, (bi + 1) * kBlock);
+            const auto* q = pts + 3 * m.point_id(i0, j, k);
+            for (Index i = i0; i <= i1; ++i, q += 3) {
+              for (int a = 0; a < 3; ++a) {
+                lo[a] = std::min(lo[a], double(q[a]));
+                hi[a] = std::max(hi[a], double(q[a]));
+              }
             }
           }
-      const double grow = growth(lo, hi, tolerance);
+      };
+      if (m.pf) {
+        extend(m.pf);
+      } else {
+        extend(m.pd);
+      }
+      const double grow = growth({lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}, tolerance);
       Box& box = m.block_box[b];
       for (int a = 0; a < 3; ++a) {
         box.lo[a] = down(lo[a] - grow);
