@@ -117,7 +117,13 @@ Index TetWalker::neighbour(Index cell, int f) const {
   const std::int32_t known = memo.load(std::memory_order_relaxed);
   if (known != 0) return known - 1;
   const Index* v = conn_ + 4 * cell;
-  const Index a = v[(f + 1) % 4], b = v[(f + 2) % 4], c = v[(f + 3) % 4];
+  Index a = v[(f + 1) % 4], b = v[(f + 2) % 4], c = v[(f + 3) % 4];
+  // Scan the cells of the face's point with the fewest.
+  const auto degree = [&](Index q) {
+    return point_start_[std::size_t(q) + 1] - point_start_[std::size_t(q)];
+  };
+  if (degree(b) < degree(a)) std::swap(a, b);
+  if (degree(c) < degree(a)) std::swap(a, c);
   Index found = -1;
   for (std::uint32_t e = point_start_[std::size_t(a)]; e < point_start_[std::size_t(a) + 1]; ++e) {
     const Index n = Index(point_cells_[e]);
