@@ -250,7 +250,8 @@ struct GridLocator::Impl {
   }
 
   /// The walk from the cursor's cell; false: ask the exact locator.
-  bool walk(const Vec3& p, GridCursor& cur, GridHit& hit) const {
+  bool walk(const Vec3& query, GridCursor& cur, GridHit& hit) const {
+    const Vec3 p = query;  // a local: stores to `cur` cannot change it
     Vec3 pc = cur.pcoords;
     // The coordinates predicted from the last point: one Newton step from it, whose Jacobian
     // is known (exact for a parallelepiped; otherwise off by about the square of the step).
