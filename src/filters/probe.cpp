@@ -117,12 +117,15 @@ void interpolate_block(const DataArray& src, DataArray& dst, const BlockHits& h,
       const double w[8] = {rs00 * t0, rs10 * t0, rs01 * t0, rs11 * t0,
                            rs00 * g.t, rs10 * g.t, rs01 * g.t, rs11 * g.t};
       const T* sb = s + g.base * nc;
-      const bool interior = g.r > 0 && g.r < 1 && g.s > 0 && g.s < 1 && g.t > 0 && g.t < 1;
-      if (interior && nc == 1) {  // the common case: no weight is 0, one component
+      if (nc == 1) {
+        // One component: all eight terms; a zero weight adds nothing to a finite sum, so only
+        // a sum that is not finite (a NaN or infinite corner) is redone skipping them.
         double v = 0;
         for (int k = 0; k < 8; ++k) v += w[k] * static_cast<double>(sb[off[k]]);
-        store(o, v);
-        continue;
+        if (std::isfinite(v)) {
+          store(o, v);
+          continue;
+        }
       }
       for (std::size_t c = 0; c < nc; ++c) {
         double v = 0;
