@@ -147,7 +147,8 @@ void interpolate_block(const DataArray& src, DataArray& dst, const BlockHits& h,
     const std::uint32_t t0 = h.first[q], t1 = h.first[q + 1];
     for (std::size_t c = 0; c < nc; ++c) {
       double v = 0;
-      for (std::uint32_t t = t0; t < t1; ++t) v += terms[t].second * static_cast<double>(s[terms[t].first * nc + c]);
+      for (std::uint32_t t = t0; t < t1; ++t)
+        v += terms[t].second * static_cast<double>(s[terms[t].first * nc + c]);
       store(o * nc + c, v);
     }
   }

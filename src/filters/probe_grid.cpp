@@ -317,7 +317,8 @@ struct GridLocator::Impl {
     const double pp[3] = {p.x, p.y, p.z};
     Index bin[3];
     for (int a = 0; a < 3; ++a) {
-      bin[a] = std::clamp(Index((pp[a] - bin_lo[a]) * bin_inv[a]), Index{0}, bins[std::size_t(a)] - 1);
+      bin[a] =
+          std::clamp(Index((pp[a] - bin_lo[a]) * bin_inv[a]), Index{0}, bins[std::size_t(a)] - 1);
     }
     const std::size_t b = std::size_t(bin[0] + bins[0] * (bin[1] + bins[1] * bin[2]));
     Index best = -1;
@@ -336,8 +337,10 @@ struct GridLocator::Impl {
             corners(i, j, k, x);
             Vec3 lo{x[0], x[1], x[2]}, hi = lo;
             for (int c = 1; c < 8; ++c) {
-              lo = {std::min(lo.x, x[3 * c]), std::min(lo.y, x[3 * c + 1]), std::min(lo.z, x[3 * c + 2])};
-              hi = {std::max(hi.x, x[3 * c]), std::max(hi.y, x[3 * c + 1]), std::max(hi.z, x[3 * c + 2])};
+              lo = {std::min(lo.x, x[3 * c]), std::min(lo.y, x[3 * c + 1]),
+                    std::min(lo.z, x[3 * c + 2])};
+              hi = {std::max(hi.x, x[3 * c]), std::max(hi.y, x[3 * c + 1]),
+                    std::max(hi.z, x[3 * c + 2])};
             }
             const double grow = growth(lo, hi, tol);
             if (!(p.x >= lo.x - grow && p.x <= hi.x + grow && p.y >= lo.y - grow &&

@@ -15,8 +15,8 @@
 namespace isoforge::probe_detail {
 
 /// A point found in a hexahedron: its cell, the id of its corner (0, 0, 0) and the point's
-/// parametric coordinates there, in [0, 1]. Corner (a, b, c) is point base + offset[a + 2b + 4c]
-/// (GridLocator::offsets) and has the trilinear weight (a ? r : 1 − r)(b ? s : 1 − s)(c ? t : 1 − t).
+/// parametric coordinates there, in [0, 1]. Corner (a, b, c) is point base + offset[a + 2b +
+/// 4c] (GridLocator::offsets), of trilinear weight (a ? r : 1 − r)(b ? s : 1 − s)(c ? t : 1 − t).
 struct GridHit {
   Index cell = -1;
   std::size_t base = 0;

@@ -172,7 +172,8 @@ bool TetWalker::walk(const Vec3& p, Index& cell, std::array<double, 4>& w) const
     if (next < -1 || next == prev) next = -1;
     if (next < 0) {
       int order[4] = {0, 1, 2, 3};  // faces by increasing barycentric coordinate
-      std::sort(order, order + 4, [&](int x, int y) { return l[x] < l[y] || (l[x] == l[y] && x < y); });
+      std::sort(order, order + 4,
+                [&](int x, int y) { return l[x] < l[y] || (l[x] == l[y] && x < y); });
       for (int f = 0; f < 4 && next < 0 && l[order[f]] < -tol_; ++f) {
         const Index n = neighbour(cell, order[f]);
         if (n >= 0) {
@@ -182,8 +183,10 @@ bool TetWalker::walk(const Vec3& p, Index& cell, std::array<double, 4>& w) const
         if (n == -1) continue;
         // Several cells share this face (an invalid mesh): the first other than prev.
         const Index* u0 = v;
-        const Index a = u0[(order[f] + 1) % 4], b = u0[(order[f] + 2) % 4], c = u0[(order[f] + 3) % 4];
-        for (std::uint32_t e = point_start_[std::size_t(a)]; e < point_start_[std::size_t(a) + 1]; ++e) {
+        const Index a = u0[(order[f] + 1) % 4], b = u0[(order[f] + 2) % 4],
+                    c = u0[(order[f] + 3) % 4];
+        for (std::uint32_t e = point_start_[std::size_t(a)]; e < point_start_[std::size_t(a) + 1];
+             ++e) {
           const Index m = Index(point_cells_[e]);
           if (m == cell || m == prev) continue;
           const Index* u = conn_ + 4 * m;

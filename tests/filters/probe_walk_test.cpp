@@ -17,7 +17,9 @@ using namespace isoforge;
 
 namespace {
 
-double linear(const Vec3& p) { return 1.5 + 2 * p.x - 3 * p.y + 0.5 * p.z; }
+double linear(const Vec3& p) {
+  return 1.5 + 2 * p.x - 3 * p.y + 0.5 * p.z;
+}
 
 /// Strongly curved but valid hexahedra: each coordinate displaced by 0.3 sin of the others
 /// (second derivatives up to 0.2 per cell, Jacobians diagonally dominant: 2 · 0.3 · 0.8 < 1).
@@ -60,7 +62,8 @@ bool cell_contains(const StructuredGrid& g, Index c, const Vec3& p) {
   const int order[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
                            {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};  // VTK's order
   std::vector<Vec3> pts;
-  for (const auto& o : order) pts.push_back(g.points[std::size_t(g.point_id(i + o[0], j + o[1], k + o[2]))]);
+  for (const auto& o : order)
+    pts.push_back(g.points[std::size_t(g.point_id(i + o[0], j + o[1], k + o[2]))]);
   return locate_in_cell(CellType::Hexahedron, pts, p, kDefaultCellTolerance).inside;
 }
 
@@ -89,7 +92,8 @@ void expect_coherent_equals_cold(const StructuredGrid& g, const Dims& dims) {
     const auto [cold, cold_stats] = prober.probe(one);
     const bool cold_found = cold_stats.found == 1;
     const auto i = std::size_t(id);
-    ASSERT_EQ(mask.get(i) != 0, cold_found) << "point " << id << " at " << p.x << " " << p.y << " " << p.z;
+    ASSERT_EQ(mask.get(i) != 0, cold_found)
+        << "point " << id << " at " << p.x << " " << p.y << " " << p.z;
     if (!cold_found) {
       EXPECT_TRUE(std::isnan(f.get(i)));
       ++outside;
