@@ -533,10 +533,11 @@ ProbeResult Prober::probe(DatasetRef probe_ds) const {
         std::size_t count = 0, waiting = 0;
         for (std::size_t b = b0; b < b1; ++b) {
           // The walks restart in every block. On an image probe, a row starts from where the
-          // previous row's first point was found, not from the previous row's end.
+          // previous row's first point was found (in a grid or a tetra mesh), not from the
+          // previous row's end.
           probe_detail::GridCursor cursor, row_cursor;
           bool have_row = false, row_saved = false;
-          Index last_tet = -1;
+          Index last_tet = -1, row_tet = -1;
           const std::size_t end = std::min(n, (b + 1) * kBlock);
           h.clear();
           if (m.grid && pp.image) {
@@ -581,6 +582,7 @@ ProbeResult Prober::probe(DatasetRef probe_ds) const {
           for (std::size_t i = b * kBlock; i < end; ++i) {
             if (seq.row_start()) {
               if (have_row) cursor = row_cursor;
+              if (row_tet >= 0) last_tet = row_tet;
               row_saved = false;
             }
             const Vec3 p = seq.next();
@@ -606,6 +608,10 @@ ProbeResult Prober::probe(DatasetRef probe_ds) const {
               if (cell >= 0 && tets->walk(p, cell, tw)) {
                 hit_ok = true;
                 last_tet = cell;
+                if (!row_saved) {
+                  row_tet = cell;
+                  row_saved = true;
+                }
                 const auto cell_ids = tet_mesh->cells.cell(std::size_t(cell));
                 for (int k = 0; k < 4; ++k) {
                   if (tw[std::size_t(k)] != 0) {
