@@ -15,6 +15,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <vector>
@@ -37,10 +38,150 @@ using Term = AttributeInterpolator::Term;
 /// spread over threads.
 constexpr std::size_t kBlock = 512;
 
-/// Where a probe point was found: a cell of the input and the weights of its points.
-struct Hit {
-  Index cell = -1;
-  std::vector<Term> terms;  // (input point id, weight)
+/// Where the points of a block were found, for interpolating each array over the whole block
+/// in one typed loop (no per-point dispatch): per point its output id, its cell (or kMissed:
+/// the nil value; kPending: decided by a second pass) and its terms (input point, weight).
+struct BlockHits {
+  static constexpr Index kMissed = -1;
+  static constexpr Index kPending = -2;
+  std::size_t size = 0;  // points, at most kBlock
+  std::array<std::size_t, kBlock> out;
+  std::array<Index, kBlock> cell;
+  std::array<std::uint32_t, kBlock + 1> first;  // terms of point q: [first[q], first[q + 1])
+  std::vector<Term> terms;
+  // A structured grid's points: trilinear in the cell at `grid[q]` instead of terms.
+  bool trilinear = false;
+  std::array<std::size_t, 8> offsets{};  // corner (a, b, c) at base + offsets[a + 2b + 4c]
+  std::array<probe_detail::GridHit, kBlock> grid;
+
+  void clear() {
+    size = 0;
+    first[0] = 0;
+    terms.clear();
+  }
+  void found(std::size_t o, const probe_detail::GridHit& g) {
+    out[size] = o;
+    cell[size] = g.cell;
+    grid[size++] = g;
+  }
+  /// Ends the point `o` found in `c`, whose terms were appended.
+  void found(std::size_t o, Index c) {
+    out[size] = o;
+    cell[size] = c;
+    first[++size] = static_cast<std::uint32_t>(terms.size());
+  }
+  void missed(std::size_t o, Index why = kMissed) {
+    out[size] = o;
+    cell[size] = why;
+    if (!trilinear) {
+      terms.resize(first[size]);  // drops the terms of a failed attempt
+      first[size + 1] = first[size];
+    }
+    ++size;
+  }
+};
+
+/// The value a floating-point or integer array gets at a point not found.
+template <class T>
+T nil_of(double nil);
+
+/// Output point array `dst` at the block's points: the weighted sums of `src`'s tuples, rounded
+/// to the nearest integer for integer types; the nil value where nothing was found.
+template <class T>
+void interpolate_block(const DataArray& src, DataArray& dst, const BlockHits& h, double nil) {
+  const auto nc = static_cast<std::size_t>(src.components());
+  const T* s = src.values<T>().data();
+  T* d = dst.values<T>().data();
+  const T nil_t = nil_of<T>(nil);
+  const auto store = [&](std::size_t at, double v) {
+    if constexpr (std::is_floating_point_v<T>) {
+      d[at] = static_cast<T>(v);
+    } else {
+      d[at] = static_cast<T>(std::nearbyint(v));
+    }
+  };
+  if (h.trilinear) {
+    // The weights of the corners, summed in the order of the terms of the other cells; zero
+    // weights skipped (a NaN at a corner of weight 0 does not spread).
+    std::size_t off[8];
+    for (int k = 0; k < 8; ++k) off[k] = h.offsets[std::size_t(k)] * nc;
+    for (std::size_t q = 0; q < h.size; ++q) {
+      const std::size_t o = h.out[q];
+      if (h.cell[q] < 0) {
+        if (h.cell[q] == BlockHits::kMissed) std::fill_n(d + o * nc, nc, nil_t);
+        continue;
+      }
+      const probe_detail::GridHit& g = h.grid[q];
+      const double r0 = 1 - g.r, s0 = 1 - g.s, t0 = 1 - g.t;
+      const double rs00 = r0 * s0, rs10 = g.r * s0, rs01 = r0 * g.s, rs11 = g.r * g.s;
+      const double w[8] = {rs00 * t0, rs10 * t0, rs01 * t0, rs11 * t0,
+                           rs00 * g.t, rs10 * g.t, rs01 * g.t, rs11 * g.t};
+      const T* sb = s + g.base * nc;
+      if (nc == 1) {
+        // One component: all eight terms; a zero weight adds nothing to a finite sum, so only
+        // a sum that is not finite (a NaN or infinite corner) is redone skipping them.
+        double v = 0;
+        for (int k = 0; k < 8; ++k) v += w[k] * static_cast<double>(sb[off[k]]);
+        if (std::isfinite(v)) {
+          store(o, v);
+          continue;
+        }
+      }
+      for (std::size_t c = 0; c < nc; ++c) {
+        double v = 0;
+        for (int k = 0; k < 8; ++k) {
+          if (w[k] != 0) v += w[k] * static_cast<double>(sb[off[k] + c]);
+        }
+        store(o * nc + c, v);
+      }
+    }
+    return;
+  }
+  const Term* terms = h.terms.data();
+  for (std::size_t q = 0; q < h.size; ++q) {
+    const std::size_t o = h.out[q];
+    if (h.cell[q] < 0) {
+      if (h.cell[q] == BlockHits::kMissed) std::fill_n(d + o * nc, nc, nil_t);
+      continue;
+    }
+    const std::uint32_t t0 = h.first[q], t1 = h.first[q + 1];
+    for (std::size_t c = 0; c < nc; ++c) {
+      double v = 0;
+      for (std::uint32_t t = t0; t < t1; ++t)
+        v += terms[t].second * static_cast<double>(s[terms[t].first * nc + c]);
+      store(o * nc + c, v);
+    }
+  }
+}
+
+/// Output point array `dst` at the block's points: the tuple of `src` (a cell array) of the
+/// cell each point was found in; the nil value where nothing was found.
+template <class T>
+void copy_block(const DataArray& src, DataArray& dst, const BlockHits& h, double nil) {
+  const auto nc = static_cast<std::size_t>(src.components());
+  const T* s = src.values<T>().data();
+  T* d = dst.values<T>().data();
+  const T nil_t = nil_of<T>(nil);
+  for (std::size_t q = 0; q < h.size; ++q) {
+    const std::size_t o = h.out[q];
+    const Index c = h.cell[q];
+    if (c >= 0) {
+      std::copy_n(s + static_cast<std::size_t>(c) * nc, nc, d + o * nc);
+    } else if (c == BlockHits::kMissed) {
+      std::fill_n(d + o * nc, nc, nil_t);
+    }
+  }
+}
+
+using BlockKernel = void (*)(const DataArray&, DataArray&, const BlockHits&, double);
+
+/// An output array per input array (n tuples, uninitialized: every value is written by the
+/// block kernels) and the kernel that fills it.
+struct Carried {
+  const DataArray* src;
+  std::string name;
+  DataArray* dst = nullptr;
+  BlockKernel kernel;
 };
 
 /// Cells of a structured dims: cells per axis (1 along an axis of one point).
@@ -48,7 +189,6 @@ std::array<Index, 3> cells_per_axis(const Dims& d) {
   return {d[0] > 1 ? d[0] - 1 : 1, d[1] > 1 ? d[1] - 1 : 1, d[2] > 1 ? d[2] - 1 : 1};
 }
 
-/// The value a floating-point or integer array gets at a point not found.
 template <class T>
 T nil_of(double nil) {
   if constexpr (std::is_floating_point_v<T>) {
@@ -83,6 +223,8 @@ class PointSequence {
       ijk_ = {id % d[0], (id / d[0]) % d[1], id / (d[0] * d[1])};
     }
   }
+  /// Whether the current point is the first of a row of an image probe.
+  [[nodiscard]] bool row_start() const { return pp_.image && ijk_[0] == 0; }
   /// The current point; then advances.
   Vec3 next() {
     if (!pp_.image) return (*pp_.points)[id_++];
@@ -142,21 +284,22 @@ struct Prober::Impl {
     }
   }
 
-  /// A locator hit mapped to the input's cell and point ids.
-  bool from_locator(const Vec3& p, Hit& hit, std::vector<Index>& ids) const {
+  /// A locator hit mapped to the input's cell; its terms appended to `terms`.
+  bool from_locator(const Vec3& p, Index& cell, std::vector<Term>& terms,
+                    std::vector<Index>& ids) const {
     const CellHit h = locator->find_cell(p);
     if (!h.found()) return false;
-    hit.cell = valid ? valid_ids[static_cast<std::size_t>(h.cell)] : h.cell;
-    cell_point_ids(input, hit.cell, ids);  // same point order as the locator's cell
-    hit.terms.clear();
+    cell = valid ? valid_ids[static_cast<std::size_t>(h.cell)] : h.cell;
+    cell_point_ids(input, cell, ids);  // same point order as the locator's cell
     for (std::size_t k = 0; k < ids.size(); ++k) {
-      if (h.weights[k] != 0) hit.terms.emplace_back(static_cast<std::size_t>(ids[k]), h.weights[k]);
+      if (h.weights[k] != 0) terms.emplace_back(static_cast<std::size_t>(ids[k]), h.weights[k]);
     }
     return true;
   }
 
   /// Image data by arithmetic: the smallest-id non-blanked cell containing p.
-  bool locate_image(const ImageData& img, const Vec3& p, Hit& hit) const {
+  bool locate_image(const ImageData& img, const Vec3& p, Index& cell_found,
+                    std::vector<Term>& terms) const {
     const auto cpa = cells_per_axis(img.dims);
     Index lo[3], hi[3];
     double u[3];
@@ -189,8 +332,8 @@ struct Prober::Impl {
             w[a][1] = r;
             step[a] = img.dims[a] == 1 ? 0 : 1;
           }
-          hit.cell = cell;
-          hit.terms.clear();
+          cell_found = cell;
+          const std::size_t before = terms.size();
           const Index base = img.point_id(i, j, k);
           const Index sj = img.dims[0], sk = img.dims[0] * img.dims[1];
           for (int c = 0; c < 8; ++c) {
@@ -198,9 +341,9 @@ struct Prober::Impl {
             if ((a0 && !step[0]) || (a1 && !step[1]) || (a2 && !step[2])) continue;
             const double wt = w[0][a0] * w[1][a1] * w[2][a2];
             if (wt == 0) continue;
-            hit.terms.emplace_back(static_cast<std::size_t>(base + a0 + a1 * sj + a2 * sk), wt);
+            terms.emplace_back(static_cast<std::size_t>(base + a0 + a1 * sj + a2 * sk), wt);
           }
-          if (hit.terms.empty()) hit.terms.emplace_back(static_cast<std::size_t>(base), 1.0);
+          if (terms.size() == before) terms.emplace_back(static_cast<std::size_t>(base), 1.0);
           return true;
         }
       }
@@ -222,8 +365,12 @@ Prober::Prober(DatasetRef input, const ProbeOptions& options)
     throw Error("probe: distance tolerance must be finite");
   }
   if (options.mask_name.empty()) throw Error("probe: the mask array needs a name");
-  const Bounds box = bounds(input);
-  m.dtol = options.distance_tolerance >= 0 ? options.distance_tolerance : 1e-6 * box.diagonal();
+  // The distance tolerance, resolved where surface, line and vertex cells may need it (a 3D
+  // structured grid and a mesh of tetrahedra have none: their bounds are not computed).
+  const auto resolve_dtol = [&] {
+    m.dtol = options.distance_tolerance >= 0 ? options.distance_tolerance
+                                             : 1e-6 * bounds(input).diagonal();
+  };
 
   // Blanking: cells marked invalid, or with a blanked point.
   const std::size_t nc = num_cells(input);
@@ -254,7 +401,10 @@ Prober::Prober(DatasetRef input, const ProbeOptions& options)
     if (m.blanked == 0) m.cell_ok.clear();
   }
 
-  if (input.get_if<ImageData>()) return;  // arithmetic: no locator
+  if (input.get_if<ImageData>()) {  // arithmetic: no locator
+    resolve_dtol();
+    return;
+  }
   if (const auto* g = input.get_if<StructuredGrid>()) {
     if (g->points.first_non_finite() < g->points.size()) {
       throw Error(fmt::format("probe: point {} of the input is not finite",
@@ -265,6 +415,7 @@ Prober::Prober(DatasetRef input, const ProbeOptions& options)
       return;
     }
   }
+  resolve_dtol();
   m.locator_options.tolerance = options.tolerance;
   m.locator_options.distance_tolerance = m.dtol;
   if (const auto* ug = input.get_if<UnstructuredGrid>();
@@ -301,7 +452,8 @@ ProbeResult Prober::probe(DatasetRef probe_ds) const {
     });
   }
 
-  // The output: the probe's structure, no arrays.
+  // The output: the probe's structure; the input's point arrays, then its cell arrays (renamed
+  // on a collision), each made once at full size and written once.
   ProbeResult result;
   result.output = probe_ds.visit([](const auto& d) -> Dataset {
     auto out = d;
@@ -310,9 +462,51 @@ ProbeResult Prober::probe(DatasetRef probe_ds) const {
     out.field_data.clear();
     return out;
   });
-  const Attributes none;
-  AttributeInterpolator from_points(point_data(m.input), none, n, 0);
-  AttributeInterpolator from_cells(cell_data(m.input), none, n, 0);
+  Attributes& out_pd = point_data(result.output);
+  const Attributes& in_pd = point_data(m.input);
+  const Attributes& in_cd = cell_data(m.input);
+  std::vector<Carried> carried;
+  auto add_output = [&](const DataArray& a, std::string name, bool interpolate) {
+    DataArray d = DataArray::uninitialized(std::move(name), a.type(), a.components(), n);
+    d.set_lookup_table(a.lookup_table());
+    const BlockKernel kernel = a.visit([&](const auto& v) -> BlockKernel {
+      using T = typename std::decay_t<decltype(v)>::value_type;
+      return interpolate ? &interpolate_block<T> : &copy_block<T>;
+    });
+    carried.push_back({&a, d.name(), nullptr, kernel});
+    out_pd.add(std::move(d));
+  };
+  for (const DataArray& a : in_pd) add_output(a, a.name(), true);
+  for (std::size_t r = 0; r < kAttributeRoleCount; ++r) {
+    const auto role = static_cast<AttributeRole>(r);
+    if (!in_pd.active_name(role).empty()) out_pd.set_active(role, in_pd.active_name(role));
+  }
+  for (const DataArray& a : in_cd) {
+    const std::string name = out_pd.has(a.name()) ? a.name() + " (cell)" : a.name();
+    add_output(a, name, false);
+    for (std::size_t r = 0; r < kAttributeRoleCount; ++r) {
+      const auto role = static_cast<AttributeRole>(r);
+      if (in_cd.active_name(role) == a.name() && out_pd.active_name(role).empty()) {
+        out_pd.set_active(role, name);
+      }
+    }
+  }
+  out_pd.remove(m.options.mask_name);  // an input array named like the mask gives way to it
+  // Each output array is filled by the last entry of its name (a later `add` replaced it).
+  for (std::size_t a = carried.size(); a-- > 0;) {
+    DataArray* dst = out_pd.find(carried[a].name);
+    const bool taken = std::any_of(carried.begin() + std::ptrdiff_t(a) + 1, carried.end(),
+                                   [&](const Carried& c) { return c.dst == dst; });
+    if (!dst || taken) {
+      carried.erase(carried.begin() + std::ptrdiff_t(a));
+    } else {
+      carried[a].dst = dst;
+    }
+  }
+  const double nil = m.options.nil_value;
+  auto carry = [&](const BlockHits& h) {
+    for (const Carried& c : carried) c.kernel(*c.src, *c.dst, h, nil);
+  };
   Buffer<std::uint8_t> mask;
   mask.resize(n);
 
@@ -325,62 +519,123 @@ ProbeResult Prober::probe(DatasetRef probe_ds) const {
   parallel_for_range(
       blocks, 1,
       [&](std::size_t b0, std::size_t b1) {
-        Hit hit;
-        hit.terms.reserve(8);
+        auto hits = std::make_unique<BlockHits>();
+        BlockHits& h = *hits;
+        if (m.grid) {
+          h.trilinear = true;
+          h.offsets = m.grid->offsets();
+        } else {
+          h.terms.reserve(8 * kBlock);
+        }
         probe_detail::GridHit gh;
         std::array<double, 4> tw{};
         std::vector<Index> ids;
         std::size_t count = 0, waiting = 0;
         for (std::size_t b = b0; b < b1; ++b) {
-          probe_detail::GridCursor cursor;  // the walks restart in every block
-          Index last_tet = -1;
+          // The walks restart in every block. On an image probe, a row starts from where the
+          // previous row's first point was found (in a grid or a tetra mesh), not from the
+          // previous row's end.
+          probe_detail::GridCursor cursor, row_cursor;
+          bool have_row = false, row_saved = false;
+          Index last_tet = -1, row_tet = -1;
           const std::size_t end = std::min(n, (b + 1) * kBlock);
+          h.clear();
+          if (m.grid && pp.image) {
+            // An image probe in a structured grid: its rows point by point, hits written in
+            // place.
+            const ImageData& img = *pp.image;
+            const auto first = static_cast<Index>(b * kBlock);
+            Index x = first % img.dims[0], y = (first / img.dims[0]) % img.dims[1],
+                  z = first / (img.dims[0] * img.dims[1]);
+            for (std::size_t i = b * kBlock; i < end; ++i) {
+              if (x == 0) {
+                if (have_row) cursor = row_cursor;
+                row_saved = false;
+              }
+              const Vec3 p = img.point(x, y, z);
+              if (++x == img.dims[0]) {
+                x = 0;
+                if (++y == img.dims[1]) {
+                  y = 0;
+                  ++z;
+                }
+              }
+              probe_detail::GridHit& g = h.grid[h.size];
+              if (is_finite(p) && m.grid->find(p, cursor, g)) {
+                mask[i] = 1;
+                ++count;
+                h.out[h.size] = i;
+                h.cell[h.size++] = g.cell;
+                if (!row_saved) {
+                  row_cursor = cursor;
+                  have_row = row_saved = true;
+                }
+              } else {
+                mask[i] = 0;
+                h.missed(i);
+              }
+            }
+            carry(h);
+            continue;
+          }
           PointSequence seq(pp, b * kBlock);
           for (std::size_t i = b * kBlock; i < end; ++i) {
+            if (seq.row_start()) {
+              if (have_row) cursor = row_cursor;
+              if (row_tet >= 0) last_tet = row_tet;
+              row_saved = false;
+            }
             const Vec3 p = seq.next();
+            Index cell = -1;
             bool hit_ok = false;
             if (!is_finite(p)) {
               hit_ok = false;
             } else if (image) {
-              hit_ok = m.locate_image(*image, p, hit);
+              hit_ok = m.locate_image(*image, p, cell, h.terms);
             } else if (m.grid) {
-              hit_ok = m.grid->find(p, cursor, gh);
-              if (hit_ok) {
-                hit.cell = gh.cell;
-                hit.terms.clear();
-                for (int c = 0; c < 8; ++c) {
-                  if (gh.weights[std::size_t(c)] != 0) {
-                    hit.terms.emplace_back(gh.ids[std::size_t(c)], gh.weights[std::size_t(c)]);
-                  }
+              if (m.grid->find(p, cursor, gh)) {
+                mask[i] = 1;
+                ++count;
+                h.found(i, gh);
+                if (!row_saved) {
+                  row_cursor = cursor;
+                  have_row = row_saved = true;
                 }
+                continue;
               }
             } else if (tets) {
-              Index cell = last_tet >= 0 ? last_tet : tets->seed(p);
+              cell = last_tet >= 0 ? last_tet : tets->seed(p);
               if (cell >= 0 && tets->walk(p, cell, tw)) {
                 hit_ok = true;
                 last_tet = cell;
-                hit.cell = cell;
-                hit.terms.clear();
+                if (!row_saved) {
+                  row_tet = cell;
+                  row_saved = true;
+                }
                 const auto cell_ids = tet_mesh->cells.cell(std::size_t(cell));
                 for (int k = 0; k < 4; ++k) {
                   if (tw[std::size_t(k)] != 0) {
-                    hit.terms.emplace_back(std::size_t(cell_ids[std::size_t(k)]), tw[std::size_t(k)]);
+                    h.terms.emplace_back(std::size_t(cell_ids[std::size_t(k)]), tw[std::size_t(k)]);
                   }
                 }
               } else {
                 mask[i] = kPending;
+                h.missed(i, BlockHits::kPending);
                 ++waiting;
                 continue;
               }
             } else {
-              hit_ok = m.from_locator(p, hit, ids);
+              hit_ok = m.from_locator(p, cell, h.terms, ids);
             }
             mask[i] = hit_ok ? 1 : 0;
-            if (!hit_ok) continue;
-            ++count;
-            from_points.combine(i, hit.terms);
-            from_cells.copy_point(i, static_cast<std::size_t>(hit.cell));
+            if (hit_ok) {
+              ++count;
+              h.found(i, cell);
+            } else {
+              h.missed(i);
+            }
           }
+          carry(h);
         }
         found += count;
         pending += waiting;
@@ -398,56 +653,30 @@ ProbeResult Prober::probe(DatasetRef probe_ds) const {
       if (mask[i] == kPending) rest.push_back(i);
     }
     parallel_for_range(rest.size(), 256, [&](std::size_t r0, std::size_t r1) {
-      Hit hit;
+      auto hits = std::make_unique<BlockHits>();
+      BlockHits& h = *hits;
       std::vector<Index> ids;
       std::size_t count = 0;
       for (std::size_t r = r0; r < r1; ++r) {
         const std::size_t i = rest[r];
-        const bool hit_ok = m.from_locator(pp(i), hit, ids);
+        Index cell = -1;
+        const bool hit_ok = m.from_locator(pp(i), cell, h.terms, ids);
         mask[i] = hit_ok ? 1 : 0;
-        if (!hit_ok) continue;
-        ++count;
-        from_points.combine(i, hit.terms);
-        from_cells.copy_point(i, static_cast<std::size_t>(hit.cell));
+        if (hit_ok) {
+          ++count;
+          h.found(i, cell);
+        } else {
+          h.missed(i);
+        }
+        if (h.size == kBlock || r + 1 == r1) {
+          carry(h);
+          h.clear();
+        }
       }
       found += count;
     });
   }
-
-  // Arrays of the output, nil where nothing was found.
-  Attributes& out_pd = point_data(result.output);
-  Attributes unused, cell_arrays;
-  from_points.move_into(out_pd, unused);
-  from_cells.move_into(cell_arrays, unused);
-  for (std::size_t a = 0; a < cell_arrays.size(); ++a) {
-    DataArray arr = std::move(cell_arrays[a]);
-    const std::string name = arr.name();
-    if (out_pd.has(name)) arr.set_name(name + " (cell)");
-    out_pd.add(std::move(arr));
-    for (std::size_t r = 0; r < kAttributeRoleCount; ++r) {
-      const auto role = static_cast<AttributeRole>(r);
-      if (cell_arrays.active_name(role) == name && out_pd.active_name(role).empty()) {
-        out_pd.set_active(role, out_pd[out_pd.size() - 1].name());
-      }
-    }
-  }
   const std::size_t nfound = found.load();
-  if (nfound < n) {
-    for (std::size_t a = 0; a < out_pd.size(); ++a) {
-      DataArray& arr = out_pd[a];
-      const auto nc = static_cast<std::size_t>(arr.components());
-      arr.visit([&](auto& v) {
-        using T = typename std::decay_t<decltype(v)>::value_type;
-        const T nil = nil_of<T>(m.options.nil_value);
-        parallel_for_range(n, 1 << 14, [&](std::size_t i0, std::size_t i1) {
-          for (std::size_t i = i0; i < i1; ++i) {
-            if (!mask[i]) std::fill_n(v.data() + i * nc, nc, nil);
-          }
-        });
-      });
-    }
-  }
-  if (out_pd.has(m.options.mask_name)) out_pd.remove(m.options.mask_name);
   out_pd.add(DataArray::from_buffer(m.options.mask_name, 1, std::move(mask)));
   result.stats.points = n;
   result.stats.found = nfound;

@@ -27,50 +27,119 @@ constexpr double kMaxJump = 8;
 /// tolerance).
 constexpr int kMaxNewton = 24;
 constexpr double kNewtonStep = 1e-6;
+/// Chord steps after each Newton step (the residual re-evaluated, the Jacobian kept): at most
+/// this many, and the iterate is accepted when the error bound of a contraction, q / (1 − q)
+/// times the last step (q: the ratio of the last two steps), is below kChordError.
+constexpr int kMaxChord = 3;
+constexpr double kChordError = 1e-12;
+/// Chord steps with the last point's inverse Jacobian before any Newton step: at most this
+/// many, while each step is below kWarmRate times the one before.
+constexpr int kMaxWarmChord = 5;
+constexpr double kWarmRate = 0.01;
+/// A walk whose predicted coordinates lie this far outside the current cell moves on without
+/// solving in it (the prediction's error is far smaller: the square of the step, in cells).
+constexpr double kPredictMargin = 0.05;
 /// Block edge in cells of the exact locator.
 constexpr Index kBlock = 2;
 
-/// The trilinear map X = a + b r + c s + d t + e rs + f rt + g st + h rst of a hexahedron with
-/// corners x[ia + 2 ib + 4 ic], as its 8 coefficients.
-void make_map(const std::array<Vec3, 8>& x, std::array<Vec3, 8>& m) {
-  m[0] = x[0];
-  m[1] = x[1] - x[0];
-  m[2] = x[2] - x[0];
-  m[3] = x[4] - x[0];
-  m[4] = x[3] - x[1] - x[2] + x[0];
-  m[5] = x[5] - x[1] - x[4] + x[0];
-  m[6] = x[6] - x[2] - x[4] + x[0];
-  m[7] = x[7] - x[3] - x[5] - x[6] + x[1] + x[2] + x[4] - x[0];
+/// The trilinear map X = a + b r + c s + d t + e rs + f rt + g st + h rst of a hexahedron, as
+/// m[3 q + axis] for the coefficients q = a, b, ..., h.
+using Map = std::array<double, 24>;
+
+/// The map of the hexahedron with corners x[3 (ia + 2 ib + 4 ic) + axis].
+void make_map(const double* x, double* m) {
+  for (int a = 0; a < 3; ++a) {
+    const double x0 = x[a], x1 = x[3 + a], x2 = x[6 + a], x3 = x[9 + a], x4 = x[12 + a],
+                 x5 = x[15 + a], x6 = x[18 + a], x7 = x[21 + a];
+    m[a] = x0;
+    m[3 + a] = x1 - x0;
+    m[6 + a] = x2 - x0;
+    m[9 + a] = x4 - x0;
+    m[12 + a] = x3 - x1 - x2 + x0;
+    m[15 + a] = x5 - x1 - x4 + x0;
+    m[18 + a] = x6 - x2 - x4 + x0;
+    m[21 + a] = x7 - x3 - x5 - x6 + x1 + x2 + x4 - x0;
+  }
 }
 
-/// Parametric coordinates of p by Newton's method from `pc`; false if it did not converge.
-bool solve(const std::array<Vec3, 8>& m, const Vec3& p, Vec3& pc) {
-  double r = pc.x, s = pc.y, t = pc.z;
-  const Vec3 &a = m[0], &b = m[1], &c = m[2], &d = m[3], &e = m[4], &f = m[5], &g = m[6],
-             &h = m[7];
+bool bounded(double r, double s, double t) {
+  return std::abs(r) < 1e6 && std::abs(s) < 1e6 && std::abs(t) < 1e6;
+}
+
+/// X(r, s, t) − p, in the nested form of `solve`.
+inline void residual(const double* m, const double* p, double r, double s, double t, double* F) {
+  for (int q = 0; q < 3; ++q) {
+    const double jr = m[3 + q] + (m[12 + q] + m[21 + q] * t) * s + m[15 + q] * t;
+    F[q] = m[q] + jr * r + (m[6 + q] + m[18 + q] * t) * s + m[9 + q] * t - p[q];
+  }
+}
+
+/// Parametric coordinates (r, s, t) of p by Newton's method from (r, s, t), each Newton step
+/// followed by chord steps (the residual re-evaluated, the Jacobian kept); false if they did
+/// not converge. `jinv`: the inverse Jacobian (rows) of the last Newton step, near the
+/// solution, for predicting the next point's coordinates.
+bool solve(const double* m, const double* p, double& r_io, double& s_io, double& t_io,
+           double* jinv) {
+  const double *a = m, *b = m + 3, *c = m + 6, *d = m + 9, *e = m + 12, *f = m + 15,
+               *g = m + 18, *h = m + 21;
+  double r = r_io, s = s_io, t = t_io;
   for (int it = 0; it < kMaxNewton; ++it) {
     // X and its derivatives in nested form: u = e + t h, jr = dX/dr = b + s u + t f, ...
-    const Vec3 u = e + h * t;
-    const Vec3 cg = c + g * t;
-    const Vec3 jr = b + u * s + f * t;
-    const Vec3 js = cg + u * r;
-    const Vec3 jt = d + (f + h * s) * r + g * s;
-    const Vec3 F = a + jr * r + cg * s + d * t - p;
-    const Vec3 c0 = cross(js, jt);
-    const double det = dot(jr, c0);
+    double jr[3], js[3], jt[3], F[3];
+    for (int q = 0; q < 3; ++q) {
+      const double u = e[q] + h[q] * t;
+      const double cg = c[q] + g[q] * t;
+      jr[q] = b[q] + u * s + f[q] * t;
+      js[q] = cg + u * r;
+      jt[q] = d[q] + (f[q] + h[q] * s) * r + g[q] * s;
+      F[q] = a[q] + jr[q] * r + cg * s + d[q] * t - p[q];
+    }
+    // The inverse Jacobian's rows: (js × jt, jt × jr, jr × js) / det.
+    const double c0[3] = {js[1] * jt[2] - js[2] * jt[1], js[2] * jt[0] - js[0] * jt[2],
+                          js[0] * jt[1] - js[1] * jt[0]};
+    const double c1[3] = {jt[1] * jr[2] - jt[2] * jr[1], jt[2] * jr[0] - jt[0] * jr[2],
+                          jt[0] * jr[1] - jt[1] * jr[0]};
+    const double c2[3] = {jr[1] * js[2] - jr[2] * js[1], jr[2] * js[0] - jr[0] * js[2],
+                          jr[0] * js[1] - jr[1] * js[0]};
+    const double det = jr[0] * c0[0] + jr[1] * c0[1] + jr[2] * c0[2];
     // A singular Jacobian; a nearly singular one (a degenerate cell) makes the iteration diverge
     // or stall, which is caught below and leaves the cell to locate_in_cell.
     if (!(std::abs(det) > 0) || !std::isfinite(det)) return false;
     const double inv = 1.0 / det;
-    const double dr = dot(F, c0) * inv;
-    const double ds = dot(jr, cross(F, jt)) * inv;
-    const double dt = dot(jr, cross(js, F)) * inv;
+    double dr = (c0[0] * F[0] + c0[1] * F[1] + c0[2] * F[2]) * inv;
+    double ds = (c1[0] * F[0] + c1[1] * F[1] + c1[2] * F[2]) * inv;
+    double dt = (c2[0] * F[0] + c2[1] * F[1] + c2[2] * F[2]) * inv;
     r -= dr;
     s -= ds;
     t -= dt;
-    if (!(std::abs(r) < 1e6 && std::abs(s) < 1e6 && std::abs(t) < 1e6)) return false;
-    if (std::max({std::abs(dr), std::abs(ds), std::abs(dt)}) < kNewtonStep) {
-      pc = {r, s, t};
+    if (!bounded(r, s, t)) return false;
+    double prev = std::max({std::abs(dr), std::abs(ds), std::abs(dt)});
+    bool done = prev < kNewtonStep;
+    for (int k = 0; k < kMaxChord && !done; ++k) {
+      double Fk[3];
+      residual(m, p, r, s, t, Fk);
+      dr = (c0[0] * Fk[0] + c0[1] * Fk[1] + c0[2] * Fk[2]) * inv;
+      ds = (c1[0] * Fk[0] + c1[1] * Fk[1] + c1[2] * Fk[2]) * inv;
+      dt = (c2[0] * Fk[0] + c2[1] * Fk[1] + c2[2] * Fk[2]) * inv;
+      r -= dr;
+      s -= ds;
+      t -= dt;
+      if (!bounded(r, s, t)) return false;
+      const double step = std::max({std::abs(dr), std::abs(ds), std::abs(dt)});
+      const double q = step / prev;
+      if (!(q < 0.5)) break;  // not contracting fast: a Newton step again
+      done = step * q <= kChordError * (1 - q);
+      prev = step;
+    }
+    if (done) {
+      r_io = r;
+      s_io = s;
+      t_io = t;
+      for (int q = 0; q < 3; ++q) {
+        jinv[q] = c0[q] * inv;
+        jinv[3 + q] = c1[q] * inv;
+        jinv[6 + q] = c2[q] * inv;
+      }
       return true;
     }
   }
@@ -94,6 +163,14 @@ struct Box {
   }
 };
 
+/// The growth of a box with corners lo, hi so that it holds every point the parametric
+/// tolerance admits in a cell inside it, plus rounding.
+double growth(const Vec3& lo, const Vec3& hi, double tolerance) {
+  double mag = 0;
+  for (int a = 0; a < 3; ++a) mag += 2 * std::max(std::abs(lo[a]), std::abs(hi[a]));
+  return (1e-6 + 4 * tolerance) * norm(hi - lo) + 1e-12 * mag;
+}
+
 }  // namespace
 
 struct GridLocator::Impl {
@@ -102,7 +179,7 @@ struct GridLocator::Impl {
   const float* pf = nullptr;
   const double* pd = nullptr;
   std::span<const std::uint8_t> cell_ok;
-  std::vector<Box> cell_box, block_box;
+  std::vector<Box> block_box;
   Box all{};
   Vec3 bin_lo{}, bin_inv{};
   std::array<Index, 3> bins{};
@@ -119,46 +196,53 @@ struct GridLocator::Impl {
   [[nodiscard]] Index cell_id(Index i, Index j, Index k) const { return i + cx * (j + cy * k); }
   [[nodiscard]] Index point_id(Index i, Index j, Index k) const { return i + nx * (j + ny * k); }
 
-  void corner_ids(Index i, Index j, Index k, std::array<std::size_t, 8>& ids) const {
-    const auto base = std::size_t(point_id(i, j, k)), sj = std::size_t(nx),
-               sk = std::size_t(nx * ny);
-    ids = {base, base + 1, base + sj, base + sj + 1, base + sk, base + sk + 1, base + sk + sj,
-           base + sk + sj + 1};
-  }
-  void corners(Index i, Index j, Index k, std::array<Vec3, 8>& x,
-               std::array<std::size_t, 8>& ids) const {
-    corner_ids(i, j, k, ids);
-    for (int c = 0; c < 8; ++c) x[std::size_t(c)] = pt(Index(ids[std::size_t(c)]));
+  /// The corners of cell (i, j, k): x[3 (ia + 2 ib + 4 ic) + axis].
+  void corners(Index i, Index j, Index k, double* x) const {
+    const std::size_t base = std::size_t(point_id(i, j, k)), sj = std::size_t(nx),
+                      sk = std::size_t(nx * ny);
+    const std::size_t ids[8] = {base,      base + 1,      base + sj,      base + sj + 1,
+                                base + sk, base + sk + 1, base + sk + sj, base + sk + sj + 1};
+    if (pf) {
+      for (int c = 0; c < 8; ++c)
+        for (int a = 0; a < 3; ++a) x[3 * c + a] = double(pf[3 * ids[c] + std::size_t(a)]);
+    } else {
+      for (int c = 0; c < 8; ++c)
+        for (int a = 0; a < 3; ++a) x[3 * c + a] = pd[3 * ids[c] + std::size_t(a)];
+    }
   }
 
-  /// Whether cell (i, j, k) contains p; its parametric coordinates in `pc` (start: `pc`).
-  /// Newton on the trilinear map; `locate_in_cell` when it does not converge.
-  bool test(const std::array<std::size_t, 8>& ids, const std::array<Vec3, 8>& map,
-            const Vec3& p, Vec3& pc, bool& inside) const {
-    if (solve(map, p, pc)) {
+  /// Whether cell (i, j, k), of map `map`, contains p; its parametric coordinates in `pc`
+  /// (start: `pc`). `solve` on the trilinear map (`newton` true, `jinv` set), or
+  /// `locate_in_cell` when that does not converge. False if neither converged.
+  bool test(Index i, Index j, Index k, const double* map, const Vec3& p, Vec3& pc, bool& inside,
+            double* jinv, bool& newton) const {
+    const double pp[3] = {p.x, p.y, p.z};
+    newton = solve(map, pp, pc.x, pc.y, pc.z, jinv);
+    if (newton) {
       inside = pc.x >= -tol && pc.x <= 1 + tol && pc.y >= -tol && pc.y <= 1 + tol &&
                pc.z >= -tol && pc.z <= 1 + tol;
       return true;
     }
+    double x[24];
+    corners(i, j, k, x);
     std::array<Vec3, 8> vtk;  // VTK's hexahedron order
     const int order[8] = {0, 1, 3, 2, 4, 5, 7, 6};
-    for (int c = 0; c < 8; ++c) vtk[std::size_t(c)] = pt(Index(ids[std::size_t(order[c])]));
+    for (int c = 0; c < 8; ++c) {
+      const double* q = x + 3 * order[c];
+      vtk[std::size_t(c)] = {q[0], q[1], q[2]};
+    }
     const CellPosition pos = locate_in_cell(CellType::Hexahedron, vtk, p, tol);
     inside = pos.inside;
     pc = pos.pcoords;
     return pos.converged;
   }
 
-  void fill(Index i, Index j, Index k, const std::array<std::size_t, 8>& ids, const Vec3& pc,
-            GridHit& hit) const {
+  void fill(Index i, Index j, Index k, const Vec3& pc, GridHit& hit) const {
     hit.cell = cell_id(i, j, k);
-    hit.ids = ids;
-    const double r = std::clamp(pc.x, 0.0, 1.0), s = std::clamp(pc.y, 0.0, 1.0),
-                 t = std::clamp(pc.z, 0.0, 1.0);
-    for (int c = 0; c < 8; ++c) {
-      hit.weights[std::size_t(c)] = ((c & 1) ? r : 1 - r) * (((c >> 1) & 1) ? s : 1 - s) *
-                                    (((c >> 2) & 1) ? t : 1 - t);
-    }
+    hit.base = std::size_t(point_id(i, j, k));
+    hit.r = std::clamp(pc.x, 0.0, 1.0);
+    hit.s = std::clamp(pc.y, 0.0, 1.0);
+    hit.t = std::clamp(pc.z, 0.0, 1.0);
   }
 
   [[nodiscard]] bool ok(Index cell) const {
@@ -166,40 +250,61 @@ struct GridLocator::Impl {
   }
 
   /// The walk from the cursor's cell; false: ask the exact locator.
-  bool walk(const Vec3& p, GridCursor& cur, GridHit& hit) const {
-    std::array<Vec3, 8> x;
-    std::array<std::size_t, 8> ids;
+  bool walk(const Vec3& query, GridCursor& cur, GridHit& hit) const {
+    const Vec3 p = query;  // a local: stores to `cur` cannot change it
     Vec3 pc = cur.pcoords;
+    // The coordinates predicted from the last point: one Newton step from it, whose Jacobian
+    // is known (exact for a parallelepiped; otherwise off by about the square of the step).
+    bool predicted = false;
+    if (cur.predict) {
+      const Vec3 dp = p - cur.last;
+      const double* J = cur.jinv.data();
+      pc.x += J[0] * dp.x + J[1] * dp.y + J[2] * dp.z;
+      pc.y += J[3] * dp.x + J[4] * dp.y + J[5] * dp.z;
+      pc.z += J[6] * dp.x + J[7] * dp.y + J[8] * dp.z;
+      predicted = bounded(pc.x, pc.y, pc.z);
+      if (!predicted) pc = cur.pcoords;
+      cur.predict = false;
+    }
     for (int step = 0; step < kMaxWalkSteps; ++step) {
       const auto [i, j, k] = cur.cell;
       const Index cell = cell_id(i, j, k);
-      if (cur.map_cell != cell) {
-        corners(i, j, k, x, ids);
-        make_map(x, cur.map);
-        cur.map_cell = cell;
+      if (step == 0 && predicted &&
+          !(pc.x >= -kPredictMargin && pc.x <= 1 + kPredictMargin && pc.y >= -kPredictMargin &&
+            pc.y <= 1 + kPredictMargin && pc.z >= -kPredictMargin && pc.z <= 1 + kPredictMargin)) {
+        // Clearly in another cell: move on without solving here.
       } else {
-        corner_ids(i, j, k, ids);
-      }
-      bool inside = false;
-      if (!test(ids, cur.map, p, pc, inside)) return false;
-      if (inside) {
-        if (!ok(cell)) return false;
-        fill(i, j, k, ids, pc, hit);
-        cur.pcoords = pc;
-        return true;
+        if (cur.map_cell != cell) {
+          double x[24];
+          corners(i, j, k, x);
+          make_map(x, cur.map.data());
+          cur.map_cell = cell;
+        }
+        bool inside = false, newton = false;
+        if (!test(i, j, k, cur.map.data(), p, pc, inside, cur.jinv.data(), newton)) return false;
+        if (inside) {
+          if (!ok(cell)) return false;
+          fill(i, j, k, pc, hit);
+          cur.pcoords = pc;
+          cur.predict = newton;
+          cur.last = p;
+          return true;
+        }
       }
       const Index lim[3] = {cx, cy, cz};
+      double v[3] = {pc.x, pc.y, pc.z};
       bool moved = false;
       for (int a = 0; a < 3; ++a) {
-        const double v = pc[a];
         double jump = 0;
-        if (v < -tol) jump = std::max(-kMaxJump, std::floor(v));
-        if (v > 1 + tol) jump = std::min(kMaxJump, std::floor(v));
-        const Index next = std::clamp(cur.cell[std::size_t(a)] + Index(jump), Index{0}, lim[a] - 1);
-        pc[a] = std::clamp(v - double(next - cur.cell[std::size_t(a)]), 0.0, 1.0);  // next start
-        moved = moved || next != cur.cell[std::size_t(a)];
+        if (v[a] < -tol) jump = std::max(-kMaxJump, std::floor(v[a]));
+        if (v[a] > 1 + tol) jump = std::min(kMaxJump, std::floor(v[a]));
+        const Index now = cur.cell[std::size_t(a)];
+        const Index next = std::clamp(now + Index(jump), Index{0}, lim[a] - 1);
+        v[a] = std::clamp(v[a] - double(next - now), 0.0, 1.0);  // the next start
+        moved = moved || next != now;
         cur.cell[std::size_t(a)] = next;
       }
+      pc = {v[0], v[1], v[2]};
       if (!moved) return false;  // p beyond the grid's boundary here: maybe outside
     }
     return false;
@@ -207,16 +312,19 @@ struct GridLocator::Impl {
 
   /// Exact: the smallest-id non-blanked cell containing p.
   bool exact(const Vec3& p, GridCursor& cur, GridHit& hit) const {
+    cur.predict = false;
     if (!all.contains(p)) return false;
+    const double pp[3] = {p.x, p.y, p.z};
     Index bin[3];
     for (int a = 0; a < 3; ++a) {
-      bin[a] = std::clamp(Index((p[a] - bin_lo[a]) * bin_inv[a]), Index{0}, bins[std::size_t(a)] - 1);
+      bin[a] =
+          std::clamp(Index((pp[a] - bin_lo[a]) * bin_inv[a]), Index{0}, bins[std::size_t(a)] - 1);
     }
     const std::size_t b = std::size_t(bin[0] + bins[0] * (bin[1] + bins[1] * bin[2]));
     Index best = -1;
-    Vec3 best_pc{};
-    std::array<Vec3, 8> x, map;
-    std::array<std::size_t, 8> ids;
+    Vec3 best_pc;
+    double x[24], map[24], jinv[9];
+    bool best_newton = false;
     for (std::uint32_t e = bin_start[b]; e < bin_start[b + 1]; ++e) {
       const Index blk = bin_blocks[e];
       if (!block_box[std::size_t(blk)].contains(p)) continue;
@@ -225,25 +333,43 @@ struct GridLocator::Impl {
         for (Index j = bj * kBlock; j < std::min(cy, (bj + 1) * kBlock); ++j)
           for (Index i = bi * kBlock; i < std::min(cx, (bi + 1) * kBlock); ++i) {
             const Index cell = cell_id(i, j, k);
-            if ((best >= 0 && cell > best) || !ok(cell) || !cell_box[std::size_t(cell)].contains(p)) continue;
-            corners(i, j, k, x, ids);
+            if ((best >= 0 && cell > best) || !ok(cell)) continue;
+            corners(i, j, k, x);
+            Vec3 lo{x[0], x[1], x[2]}, hi = lo;
+            for (int c = 1; c < 8; ++c) {
+              lo = {std::min(lo.x, x[3 * c]), std::min(lo.y, x[3 * c + 1]),
+                    std::min(lo.z, x[3 * c + 2])};
+              hi = {std::max(hi.x, x[3 * c]), std::max(hi.y, x[3 * c + 1]),
+                    std::max(hi.z, x[3 * c + 2])};
+            }
+            const double grow = growth(lo, hi, tol);
+            if (!(p.x >= lo.x - grow && p.x <= hi.x + grow && p.y >= lo.y - grow &&
+                  p.y <= hi.y + grow && p.z >= lo.z - grow && p.z <= hi.z + grow)) {
+              continue;
+            }
             make_map(x, map);
             Vec3 pc{0.5, 0.5, 0.5};
-            bool inside = false;
-            (void)test(ids, map, p, pc, inside);
+            bool inside = false, newton = false;
+            (void)test(i, j, k, map, p, pc, inside, jinv, newton);
             if (inside) {
               best = cell;
               best_pc = pc;
+              best_newton = newton;
+              if (newton) std::copy_n(jinv, 9, cur.jinv.data());
             }
           }
     }
     if (best < 0) return false;
     const Index i = best % cx, j = (best / cx) % cy, k = best / (cx * cy);
-    corners(i, j, k, x, ids);
-    fill(i, j, k, ids, best_pc, hit);
+    fill(i, j, k, best_pc, hit);
     cur.valid = true;
     cur.cell = {i, j, k};
     cur.pcoords = best_pc;
+    corners(i, j, k, x);
+    make_map(x, cur.map.data());
+    cur.map_cell = best;
+    cur.predict = best_newton;
+    cur.last = p;
     return true;
   }
 };
@@ -265,28 +391,9 @@ GridLocator::GridLocator(const StructuredGrid& grid, std::span<const std::uint8_
   } else {
     m.pd = grid.points.array().values<double>().data();
   }
-  // Cell boxes, grown so that every point the parametric tolerance admits is in them.
-  const std::size_t nc = std::size_t(m.cx * m.cy * m.cz);
-  m.cell_box.resize(nc);
-  parallel_for_range(nc, 4096, [&](std::size_t c0, std::size_t c1) {
-    std::array<Vec3, 8> x;
-    std::array<std::size_t, 8> ids;
-    for (std::size_t c = c0; c < c1; ++c) {
-      const Index cell = Index(c);
-      m.corners(cell % m.cx, (cell / m.cx) % m.cy, cell / (m.cx * m.cy), x, ids);
-      Bounds b;
-      for (const Vec3& q : x) b.extend(q);
-      const double grow = (1e-6 + 4 * tolerance) * b.diagonal() +
-                          1e-12 * (std::abs(b.min.x) + std::abs(b.min.y) + std::abs(b.min.z) +
-                                   std::abs(b.max.x) + std::abs(b.max.y) + std::abs(b.max.z));
-      Box& box = m.cell_box[c];
-      for (int a = 0; a < 3; ++a) {
-        box.lo[a] = down(b.min[a] - grow);
-        box.hi[a] = up(b.max[a] + grow);
-      }
-    }
-  });
-  // Blocks of cells and their boxes.
+  // Blocks of cells and their boxes (float, rounded outward), grown so that every point the
+  // parametric tolerance admits in one of their cells is in them. The cells' own boxes are
+  // made when a query needs them.
   m.bx = (m.cx + kBlock - 1) / kBlock;
   m.by = (m.cy + kBlock - 1) / kBlock;
   m.bz = (m.cz + kBlock - 1) / kBlock;
@@ -296,17 +403,31 @@ GridLocator::GridLocator(const StructuredGrid& grid, std::span<const std::uint8_
     for (std::size_t b = b0; b < b1; ++b) {
       const Index blk = Index(b);
       const Index bi = blk % m.bx, bj = (blk / m.bx) % m.by, bk = blk / (m.bx * m.by);
-      Box box{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
-      for (Index k = bk * kBlock; k < std::min(m.cz, (bk + 1) * kBlock); ++k)
-        for (Index j = bj * kBlock; j < std::min(m.cy, (bj + 1) * kBlock); ++j)
-          for (Index i = bi * kBlock; i < std::min(m.cx, (bi + 1) * kBlock); ++i) {
-            const Box& c = m.cell_box[std::size_t(m.cell_id(i, j, k))];
-            for (int a = 0; a < 3; ++a) {
-              box.lo[a] = std::min(box.lo[a], c.lo[a]);
-              box.hi[a] = std::max(box.hi[a], c.hi[a]);
+      double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+      const auto extend = [&](const auto* pts) {
+        for (Index k = bk * kBlock; k <= std::min(m.cz, (bk + 1) * kBlock); ++k)
+          for (Index j = bj * kBlock; j <= std::min(m.cy, (bj + 1) * kBlock); ++j) {
+            const Index i0 = bi * kBlock, i1 = std::min(m.cx, (bi + 1) * kBlock);
+            const auto* q = pts + 3 * m.point_id(i0, j, k);
+            for (Index i = i0; i <= i1; ++i, q += 3) {
+              for (int a = 0; a < 3; ++a) {
+                lo[a] = std::min(lo[a], double(q[a]));
+                hi[a] = std::max(hi[a], double(q[a]));
+              }
             }
           }
-      m.block_box[b] = box;
+      };
+      if (m.pf) {
+        extend(m.pf);
+      } else {
+        extend(m.pd);
+      }
+      const double grow = growth({lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}, tolerance);
+      Box& box = m.block_box[b];
+      for (int a = 0; a < 3; ++a) {
+        box.lo[a] = down(lo[a] - grow);
+        box.hi[a] = up(hi[a] + grow);
+      }
     }
   });
   m.all = m.block_box[0];
@@ -363,6 +484,11 @@ GridLocator::GridLocator(const StructuredGrid& grid, std::span<const std::uint8_
 GridLocator::~GridLocator() = default;
 GridLocator::GridLocator(GridLocator&&) noexcept = default;
 GridLocator& GridLocator::operator=(GridLocator&&) noexcept = default;
+
+std::array<std::size_t, 8> GridLocator::offsets() const {
+  const auto sj = std::size_t(impl_->nx), sk = std::size_t(impl_->nx * impl_->ny);
+  return {0, 1, sj, sj + 1, sk, sk + 1, sk + sj, sk + sj + 1};
+}
 
 bool GridLocator::find(const Vec3& p, GridCursor& cursor, GridHit& hit) const {
   if (cursor.valid && impl_->walk(p, cursor, hit)) return true;

@@ -14,20 +14,26 @@
 
 namespace isoforge::probe_detail {
 
-/// A point found in a hexahedron: its cell and the trilinear weights of its 8 points.
+/// A point found in a hexahedron: its cell, the id of its corner (0, 0, 0) and the point's
+/// parametric coordinates there, in [0, 1]. Corner (a, b, c) is point base + offset[a + 2b +
+/// 4c] (GridLocator::offsets), of trilinear weight (a ? r : 1 − r)(b ? s : 1 − s)(c ? t : 1 − t).
 struct GridHit {
   Index cell = -1;
-  std::array<std::size_t, 8> ids{};  // input point ids, corner (a, b, c) at a + 2 b + 4 c
-  std::array<double, 8> weights{};
+  std::size_t base = 0;
+  double r = 0, s = 0, t = 0;
 };
 
-/// Per-thread state of consecutive queries: the walk starts where the last one ended.
+/// Per-thread state of consecutive queries: the walk starts where the last one ended, from
+/// the coordinates predicted by the last point's inverse Jacobian (one Newton step saved).
 struct GridCursor {
   bool valid = false;
   std::array<Index, 3> cell{};
   Vec3 pcoords{0.5, 0.5, 0.5};
-  Index map_cell = -1;          // the cell whose trilinear map is in `map`
-  std::array<Vec3, 8> map{};    // its coefficients (probe_grid.cpp, Trilinear)
+  Index map_cell = -1;             // the cell whose trilinear map is in `map`
+  std::array<double, 24> map{};    // its coefficients (probe_grid.cpp, make_map)
+  bool predict = false;            // `last` and `jinv` hold: `cell` contained `last` at `pcoords`
+  Vec3 last{};                     // the point last found
+  std::array<double, 9> jinv{};    // the inverse Jacobian of `map` there, by rows
 };
 
 class GridLocator {
@@ -42,6 +48,9 @@ class GridLocator {
   /// The smallest-id non-blanked cell containing p (exact), or the cell a walk from `cursor`
   /// reaches first (equally containing p). False when no cell contains p. Updates `cursor`.
   bool find(const Vec3& p, GridCursor& cursor, GridHit& hit) const;
+  /// The point ids of a cell's corners relative to its corner (0, 0, 0), corner (a, b, c) at
+  /// a + 2b + 4c.
+  [[nodiscard]] std::array<std::size_t, 8> offsets() const;
 
  private:
   struct Impl;

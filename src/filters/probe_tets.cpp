@@ -8,6 +8,7 @@
 #include "probe_tets.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 namespace isoforge::probe_detail {
@@ -27,7 +28,7 @@ bool TetWalker::applicable(const UnstructuredGrid& ug) {
                      [](CellType t) { return t == CellType::Tetra; });
 }
 
-Vec3 TetWalker::pt(Index id) const {
+inline Vec3 TetWalker::pt(Index id) const {
   if (pf_) {
     const float* q = pf_ + 3 * id;
     return {q[0], q[1], q[2]};
@@ -50,6 +51,7 @@ TetWalker::TetWalker(const UnstructuredGrid& ug, std::span<const std::uint8_t> c
   for (std::size_t i = 0; i < 4 * nc; ++i) ++point_start_[std::size_t(conn_[i]) + 1];
   for (std::size_t i = 0; i < np; ++i) point_start_[i + 1] += point_start_[i];
   point_cells_.resize(4 * nc);
+  neighbours_.resize(4 * nc, 0);
   std::vector<std::uint32_t> fill(point_start_.begin(), point_start_.end() - 1);
   for (std::size_t c = 0; c < nc; ++c) {
     for (int k = 0; k < 4; ++k) point_cells_[fill[std::size_t(conn_[4 * c + std::size_t(k)])]++] = std::uint32_t(c);
@@ -110,6 +112,37 @@ Index TetWalker::seed(const Vec3& p) const {
   return bin_seed_[std::size_t(i[0] + bins_[0] * (i[1] + bins_[1] * i[2]))];
 }
 
+Index TetWalker::neighbour(Index cell, int f) const {
+  std::atomic_ref<std::int32_t> memo(neighbours_[4 * std::size_t(cell) + std::size_t(f)]);
+  const std::int32_t known = memo.load(std::memory_order_relaxed);
+  if (known != 0) return known - 1;
+  const Index* v = conn_ + 4 * cell;
+  Index a = v[(f + 1) % 4], b = v[(f + 2) % 4], c = v[(f + 3) % 4];
+  // Scan the cells of the face's point with the fewest.
+  const auto degree = [&](Index q) {
+    return point_start_[std::size_t(q) + 1] - point_start_[std::size_t(q)];
+  };
+  if (degree(b) < degree(a)) std::swap(a, b);
+  if (degree(c) < degree(a)) std::swap(a, c);
+  Index found = -1;
+  for (std::uint32_t e = point_start_[std::size_t(a)]; e < point_start_[std::size_t(a) + 1]; ++e) {
+    const Index n = Index(point_cells_[e]);
+    if (n == cell) continue;
+    const Index* u = conn_ + 4 * n;
+    const bool has_b = u[0] == b || u[1] == b || u[2] == b || u[3] == b;
+    const bool has_c = u[0] == c || u[1] == c || u[2] == c || u[3] == c;
+    if (has_b && has_c) {
+      if (found >= 0) {
+        found = -2;
+        break;
+      }
+      found = n;
+    }
+  }
+  memo.store(std::int32_t(found + 1), std::memory_order_relaxed);
+  return found;
+}
+
 bool TetWalker::walk(const Vec3& p, Index& cell, std::array<double, 4>& w) const {
   Index prev = -1;
   for (int step = 0; step < kMaxSteps; ++step) {
@@ -124,28 +157,45 @@ bool TetWalker::walk(const Vec3& p, Index& cell, std::array<double, 4>& w) const
     const double s = dot(e1, cross(d, e3)) * inv;
     const double t = dot(e1, cross(e2, d)) * inv;
     const double l[4] = {1 - r - s - t, r, s, t};
-    int order[4] = {0, 1, 2, 3};  // faces by increasing barycentric coordinate
-    std::sort(order, order + 4, [&](int x, int y) { return l[x] < l[y] || (l[x] == l[y] && x < y); });
-    if (l[order[0]] >= -tol_) {
+    int worst = 0;  // the smallest coordinate (the first of equal ones)
+    for (int f = 1; f < 4; ++f) {
+      if (l[f] < l[worst]) worst = f;
+    }
+    if (l[worst] >= -tol_) {
       if (!cell_ok_.empty() && !cell_ok_[std::size_t(cell)]) return false;
       w = {l[0], l[1], l[2], l[3]};
       return true;
     }
     // Across the face opposite the most negative coordinate, or the next negative one when
-    // that face is on the boundary: the other cell holding the face's three points.
-    Index next = -1;
-    for (int f = 0; f < 4 && next < 0 && l[order[f]] < -tol_; ++f) {
-      const int worst = order[f];
-      const Index a = v[(worst + 1) % 4], b = v[(worst + 2) % 4], c = v[(worst + 3) % 4];
-      for (std::uint32_t e = point_start_[std::size_t(a)]; e < point_start_[std::size_t(a) + 1]; ++e) {
-        const Index n = Index(point_cells_[e]);
-        if (n == cell || n == prev) continue;
-        const Index* u = conn_ + 4 * n;
-        const bool has_b = u[0] == b || u[1] == b || u[2] == b || u[3] == b;
-        const bool has_c = u[0] == c || u[1] == c || u[2] == c || u[3] == c;
-        if (has_b && has_c) {
-          next = n;
-          break;
+    // that face is on the boundary (or leads back): the other cell holding the face's points.
+    Index next = neighbour(cell, worst);
+    if (next < -1 || next == prev) next = -1;
+    if (next < 0) {
+      int order[4] = {0, 1, 2, 3};  // faces by increasing barycentric coordinate
+      std::sort(order, order + 4,
+                [&](int x, int y) { return l[x] < l[y] || (l[x] == l[y] && x < y); });
+      for (int f = 0; f < 4 && next < 0 && l[order[f]] < -tol_; ++f) {
+        const Index n = neighbour(cell, order[f]);
+        if (n >= 0) {
+          if (n != prev) next = n;
+          continue;
+        }
+        if (n == -1) continue;
+        // Several cells share this face (an invalid mesh): the first other than prev.
+        const Index* u0 = v;
+        const Index a = u0[(order[f] + 1) % 4], b = u0[(order[f] + 2) % 4],
+                    c = u0[(order[f] + 3) % 4];
+        for (std::uint32_t e = point_start_[std::size_t(a)]; e < point_start_[std::size_t(a) + 1];
+             ++e) {
+          const Index m = Index(point_cells_[e]);
+          if (m == cell || m == prev) continue;
+          const Index* u = conn_ + 4 * m;
+          const bool has_b = u[0] == b || u[1] == b || u[2] == b || u[3] == b;
+          const bool has_c = u[0] == c || u[1] == c || u[2] == c || u[3] == c;
+          if (has_b && has_c) {
+            next = m;
+            break;
+          }
         }
       }
     }

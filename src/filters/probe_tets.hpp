@@ -10,6 +10,7 @@
 #include <span>
 #include <vector>
 
+#include "isoforge/core/buffer.hpp"
 #include "isoforge/core/dataset.hpp"
 
 namespace isoforge::probe_detail {
@@ -31,12 +32,19 @@ class TetWalker {
 
  private:
   [[nodiscard]] Vec3 pt(Index id) const;
+  /// The cell other than `cell` holding the face opposite its point `f`: 0..n−1, or −1 when
+  /// there is none; −2 when several cells share the face (an invalid mesh: the walk then scans).
+  [[nodiscard]] Index neighbour(Index cell, int f) const;
   const Index* conn_ = nullptr;
   const float* pf_ = nullptr;
   const double* pd_ = nullptr;
   std::span<const std::uint8_t> cell_ok_;
   double tol_ = 0;
-  std::vector<std::uint32_t> point_start_, point_cells_;  // cells of each point (CSR)
+  std::vector<std::uint32_t> point_start_;  // cells of each point (CSR)
+  Buffer<std::uint32_t> point_cells_;
+  // Face neighbours, found on first need (0: not yet; else neighbour() + 1 as −1, −2 or n + 1,
+  // written once by whichever thread finds it first: every thread finds the same).
+  mutable Buffer<std::int32_t> neighbours_;
   Vec3 bin_lo_{}, bin_inv_{};
   std::array<Index, 3> bins_{};
   std::vector<std::int32_t> bin_seed_;  // smallest cell id whose centroid is in the bin, or −1
