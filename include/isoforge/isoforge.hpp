@@ -25,6 +25,7 @@
 #include "isoforge/core/points.hpp"
 #include "isoforge/core/polylines.hpp"
 #include "isoforge/core/predicates.hpp"
+#include "isoforge/core/prefetch.hpp"
 #include "isoforge/core/progress.hpp"
 #include "isoforge/core/result.hpp"
 #include "isoforge/core/subset.hpp"
