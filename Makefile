@@ -35,7 +35,7 @@ DEBIAN_PACKAGES := cmake ninja-build g++ make ccache pkg-config git \
   libopenvdb-dev libboost-iostreams-dev libtbb-dev \
   libceres-dev libeigen3-dev \
   libdraco-dev \
-  libcli11-dev libfmt-dev libpugixml-dev zlib1g-dev \
+  libcli11-dev libfmt-dev libpugixml-dev zlib1g-dev libdeflate-dev liblz4-dev liblzma-dev \
   libgtest-dev libgmock-dev libbenchmark-dev \
   python3 python3-vtk9 python3-numpy libmeshoptimizer-dev \
   clang libclang-rt-14-dev chromium draco

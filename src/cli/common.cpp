@@ -339,25 +339,16 @@ void check_color_by(const ColorBy& color_by, FileFormat output) {
   }
 }
 
-namespace {
-std::string array_names(const Attributes& a) {
-  if (a.empty()) return "none";
-  std::string s;
-  for (const DataArray& x : a) s += (s.empty() ? "'" : ", '") + x.name() + "'";
-  return s;
-}
-}  // namespace
-
 void require_color_array(const ColorBy& color_by, DatasetRef input, bool points_only) {
   if (color_by.array.empty() || point_data(input).has(color_by.array)) return;
   if (points_only) {
     throw Error(fmt::format("--color-by: no point array '{}' (point arrays: {})", color_by.array,
-                            array_names(point_data(input))));
+                            point_data(input).names()));
   }
   if (cell_data(input).has(color_by.array)) return;
   throw Error(fmt::format("--color-by: no array '{}' (point arrays: {}; cell arrays: {})",
-                          color_by.array, array_names(point_data(input)),
-                          array_names(cell_data(input))));
+                          color_by.array, point_data(input).names(),
+                          cell_data(input).names()));
 }
 
 namespace {

@@ -30,6 +30,12 @@ DataArray& Attributes::add(DataArray array, AttributeRole role) {
   return get(name);
 }
 
+std::string Attributes::names() const {
+  std::string s;
+  for (const DataArray& a : arrays_) s += (s.empty() ? "'" : ", '") + a.name() + "'";
+  return s.empty() ? "none" : s;
+}
+
 const DataArray* Attributes::find(std::string_view name) const {
   for (const auto& a : arrays_) {
     if (a.name() == name) return &a;

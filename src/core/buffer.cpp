@@ -1,5 +1,6 @@
 #include "isoforge/core/buffer.hpp"
 
+#include <algorithm>
 #include <mutex>
 #include <new>
 #include <vector>
@@ -11,8 +12,20 @@
 namespace isoforge::detail {
 
 namespace {
+constexpr std::size_t kPage = 4096;
 constexpr std::size_t kHugePage = std::size_t{2} << 20;
-std::size_t round_up(std::size_t bytes) { return (bytes + kHugePage - 1) / kHugePage * kHugePage; }
+
+std::size_t round_up(std::size_t bytes, std::size_t unit) { return (bytes + unit - 1) / unit * unit; }
+
+/// The mapped size of a `bytes`-long block: its size class (four per power of two, so a block
+/// can serve any request up to 25% smaller), then whole pages, or whole huge pages from
+/// kHugeBlockBytes.
+std::size_t block_size(std::size_t bytes) {
+  std::size_t octave = kPage;
+  while (octave * 2 < bytes) octave *= 2;  // octave < bytes <= 2 * octave
+  const std::size_t size = round_up(bytes, std::max(kPage, octave / 4));
+  return size >= kHugeBlockBytes ? round_up(size, kHugePage) : round_up(size, kPage);
+}
 }  // namespace
 
 #if defined(__linux__)
@@ -27,7 +40,7 @@ constexpr std::size_t kCacheBlockBytes = std::size_t{32} << 20;
 
 struct BlockCache {
   std::mutex mutex;
-  std::vector<std::pair<void*, std::size_t>> blocks;  // (block, mapped size)
+  std::vector<std::pair<void*, std::size_t>> blocks;  // (block, mapped size), oldest first
   std::size_t bytes = 0;
 };
 
@@ -36,7 +49,7 @@ BlockCache& block_cache() {
   return *cache;
 }
 
-/// A cached block of exactly `size` bytes (a multiple of the huge page), or nullptr.
+/// A cached block of exactly `size` mapped bytes (the newest), or nullptr.
 void* take_cached(std::size_t size) {
   BlockCache& c = block_cache();
   std::lock_guard lock(c.mutex);
@@ -51,23 +64,36 @@ void* take_cached(std::size_t size) {
   return nullptr;
 }
 
-/// Keeps a freed block of `size` bytes if the cache has room.
-bool keep_cached(void* p, std::size_t size) {
-  if (size > kCacheBlockBytes) return false;
+/// Keeps a freed block of `size` mapped bytes, releasing the oldest blocks to make room; the
+/// blocks to unmap (the freed one itself if it is too large) are returned in `evicted`.
+void keep_cached(void* p, std::size_t size, std::vector<std::pair<void*, std::size_t>>& evicted) {
+  if (size > kCacheBlockBytes) {
+    evicted.emplace_back(p, size);
+    return;
+  }
   BlockCache& c = block_cache();
   std::lock_guard lock(c.mutex);
-  if (c.bytes + size > kCacheBytes) return false;
+  std::size_t drop = 0, released = 0;
+  while (c.bytes - released + size > kCacheBytes) released += c.blocks[drop++].second;
+  // Both may throw; nothing has changed yet then.
+  evicted.assign(c.blocks.begin(), c.blocks.begin() + static_cast<std::ptrdiff_t>(drop));
+  c.blocks.reserve(c.blocks.size() - drop + 1);
+  c.blocks.erase(c.blocks.begin(), c.blocks.begin() + static_cast<std::ptrdiff_t>(drop));
   c.blocks.emplace_back(p, size);
-  c.bytes += size;
-  return true;
+  c.bytes += size - released;
 }
 
 }  // namespace
 
 void* allocate_large_block(std::size_t bytes) {
-  if (bytes > SIZE_MAX - 2 * kHugePage) throw std::bad_alloc();
-  const std::size_t size = round_up(bytes);
+  if (bytes > SIZE_MAX / 2 - 2 * kHugePage) throw std::bad_alloc();
+  const std::size_t size = block_size(bytes);
   if (void* p = take_cached(size)) return p;
+  if (size < kHugeBlockBytes) {
+    void* p = ::mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (p == MAP_FAILED) throw std::bad_alloc();
+    return p;
+  }
   // Over-map by one huge page and trim both ends, so the block starts on a 2 MiB boundary (the
   // kernel can only back aligned 2 MiB ranges with huge pages).
   const std::size_t mapped = size + kHugePage;
@@ -86,13 +112,14 @@ void* allocate_large_block(std::size_t bytes) {
 
 void deallocate_large_block(void* p, std::size_t bytes) noexcept {
   if (p == nullptr) return;
-  const std::size_t size = round_up(bytes);
-  bool kept = false;
+  const std::size_t size = block_size(bytes);
   try {
-    kept = keep_cached(p, size);
+    std::vector<std::pair<void*, std::size_t>> evicted;
+    keep_cached(p, size, evicted);
+    for (const auto& [block, length] : evicted) ::munmap(block, length);
   } catch (...) {  // no memory for the cache's bookkeeping: unmap instead
+    ::munmap(p, size);
   }
-  if (!kept) ::munmap(p, size);
 }
 
 #else

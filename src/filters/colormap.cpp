@@ -417,19 +417,12 @@ ColormapResult map_colors(const DataArray& array, const ColormapOptions& o) {
 
 namespace {
 
-std::string array_list(const Attributes& a) {
-  if (a.empty()) return "none";
-  std::string s;
-  for (const DataArray& x : a) s += (s.empty() ? "'" : ", '") + x.name() + "'";
-  return s;
-}
-
 ColormapStats add_colors_to(Attributes& points, Attributes& cells, std::string_view array,
                             const ColormapOptions& options) {
   Attributes* where = points.has(array) ? &points : cells.has(array) ? &cells : nullptr;
   if (!where) {
     throw Error(fmt::format("colormap: no array '{}' (point arrays: {}; cell arrays: {})", array,
-                            array_list(points), array_list(cells)));
+                            points.names(), cells.names()));
   }
   auto [colours, stats] = map_colors(where->get(array), options);
   where->add(std::move(colours));

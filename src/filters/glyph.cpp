@@ -22,19 +22,13 @@ namespace {
 
 constexpr std::size_t kGrain = 2048;  // glyphs per parallel task
 
-std::string array_list(const Attributes& a) {
-  std::string s;
-  for (const DataArray& x : a) s += (s.empty() ? "'" : ", '") + x.name() + "'";
-  return s.empty() ? "none" : s;
-}
-
 // The array named `name`, or the active one of `role`; nullptr if neither (`name` must exist).
 const DataArray* pick(const Attributes& pd, const std::string& name, AttributeRole role,
                       const char* what, int components) {
   const DataArray* a = name.empty() ? pd.active(role) : pd.find(name);
   if (!name.empty() && !a) {
     throw Error(std::string("glyph: ") + what + ": no point array '" + name +
-                "' (point arrays: " + array_list(pd) + ")");
+                "' (point arrays: " + pd.names() + ")");
   }
   if (a && components > 0 && a->components() != components) {
     throw Error(std::string("glyph: ") + what + ": point array '" + a->name() + "' has " +
@@ -55,7 +49,7 @@ const DataArray* require(const DataArray* a, const Attributes& pd, const char* w
                          const char* role) {
   if (!a) {
     throw Error(std::string("glyph: ") + what + ": the input has no active " + role +
-                " (point arrays: " + array_list(pd) + ")");
+                " (point arrays: " + pd.names() + ")");
   }
   return a;
 }

@@ -25,13 +25,6 @@ using namespace extract_impl;
 // Classification of one value against [lower, upper].
 enum Code : std::uint8_t { kIn = 0, kBelow = 1, kAbove = 2, kNaN = 3 };
 
-std::string array_list(const Attributes& a) {
-  if (a.empty()) return "none";
-  std::string s;
-  for (const DataArray& x : a) s += (s.empty() ? "'" : ", '") + x.name() + "'";
-  return s;
-}
-
 // The codes of every tuple of `a` (component `component`, or the magnitude when -1).
 Buffer<std::uint8_t> classify(const DataArray& a, int component, double lower, double upper,
                               const ProgressCallback& progress) {
@@ -96,7 +89,7 @@ ThresholdResult threshold(DatasetRef input, const ThresholdOptions& o) {
         o.association == Assoc::Points  ? " in the point data"
         : o.association == Assoc::Cells ? " in the cell data"
                                         : "",
-        array_list(pd), array_list(cd)));
+        pd.names(), cd.names()));
   }
   if (o.component < -1 || o.component >= array->components()) {
     throw Error(fmt::format("threshold: component {} of '{}', which has {} component{} (-1: "

@@ -54,10 +54,8 @@ Result<PolyData, TubeStats> tube(const PolyData& lines, const TubeOptions& o) {
   if (!o.radius_array.empty()) {
     radius_array = lines.point_data.find(o.radius_array);
     if (!radius_array) {
-      std::string names;
-      for (const DataArray& a : lines.point_data) names += (names.empty() ? "'" : ", '") + a.name() + "'";
       throw Error("tube: radius by '" + o.radius_array + "': no such point array (point arrays: " +
-                  (names.empty() ? "none" : names) + ")");
+                  lines.point_data.names() + ")");
     }
     if (radius_array->components() != 1 && radius_array->components() != 3) {
       throw Error("tube: radius by '" + o.radius_array + "': " +

@@ -21,6 +21,7 @@
 // at the origin, unit RMS radius) and is mapped back at the end.
 
 #include "isoforge/fit/fit_primitive.hpp"
+#include "fit/robust_constants.hpp"
 
 #include <ceres/ceres.h>
 
@@ -37,9 +38,9 @@ namespace {
 
 using V3 = Eigen::Vector3d;
 
-constexpr double kMadToSigma = 1.4826;  // σ of a normal distribution from its median |r|
-constexpr double kHuberK = 1.345;       // 95% efficiency at the normal distribution
-constexpr double kCauchyK = 2.385;      // likewise for Cauchy
+using fit_detail::kCauchyK;
+using fit_detail::kHuberK;
+using fit_detail::kMadToSigma;
 constexpr double kInlierK = 2.5;        // inliers: |r| <= 2.5 σ (FitStats::inliers)
 constexpr int kMaxRounds = 8;           // robust solves with a re-estimated scale, at most
 // σ below this (normalised units, i.e. relative to the points' RMS radius) is rounding: the data

@@ -38,6 +38,7 @@
 #include "isoforge/core/predicates.hpp"
 #include "isoforge/spatial/primitive_locator.hpp"
 #include "isoforge/spatial/self_intersections.hpp"
+#include "fit/robust_constants.hpp"
 
 namespace isoforge {
 namespace {
@@ -46,9 +47,9 @@ using Id = std::uint32_t;
 using Tri = std::array<Id, 3>;
 using Clock = std::chrono::steady_clock;
 
-constexpr double kMadToSigma = 1.4826;
-constexpr double kHuberK = 1.345;
-constexpr double kCauchyK = 2.385;
+using fit_detail::kCauchyK;
+using fit_detail::kHuberK;
+using fit_detail::kMadToSigma;
 constexpr int kAutoSamplesPerTriangle = 10;
 constexpr double kStepScales[2] = {1, 0.5};  // a worse step is retried at half its length
 constexpr int kLocalUndoRounds = 2;  // rounds of undoing the vertices that raise the maximum
@@ -428,10 +429,10 @@ class GatheredCost final : public ceres::SizedCostFunction<9, 3, 3, 3> {
 };
 
 // The point-to-plane rows of one triangle, compressed by QR into 9 (zero rows pad them).
-class PlaneCost final : public ceres::SizedCostFunction<9, 3, 3, 3> {
+class TrianglePlaneCost final : public ceres::SizedCostFunction<9, 3, 3, 3> {
  public:
   // `rows`: one row per sample, [√w a | √w n · y].
-  explicit PlaneCost(Eigen::Matrix<double, Eigen::Dynamic, 10>& rows) {
+  explicit TrianglePlaneCost(Eigen::Matrix<double, Eigen::Dynamic, 10>& rows) {
     const Eigen::HouseholderQR<Eigen::Ref<Eigen::Matrix<double, Eigen::Dynamic, 10>>> qr(rows);
     const auto& r = qr.matrixQR();
     const Eigen::Index n = std::min<Eigen::Index>(r.rows(), 9);
@@ -551,7 +552,7 @@ std::vector<Vec3> solve(const std::vector<Vec3>& pos, const std::vector<Tri>& tr
     }
   }
   const std::size_t nr = rb.size();
-  std::vector<std::unique_ptr<PlaneCost>> planes(tris.size());
+  std::vector<std::unique_ptr<TrianglePlaneCost>> planes(tris.size());
   parallel_for_range(tris.size(), 256, [&](std::size_t b, std::size_t e) {
     Eigen::Matrix<double, Eigen::Dynamic, 10> rows(Eigen::Index(ee - eb), 10);
     for (std::size_t f = b; f < e; ++f) {
@@ -563,7 +564,7 @@ std::vector<Vec3> solve(const std::vector<Vec3>& pos, const std::vector<Tri>& tr
           for (int c = 0; c < 3; ++c) rows(row, 3 * j + c) = sw * rb[k][j] * r.normal[c];
         rows(row, 9) = sw * dot(r.normal, r.target);
       }
-      planes[f] = std::make_unique<PlaneCost>(rows);
+      planes[f] = std::make_unique<TrianglePlaneCost>(rows);
     }
   });
   ceres::Problem::Options po;

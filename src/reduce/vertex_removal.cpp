@@ -18,14 +18,14 @@
 namespace isoforge::reduce {
 namespace {
 
-struct Entry {
+struct RemovalEntry {
   double error;
   Vid v;
   std::uint32_t stamp;
 };
 
-struct Later {
-  bool operator()(const Entry& a, const Entry& b) const {
+struct RemovalLater {
+  bool operator()(const RemovalEntry& a, const RemovalEntry& b) const {
     if (a.error != b.error) return a.error > b.error;
     return a.v > b.v;
   }
@@ -72,7 +72,7 @@ class Remover {
   double cos_feature_;
   std::vector<std::uint32_t> stamp_;
   std::vector<double> accumulated_;  // error inherited from removed neighbours
-  std::vector<Entry> heap_;
+  std::vector<RemovalEntry> heap_;
 };
 
 Plan Remover::classify(Vid v) const {
@@ -242,7 +242,7 @@ void Remover::push(Vid v) {
   const Plan plan = classify(v);
   if (plan.kind == Kind::Keep) return;
   heap_.push_back({plan.error + accumulated_[v], v, stamp_[v]});
-  std::push_heap(heap_.begin(), heap_.end(), Later{});
+  std::push_heap(heap_.begin(), heap_.end(), RemovalLater{});
 }
 
 DecimateStats Remover::run() {
@@ -252,7 +252,7 @@ DecimateStats Remover::run() {
   const std::size_t nv = mesh_.vertex_count();
   stamp_.assign(nv, 0);
   accumulated_.assign(nv, 0.0);
-  std::vector<Entry> entries(nv);
+  std::vector<RemovalEntry> entries(nv);
   std::vector<std::uint8_t> ok(nv, 0);
   parallel_for_range(
       nv, 1024,
@@ -268,14 +268,14 @@ DecimateStats Remover::run() {
   for (std::size_t i = 0; i < nv; ++i) {
     if (ok[i]) heap_.push_back(entries[i]);
   }
-  std::make_heap(heap_.begin(), heap_.end(), Later{});
+  std::make_heap(heap_.begin(), heap_.end(), RemovalLater{});
   const std::size_t target = prepared_.target;
   RunLoop loop(stats, target, options_.progress);
   std::vector<Tri> triangles;
   for (;;) {
     while (mesh_.live_faces() > target && !heap_.empty()) {
-      std::pop_heap(heap_.begin(), heap_.end(), Later{});
-      const Entry e = heap_.back();
+      std::pop_heap(heap_.begin(), heap_.end(), RemovalLater{});
+      const RemovalEntry e = heap_.back();
       heap_.pop_back();
       if (stamp_[e.v] != e.stamp) continue;
       const Plan plan = classify(e.v);

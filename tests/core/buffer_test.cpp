@@ -33,8 +33,10 @@ TEST(Buffer, FreedLargeBlocksAreReused) {
 
 TEST(Buffer, LargeBlocksAreHugePageAligned) {
   Buffer<float> b;
-  b.resize(detail::kLargeBlockBytes / sizeof(float) + 3);
+  b.resize(detail::kHugeBlockBytes / sizeof(float) + 3);
   EXPECT_EQ(reinterpret_cast<std::uintptr_t>(b.data()) % (std::uintptr_t{2} << 20), 0u);
+  Buffer<float> middle(detail::kLargeBlockBytes / sizeof(float) + 3);  // mapped, page aligned
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(middle.data()) % 4096, 0u);
   Buffer<float> small(16);
   EXPECT_NE(small.data(), nullptr);
 }
@@ -53,6 +55,41 @@ TEST(Buffer, ContentSurvivesGrowthAcrossTheLargeBlockThreshold) {
   copy.shrink_to_fit();
   EXPECT_EQ(copy.size(), 100u);
   EXPECT_EQ(copy[99], 99 * 7 - 3);
+}
+
+// Sizes in the same class share blocks: a freed block serves a request a little smaller. A
+// request a size class larger gets another block.
+TEST(Buffer, FreedBlocksServeSimilarSizes) {
+  for (const std::size_t bytes : {detail::kLargeBlockBytes * 3, detail::kHugeBlockBytes * 5}) {
+    const std::size_t n = bytes / sizeof(float);
+    const float* first = nullptr;
+    {
+      Buffer<float> a(n);
+      a.back() = 1;
+      first = a.data();
+    }
+    {
+      Buffer<float> b(n - n / 10);
+      EXPECT_EQ(b.data(), first) << bytes;
+      b.back() = 2;
+    }
+    Buffer<float> c(n + n / 2);  // too large for that block, which stays cached
+    c.back() = 3;
+    Buffer<float> d(n);
+    EXPECT_EQ(d.data(), first) << bytes;
+  }
+}
+
+// The cache holds a bounded amount: freeing more than it holds releases the oldest blocks, and
+// the newest freed block is still handed back.
+TEST(Buffer, FullCacheKeepsTheNewestBlocks) {
+  const std::size_t n = (std::size_t{24} << 20) / sizeof(double);  // 24 MiB each
+  std::vector<Buffer<double>> blocks;
+  for (int i = 0; i < 4; ++i) blocks.emplace_back(n + static_cast<std::size_t>(i));
+  const double* newest = blocks.back().data();
+  blocks.clear();  // frees 96 MiB into a 64 MiB cache, oldest first
+  Buffer<double> again(n + 3);
+  EXPECT_EQ(again.data(), newest);
 }
 
 TEST(Buffer, ZeroFillingResizeStillZeroFillsLargeBlocks) {

@@ -36,6 +36,8 @@ class Attributes {
   /// \throw Error naming the array if it does not exist.
   [[nodiscard]] const DataArray& get(std::string_view name) const;
   [[nodiscard]] DataArray& get(std::string_view name);
+  /// The names quoted and comma separated ("'a', 'b'"), or "none": for error messages.
+  [[nodiscard]] std::string names() const;
   /// Removes the named array (and its roles); returns whether it existed.
   bool remove(std::string_view name);
   void clear();

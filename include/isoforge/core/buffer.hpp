@@ -4,13 +4,16 @@
 /// `resize(n)` leaves new trivial elements uninitialized, so algorithms that write every element
 /// (in parallel) do not pay for zero-filling first. `resize(n, T{})` still zero-fills.
 ///
-/// Blocks of `kLargeBlockBytes` (1 MiB) or more are mapped directly from the kernel, 2 MiB
-/// aligned, and marked for transparent huge pages: a 100 MB mesh is then first touched with ~50
-/// page faults instead of ~25 000, which is a third of the time of a large contour on Linux. On a
-/// virtual machine a small-page fault costs ~10 µs, so even a 1 MiB array pays less for one
-/// zeroed huge page than for 256 faults; the rounding wastes at most half of such a block.
+/// Blocks of `kLargeBlockBytes` (128 KiB, glibc's first mmap threshold) or more are mapped
+/// directly from the kernel; from `kHugeBlockBytes` (1 MiB) they are 2 MiB aligned and marked
+/// for transparent huge pages: a 100 MB mesh is then first touched with ~50 page faults instead
+/// of ~25 000, which is a third of the time of a large contour on Linux. On a virtual machine a
+/// small-page fault costs ~10 µs, so even a 1 MiB array pays less for one zeroed huge page than
+/// for 256 faults; the rounding is virtual (untouched pages cost nothing).
 /// Freed blocks of up to 32 MiB are kept for reuse, 64 MiB in all (as malloc keeps its heap),
-/// so an algorithm run again writes memory that is already mapped.
+/// so an algorithm run again writes memory that is already mapped. Sizes are rounded up to four
+/// classes per power of two so that blocks of similar size are interchangeable; when the cache
+/// is full the oldest block is released first.
 
 #include <algorithm>
 #include <cstddef>
@@ -24,8 +27,11 @@ namespace isoforge {
 
 namespace detail {
 /// Blocks at least this large bypass malloc (see the file comment).
-inline constexpr std::size_t kLargeBlockBytes = std::size_t{1} << 20;
-/// A `bytes`-long block, 2 MiB aligned, huge-page advised. \throw std::bad_alloc.
+inline constexpr std::size_t kLargeBlockBytes = std::size_t{128} << 10;
+/// Blocks at least this large are 2 MiB aligned and huge-page advised.
+inline constexpr std::size_t kHugeBlockBytes = std::size_t{1} << 20;
+/// A `bytes`-long block (page aligned; 2 MiB aligned and huge-page advised from
+/// kHugeBlockBytes). \throw std::bad_alloc.
 void* allocate_large_block(std::size_t bytes);
 /// Releases a block from allocate_large_block with the same `bytes`.
 void deallocate_large_block(void* p, std::size_t bytes) noexcept;
