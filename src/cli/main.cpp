@@ -130,6 +130,9 @@ int main(int argc, char** argv) {
   add_subsample_command(app, ctx);
   add_threshold_command(app, ctx);
   add_surface_command(app, ctx);
+  add_elevation_command(app, ctx);
+  add_warp_command(app, ctx);
+  add_gradient_command(app, ctx);
   add_glyph_command(app, ctx);
   add_normals_command(app, ctx);
   add_tube_command(app, ctx);

@@ -131,7 +131,7 @@ std::optional<PolyData> cut_structured_plane(const StructuredGrid& sg, const Lin
           } else {
             for (std::size_t i = 0; i < unx; ++i) {
               v[i] = F.at(p0 + i);
-              bad += !(std::abs(v[i]) <= std::numeric_limits<double>::max()) | (v[i] == c);
+              bad += int{!(std::abs(v[i]) <= std::numeric_limits<double>::max())} | int{v[i] == c};
               above += v[i] >= c;
             }
           }

@@ -32,10 +32,6 @@ constexpr double kNewtonStep = 1e-6;
 /// times the last step (q: the ratio of the last two steps), is below kChordError.
 constexpr int kMaxChord = 3;
 constexpr double kChordError = 1e-12;
-/// Chord steps with the last point's inverse Jacobian before any Newton step: at most this
-/// many, while each step is below kWarmRate times the one before.
-constexpr int kMaxWarmChord = 5;
-constexpr double kWarmRate = 0.01;
 /// A walk whose predicted coordinates lie this far outside the current cell moves on without
 /// solving in it (the prediction's error is far smaller: the square of the step, in cells).
 constexpr double kPredictMargin = 0.05;

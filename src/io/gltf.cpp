@@ -1200,7 +1200,8 @@ class GlbReader {
               cell(polys[set], {idx[k + 1], idx[k], idx[k + 2]});
           }
           break;
-        default:  // fan
+        default:
+          static_assert(kModeTriangleFan == 6);  // optional_index capped mode at 6
           for (std::size_t k = 1; k + 1 < c; ++k) cell(polys[set], {idx[0], idx[k], idx[k + 1]});
       }
     }
