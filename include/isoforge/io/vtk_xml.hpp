@@ -47,7 +47,7 @@ struct VtkXmlWriteOptions {
   VtkXmlEncoding encoding = VtkXmlEncoding::Appended;  ///< how the arrays are stored
   bool compress = true;  ///< compress binary blocks with `compressor` (UInt64 headers)
   VtkXmlCompressor compressor = VtkXmlCompressor::Zlib;  ///< when `compress`
-  /// Compression level in vtk_xml_level_range(compressor); 0: the default (zlib 6, LZ4 1).
+  /// Compression level in vtk_xml_level_range(compressor); 0: the default (zlib 3, LZ4 1).
   int level = 0;
   /// Told the fraction written (about every megabyte of values); false cancels (`Cancelled`).
   ProgressCallback progress{};
