@@ -71,6 +71,8 @@ void add_convert_command(CLI::App& app, Context& ctx) {
       "Examples:\n"
       "  isoforge convert data/fran_cut.vtk fran.vtp\n"
       "  isoforge convert data/post.vtk post --vtk-xml      (writes post.vtu)\n"
+      "  isoforge convert data/ironProt.vtk iron.vti --compressor lz4   (fast VTK XML)\n"
+      "  isoforge convert data/ironProt.vtk iron_small.vti --level 9\n"
       "  isoforge convert data/combxyz.bin --q data/combq.bin combustor.vts\n"
       "  isoforge convert data/bunny.ply bunny.vtk --ascii --legacy-version 5.1\n"
       "  isoforge convert data/HeadMRVolume.mhd head.vdb    (OpenVDB needs equal spacing on all "
@@ -84,7 +86,7 @@ void add_convert_command(CLI::App& app, Context& ctx) {
       "view)\n"
       "  isoforge convert data/bunny.ply bunny_c.glb --color-by intensity --colormap plasma\n"
       "  isoforge convert data/post.vtk post.vtu --color-by Pressure --colormap black-body");
-  cmd->callback([args, draco, &ctx, q_opt, grid_opt, ascii_opt, vtk_xml_opt, no_compress_opt,
+  cmd->callback([cmd, args, draco, &ctx, q_opt, grid_opt, ascii_opt, vtk_xml_opt, no_compress_opt,
                  legacy_opt, tolerance_opt, codec_opt] {
     require_plot3d_input(q_opt, args->in);
     require_vdb_input(grid_opt, args->in);
@@ -112,8 +114,24 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     const bool glb = !args->vtk_xml && format == FileFormat::Glb;
     const GltfCodec codec =
         args->codec.empty() ? WriteOptions{}.gltf_codec : gltf_codec_from_name(args->codec);
-    check_draco_options(*draco, drc || (glb && codec == GltfCodec::Draco),
+    const bool draco_out = drc || (glb && codec == GltfCodec::Draco);
+    check_draco_options(*draco, draco_out,
                         "applies to Draco output (.drc, or .glb with the draco codec) only");
+    // --level: Draco's or VTK XML's; --compressor: VTK XML's (add_xml_compression_options).
+    const CLI::Option* compressor_opt = cmd->get_option("--compressor");
+    if (draco_out) {
+      require_meaningful(compressor_opt, false, "applies to VTK XML output only, not Draco");
+    } else if (!xml && xml_compression_given()) {
+      throw UsageError(std::string(compressor_opt->count() ? "--compressor" : "--level") +
+                       ": applies to VTK XML (.vti .vts .vtp .vtu) and Draco output only, not " +
+                       args->out);
+    } else if (xml) {
+      check_xml_compression(args->vtk_xml ? FileFormat::VtkPolyData : format, args->out);
+      exclude_each_other({compressor_opt, no_compress_opt});
+      exclude_each_other({draco->level_opt, no_compress_opt});
+      exclude_each_other({compressor_opt, ascii_opt});
+      exclude_each_other({draco->level_opt, ascii_opt});
+    }
     const DracoWriteOptions draco_options = draco_write_options(*draco);
     if (drc || (glb && codec == GltfCodec::Draco)) keep_freed_memory();
     check_color_by(args->color_by, format);

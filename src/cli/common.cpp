@@ -13,6 +13,7 @@
 #include "isoforge/core/memory.hpp"
 #include "isoforge/implicit/parse.hpp"
 #include "isoforge/io/atomic_file.hpp"
+#include "isoforge/io/vtk_xml.hpp"
 
 namespace isoforge::cli {
 
@@ -127,8 +128,105 @@ FileFormat output_format(const std::string& path, const std::vector<FileFormat>&
     throw UsageError(path + ": this subcommand writes " + std::string(extensions) + ", not " +
                      std::string(format_name(f)));
   }
+  check_xml_compression(f, path);
   check_writable(path);  // a bad output directory fails now, not after the work
   return f;
+}
+
+namespace {
+
+// The XML compression options of the subcommand being run (one per process). Every subcommand's
+// options bind to these; `options` lists them all, to tell which were given.
+struct XmlCompressionCli {
+  std::string compressor;  // "" = not given
+  std::int64_t level = 0;  // 0 = not given
+  std::vector<const CLI::Option*> compressor_opts, level_opts;
+};
+
+XmlCompressionCli& xml_cli() {
+  static XmlCompressionCli x;
+  return x;
+}
+
+bool given(const std::vector<const CLI::Option*>& opts) {
+  return std::any_of(opts.begin(), opts.end(), [](const CLI::Option* o) { return o->count() > 0; });
+}
+
+bool is_vtk_xml(FileFormat f) {
+  return f == FileFormat::VtkImageData || f == FileFormat::VtkStructuredGrid ||
+         f == FileFormat::VtkPolyData || f == FileFormat::VtkUnstructuredGrid;
+}
+
+}  // namespace
+
+void add_xml_compression_options(CLI::App& app) {
+  XmlCompressionCli& x = xml_cli();
+  for (CLI::App* cmd : app.get_subcommands({})) {
+    const bool writes = cmd->get_option_no_throw("--output") != nullptr ||
+                        cmd->get_option_no_throw("output") != nullptr;
+    if (!writes || cmd->get_name() == "fit") continue;  // fit -o writes a function as text
+    x.compressor_opts.push_back(
+        cmd->add_option("--compressor", x.compressor,
+                        "VTK XML output: compressor of the binary data: zlib (default; opens "
+                        "everywhere), lz4 (several times faster, larger; VTK 8.2+) or none")
+            ->check(CLI::IsMember({"zlib", "lz4", "none"})));
+    if (const CLI::Option* own = cmd->get_option_no_throw("--level")) {
+      x.level_opts.push_back(own);  // convert: Draco's --level, read through xml_level()
+      continue;
+    }
+    x.level_opts.push_back(cmd->add_option("--level", x.level,
+                                           "VTK XML output: compression level 1 (fastest) to 12 "
+                                           "(smallest); default 3 for zlib, 1 for lz4")
+                               ->transform(integer_in(1, 12)));
+  }
+}
+
+bool xml_compression_given() {
+  return given(xml_cli().compressor_opts) || given(xml_cli().level_opts);
+}
+
+namespace {
+
+// The level given: ours, or the value of a subcommand's own --level option.
+std::optional<std::int64_t> xml_level() {
+  for (const CLI::Option* o : xml_cli().level_opts) {
+    if (o->count() > 0) return o->as<std::int64_t>();
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+void check_xml_compression(FileFormat format, const std::string& path) {
+  const XmlCompressionCli& x = xml_cli();
+  const bool compressor = given(x.compressor_opts), level = given(x.level_opts);
+  if (!compressor && !level) return;
+  if (!is_vtk_xml(format)) {
+    throw UsageError(std::string(compressor ? "--compressor" : "--level") +
+                     ": applies to VTK XML output (.vti .vts .vtp .vtu) only, not " + path);
+  }
+  if (level) {
+    if (x.compressor == "none") {
+      throw UsageError("--level: there is no level without compression (--compressor none)");
+    }
+    const auto l = xml_level();
+    const auto [lo, hi] = vtk_xml_level_range(x.compressor == "lz4" ? VtkXmlCompressor::Lz4
+                                                                     : VtkXmlCompressor::Zlib);
+    if (*l < lo || *l > hi) {
+      throw UsageError(fmt::format("--level: {} output takes levels {} to {}, got {}",
+                                   x.compressor.empty() ? "zlib" : x.compressor, lo, hi, *l));
+    }
+  }
+}
+
+void apply_xml_compression(WriteOptions& options) {
+  const XmlCompressionCli& x = xml_cli();
+  if (!x.compressor.empty() && given(x.compressor_opts)) {
+    options.compress = x.compressor != "none";
+    if (x.compressor == "lz4") options.xml_compressor = VtkXmlCompressor::Lz4;
+    if (x.compressor == "zlib") options.xml_compressor = VtkXmlCompressor::Zlib;
+  }
+  if (const auto l = xml_level()) options.xml_level = static_cast<int>(*l);
 }
 
 CLI::Option* add_dims_option(CLI::App& cmd, const std::string& name, std::vector<Index>& dims,
@@ -177,6 +275,7 @@ void write_output(DatasetRef ds, const std::filesystem::path& path, ProgressBar&
                   WriteOptions options) {
   bar.stage("writing");
   options.progress = bar.callback();
+  if (is_vtk_xml(format_from_path(path))) apply_xml_compression(options);
   write(ds, path, options);
 }
 

@@ -68,7 +68,8 @@ void warn(std::string_view message);
 
 /// The format of an output file, which must be one of `allowed`. \throw UsageError naming the
 /// path and the `extensions` this subcommand writes (e.g. ".vtp .vtk .ply .obj .off"); Error if
-/// its directory does not exist or is not writable (checked before any work).
+/// its directory does not exist or is not writable (checked before any work). Also checks the
+/// XML compression options against the format (check_xml_compression).
 [[nodiscard]] FileFormat output_format(const std::string& path,
                                        const std::vector<FileFormat>& allowed,
                                        std::string_view extensions);
@@ -93,6 +94,20 @@ void require_plot3d_input(const CLI::Option* q_option, const std::string& input)
 CLI::Option* add_grid_option(CLI::App& cmd, std::string& grid);
 /// \throw UsageError if --grid was given but `input` is not a .vdb file.
 void require_vdb_input(const CLI::Option* grid_option, const std::string& input);
+
+/// Adds "--compressor zlib|lz4|none" and "--level N" (VTK XML output compression) once to every
+/// subcommand of `app` that writes datasets (those with an -o/--output or `output` option, but
+/// `fit`, which writes text); a subcommand that has its own --level (convert: Draco) keeps it, and
+/// its value serves both. Call once, after the subcommands are added. output_format() then
+/// refuses the options for a non-XML output, and write_output() applies them.
+void add_xml_compression_options(CLI::App& app);
+/// \throw UsageError when --compressor/--level were given and `format` (of `path`) is not VTK
+/// XML, when --level is out of the compressor's range, or is given with --compressor none.
+void check_xml_compression(FileFormat format, const std::string& path);
+/// The --compressor/--level given, applied to write options (unchanged when not given).
+void apply_xml_compression(WriteOptions& options);
+/// Whether --compressor or --level was given on the command line.
+[[nodiscard]] bool xml_compression_given();
 
 /// `read(path, options)` reporting to `bar`'s current stage.
 [[nodiscard]] Dataset read_input(const std::string& path, ProgressBar& bar,

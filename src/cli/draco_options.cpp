@@ -40,19 +40,23 @@ void add_draco_options(CLI::App& cmd, DracoCli& d) {
   auto* gb = cmd.add_option("--generic-bits", d.generic_bits,
                             "Draco: bits of other float arrays (1-30, default 8)")
                  ->check(integer_in(1, 30));
-  auto* level = cmd.add_option("--level", d.level,
-                               "Draco: compression level, 0 (fastest) to 10 (smallest), "
-                               "default 7")
-                    ->check(integer_in(0, 10));
+  // Shared with VTK XML output (add_xml_compression_options): checked per output format.
+  d.level_opt = cmd.add_option("--level", d.level,
+                               "Compression level: Draco 0 (fastest) to 10 (smallest), default "
+                               "7; VTK XML output 1 to 12 (default 3 for zlib, 1 for lz4)")
+                    ->check(integer_in(0, 12));
   auto* seq = cmd.add_flag("--sequential", d.sequential,
                            "Draco: sequential coding, which keeps the order of points and faces "
                            "(larger than the default Edgebreaker)");
   d.options = {
-      d.max_error_opt, d.max_error_rel_opt, array_opt, d.bits_opt, nb, cb, tb, gb, level, seq};
+      d.max_error_opt, d.max_error_rel_opt, array_opt, d.bits_opt, nb, cb, tb, gb, seq};
 }
 
 void check_draco_options(const DracoCli& d, bool meaningful, const std::string& why) {
   for (const CLI::Option* o : d.options) require_meaningful(o, meaningful, why);
+  if (meaningful && d.level_opt->count() > 0 && d.level > 10) {
+    throw UsageError("--level", "must be an integer in [0, 10], got " + std::to_string(d.level));
+  }
   exclude_each_other({d.max_error_opt, d.max_error_rel_opt});
   exclude_each_other({d.bits_opt, d.max_error_opt});
   exclude_each_other({d.bits_opt, d.max_error_rel_opt});

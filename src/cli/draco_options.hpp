@@ -20,6 +20,7 @@ struct DracoCli {
   bool sequential = false;
   std::vector<CLI::Option*> options;  // every option added, for require_meaningful
   CLI::Option *max_error_opt = nullptr, *max_error_rel_opt = nullptr, *bits_opt = nullptr;
+  CLI::Option* level_opt = nullptr;  // not in `options`: VTK XML output takes it too
 };
 
 /// Adds --max-error, --max-error-rel, --array-error, --bits, --normal-bits, --color-bits,
@@ -27,7 +28,9 @@ struct DracoCli {
 void add_draco_options(CLI::App& cmd, DracoCli& d);
 
 /// \throw UsageError if a Draco option is given while `meaningful` is false (`why` says what
-/// they apply to), or options contradict each other (--bits with a budget, two budgets).
+/// they apply to), or options contradict each other (--bits with a budget, two budgets), or
+/// --level is above 10 for Draco output. (--level itself is checked by the caller: it also
+/// serves VTK XML output.)
 void check_draco_options(const DracoCli& d, bool meaningful, const std::string& why);
 
 /// The library options (after check_draco_options). \throw UsageError for a malformed

@@ -181,6 +181,8 @@ void write(DatasetRef ds, const std::filesystem::path& path, const WriteOptions&
       VtkXmlWriteOptions o;
       o.encoding = options.binary ? VtkXmlEncoding::Appended : VtkXmlEncoding::Ascii;
       o.compress = options.compress;
+      o.compressor = options.xml_compressor;
+      o.level = options.xml_level;
       o.progress = options.progress;
       write_vtk_xml(ds, path, o);
       return;

@@ -17,8 +17,6 @@
 
 #include "isoforge/io/vtk_xml.hpp"
 
-#include <zlib.h>
-
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -37,6 +35,7 @@
 #include <vector>
 
 #include "detail/scanner.hpp"
+#include "detail/vtk_xml_codecs.hpp"
 #include "isoforge/io/atomic_file.hpp"
 #include "isoforge/io/io.hpp"
 
@@ -58,9 +57,18 @@ struct Overloaded : Ts... {
 template <class... Ts>
 Overloaded(Ts...) -> Overloaded<Ts...>;
 
-/// zlib cannot expand data by more than about 1032:1; a block header claiming more is lying.
+using io_detail::BlockCodec;
+
+/// The decoded-size budget of a file: zlib cannot expand data by more than about 1032:1.
 constexpr std::uint64_t kZlibMaxRatio = 1032;
+/// Uncompressed bytes per compressed block (VTK's default block size).
 constexpr std::size_t kWriteBlockSize = 32768;
+/// Blocks decompressed between two progress reports (when progress is asked for).
+constexpr std::size_t kProgressBlocks = 128;
+
+const char* codec_label(BlockCodec c) {
+  return c == BlockCodec::Zlib ? "zlib" : c == BlockCodec::Lz4 ? "LZ4" : "LZMA";
+}
 /// Structured pieces are checked pairwise for overlap; more pieces than this are refused.
 constexpr std::size_t kMaxStructuredPieces = 4096;
 
@@ -483,6 +491,12 @@ class Reader {
   void tick(std::uint64_t file_pos) {
     if (progress_) progress_->set(progress_base_ + file_pos);
   }
+  /// LZMA reaches far higher ratios than zlib: the budget grows with its bound.
+  [[nodiscard]] std::uint64_t lzma_budget() const {
+    return static_cast<std::uint64_t>(data_.size()) *
+               (io_detail::block_codec_max_ratio(BlockCodec::Lzma) + 8) +
+           (1u << 20);
+  }
   void charge(std::uint64_t bytes, const Where& w) {
     if (bytes > budget_) {
       w.fail("arrays decode to more data than the file can hold (" + num(bytes) +
@@ -535,7 +549,7 @@ class Reader {
 
   Endian endian_ = Endian::Little;
   bool header64_ = false;
-  bool compressed_ = false;
+  std::optional<BlockCodec> codec_;  // compressor= (none: plain byte-count headers)
 
   bool has_appended_ = false;
   bool appended_b64_ = false;
@@ -599,7 +613,7 @@ template <class Alloc>
 void Reader::read_payload(ByteSource& src, const Where& w, std::optional<std::uint64_t> expected,
                           std::size_t unit, Alloc&& alloc) {
   const std::uint64_t start = src.file_pos();
-  if (!compressed_) {
+  if (!codec_) {
     const std::uint64_t n = read_word(src, w, "the data header");
     if (expected && n != *expected) {
       w.fail_at(start,
@@ -662,40 +676,45 @@ void Reader::read_payload(ByteSource& src, const Where& w, std::optional<std::ui
                                   " compressed bytes but at most " + num(src.available()) +
                                   " remain");
   }
+  const BlockCodec codec = *codec_;
+  const std::uint64_t max_ratio = io_detail::block_codec_max_ratio(codec);
   for (std::size_t b = 0; b < csize.size(); ++b) {
     const std::uint64_t u = (b + 1 == csize.size() && last) ? last : block;
-    if (u > csize[b] * kZlibMaxRatio + 64) {
+    if (u > csize[b] * max_ratio + 64) {
       w.fail_at(start, "compression header claims block " + num(b) + " inflates to " + num(u) +
-                           " bytes from " + num(csize[b]) +
-                           " compressed bytes, more than zlib can produce");
+                           " bytes from " + num(csize[b]) + " compressed bytes, more than " +
+                           codec_label(codec) + " can produce");
     }
   }
   charge(total, w);
   std::byte* dst = alloc(total);
-  std::uint64_t out = 0;
+  // The compressed blocks: a view of the file (raw), or decoded once from base64. Every block is
+  // an independent stream, decompressed in parallel straight into the array.
+  const std::uint64_t data_pos = src.file_pos();
+  const auto in = src.view(static_cast<std::size_t>(csum), w, "the compressed blocks");
+  std::vector<io_detail::BlockJob> jobs(csize.size());
+  std::vector<std::uint64_t> at(csize.size());
+  std::uint64_t cin = 0, cout = 0;
   for (std::size_t b = 0; b < csize.size(); ++b) {
     const std::uint64_t u = (b + 1 == csize.size() && last) ? last : block;
-    const std::uint64_t at = src.file_pos();
-    auto in = src.view(static_cast<std::size_t>(csize[b]), w, "a compressed block");
-    uLongf got = static_cast<uLongf>(u);
-    const int r =
-        ::uncompress(reinterpret_cast<Bytef*>(dst + out), &got,
-                     reinterpret_cast<const Bytef*>(in.data()), static_cast<uLong>(in.size()));
-    if (r != Z_OK) {
-      const char* why = r == Z_DATA_ERROR  ? "corrupt data"
-                        : r == Z_BUF_ERROR ? "data inflates to more than the block header says, "
-                                             "or is cut short"
-                        : r == Z_MEM_ERROR ? "out of memory"
-                                           : "error";
-      w.fail_at(at,
-                "zlib error in compressed block " + num(b) + " of " + num(nblocks) + ": " + why);
+    jobs[b] = {in.data() + cin, static_cast<std::size_t>(csize[b]), dst + cout,
+               static_cast<std::size_t>(u)};
+    at[b] = data_pos + cin;
+    cin += csize[b];
+    cout += u;
+  }
+  // Without progress one parallel loop; with it, slices with a report after each.
+  const std::size_t slice = progress_ ? kProgressBlocks : std::max<std::size_t>(jobs.size(), 1);
+  for (std::size_t b0 = 0; b0 < jobs.size(); b0 += slice) {
+    const std::size_t b1 = std::min(jobs.size(), b0 + slice);
+    const io_detail::BlockFailure f =
+        io_detail::decompress_blocks(codec, std::span(jobs).subspan(b0, b1 - b0));
+    if (f.index < b1 - b0) {
+      const std::size_t b = b0 + f.index;
+      w.fail_at(at[b], std::string(codec_label(codec)) + " error in compressed block " + num(b) +
+                           " of " + num(nblocks) + ": " + f.why);
     }
-    if (got != u) {
-      w.fail_at(at, "compressed block " + num(b) + " inflates to " + num(got) +
-                        " bytes but the header says " + num(u));
-    }
-    out += u;
-    tick(src.file_pos());
+    tick(b1 < jobs.size() ? at[b1] : data_pos + cin);
   }
 }
 
@@ -704,7 +723,8 @@ std::vector<std::byte> Reader::decode_block(const io_detail::VtkXmlBlockFormat& 
                                             std::size_t unit) {
   endian_ = format.big_endian ? Endian::Big : Endian::Little;
   header64_ = format.header64;
-  compressed_ = format.compressed;
+  if (format.compressed) codec_ = format.codec;
+  if (codec_ == BlockCodec::Lzma) budget_ = lzma_budget();
   ByteSource src =
       format.base64
           ? ByteSource::base64(
@@ -1508,20 +1528,15 @@ Dataset Reader::read() {
     }
   }
   if (const auto v = attr(root, "compressor"); v && !v->empty()) {
-    if (*v == "vtkZLibDataCompressor") {
-      compressed_ = true;
-    } else if (*v == "vtkLZ4DataCompressor") {
-      w.fail(
-          "compressor vtkLZ4DataCompressor (LZ4) is not supported; only "
-          "vtkZLibDataCompressor (zlib) is. Re-save the file with zlib or no compression");
-    } else if (*v == "vtkLZMADataCompressor") {
-      w.fail(
-          "compressor vtkLZMADataCompressor (LZMA) is not supported; only "
-          "vtkZLibDataCompressor (zlib) is. Re-save the file with zlib or no compression");
-    } else {
-      w.fail("unknown compressor '" + printable(*v) +
-             "' (only vtkZLibDataCompressor is supported)");
+    for (const BlockCodec c : {BlockCodec::Zlib, BlockCodec::Lz4, BlockCodec::Lzma}) {
+      if (*v == io_detail::block_codec_vtk_name(c)) codec_ = c;
     }
+    if (!codec_) {
+      w.fail("unknown compressor '" + printable(*v) +
+             "' (supported: vtkZLibDataCompressor, vtkLZ4DataCompressor, "
+             "vtkLZMADataCompressor)");
+    }
+    if (codec_ == BlockCodec::Lzma) budget_ = lzma_budget();
   }
 
   const pugi::xml_node ds = root.child(type->data());
@@ -1587,14 +1602,52 @@ void append_number(std::string& out, T v) {
   out.append(buf, r.ptr);
 }
 
+/// What the writer stores of one array: its XML attributes and its values as bytes (a view of a
+/// dataset's storage: cell offsets and connectivity are written without being copied first).
+struct ArrayView {
+  std::string_view name;
+  ScalarType type = ScalarType::Float32;
+  int components = 1;
+  std::size_t values = 0;  ///< scalars in all
+  const std::byte* bytes = nullptr;
+
+  static ArrayView of(const DataArray& a) {
+    return {a.name(), a.type(), a.components(), a.size(), a.bytes()};
+  }
+  [[nodiscard]] std::size_t size_bytes() const { return values * scalar_size(type); }
+};
+
+/// One array's binary payload in the appended section: its header words and its data (a view of
+/// the dataset, or compressed blocks, or byte-swapped values on a big-endian host).
+struct Payload {
+  std::string header;
+  const std::byte* data = nullptr;
+  std::size_t size = 0;
+  io_detail::CompressedBlocks compressed;
+  std::vector<std::byte> swapped;
+};
+
 class Writer {
  public:
   explicit Writer(const VtkXmlWriteOptions& o)
       : enc_(o.encoding),
         compress_(o.encoding != VtkXmlEncoding::Ascii && o.compress),
-        callback_(o.progress) {}
+        codec_(o.compressor == VtkXmlCompressor::Lz4 ? BlockCodec::Lz4 : BlockCodec::Zlib),
+        level_(o.level),
+        callback_(o.progress) {
+    if (compress_ && o.level != 0) {
+      const auto [lo, hi] = vtk_xml_level_range(o.compressor);
+      if (o.level < lo || o.level > hi) {
+        throw Error("VTK XML writer: " + std::string(vtk_xml_compressor_name(o.compressor)) +
+                    " level " + std::to_string(o.level) + " is out of range " +
+                    std::to_string(lo) + "-" + std::to_string(hi));
+      }
+    }
+  }
 
-  // The document is built in memory (90% of the progress, by values encoded), then written out.
+  // The XML is built in memory while the arrays are encoded (90% of the progress, by values
+  // encoded); then the XML and the payloads are written out, the payloads straight from the
+  // arrays or from their compressed blocks.
   void write(DatasetRef ds, std::ostream& os) {
     progress_ = io_detail::Progress(callback_, io_detail::payload_values(ds), "writing", 0, 0.9);
     x_ = "<?xml version=\"1.0\"?>\n<VTKFile type=\"";
@@ -1605,19 +1658,26 @@ class Writer {
                             [](const UnstructuredGrid&) { return "UnstructuredGrid"; }});
     x_ += type;
     x_ += "\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\"";
-    if (compress_) x_ += " compressor=\"vtkZLibDataCompressor\"";
+    if (compress_) {
+      x_ += " compressor=\"";
+      x_ += io_detail::block_codec_vtk_name(codec_);
+      x_ += '"';
+    }
     x_ += ">\n";
     ds.visit([&](const auto& d) { body(d); });
     constexpr std::string_view kAppended = "  <AppendedData encoding=\"raw\">\n   _";
     constexpr std::string_view kAppendedEnd = "\n  </AppendedData>\n";
     const bool appended = enc_ == VtkXmlEncoding::Appended;
     const std::size_t size =
-        x_.size() + (appended ? kAppended.size() + app_.size() + kAppendedEnd.size() : 0);
+        x_.size() + (appended ? kAppended.size() + app_size_ + kAppendedEnd.size() : 0);
     io_detail::Progress out(callback_, size, "writing", progress_.to(), 1);
     if (appended) {
       x_ += kAppended;
       io_detail::write_blocks(os, x_.data(), x_.size(), out);
-      io_detail::write_blocks(os, app_.data(), app_.size(), out);
+      for (const Payload& p : app_) {
+        io_detail::write_blocks(os, p.header.data(), p.header.size(), out);
+        io_detail::write_blocks(os, reinterpret_cast<const char*>(p.data), p.size, out);
+      }
       x_ = kAppendedEnd;
     }
     x_ += "</VTKFile>\n";
@@ -1700,11 +1760,13 @@ class Writer {
     attributes("PointData", d.point_data);
     attributes("CellData", d.cell_data);
     points(d.points);
-    std::vector<std::uint8_t> types(d.types.size());
-    for (std::size_t i = 0; i < types.size(); ++i) types[i] = static_cast<std::uint8_t>(d.types[i]);
     x_ += "      <Cells>\n";
     cell_arrays(d.cells, 4);
-    array(DataArray::from_vector("types", 1, std::move(types)), 4, false);
+    // CellType is one byte holding VTK's cell type number: the types are written as they are.
+    static_assert(sizeof(CellType) == 1);
+    array({"types", ScalarType::UInt8, 1, d.types.size(),
+           reinterpret_cast<const std::byte*>(d.types.data())},
+          4, false);
     x_ += "      </Cells>\n";
     x_ += "    </Piece>\n  </UnstructuredGrid>\n";
   }
@@ -1712,7 +1774,7 @@ class Writer {
   void field(const Attributes& a) {
     if (a.empty()) return;
     x_ += "    <FieldData>\n";
-    for (const DataArray& arr : a) array(arr, 3, true);
+    for (const DataArray& arr : a) array(ArrayView::of(arr), 3, true);
     x_ += "    </FieldData>\n";
   }
   void attributes(const char* tag, const Attributes& a) {
@@ -1734,26 +1796,28 @@ class Writer {
       x_ += '"';
     }
     x_ += ">\n";
-    for (const DataArray& arr : a) array(arr, 4, false);
+    for (const DataArray& arr : a) array(ArrayView::of(arr), 4, false);
     x_ += "      </";
     x_ += tag;
     x_ += ">\n";
   }
   void points(const Points& p) {
     x_ += "      <Points>\n";
-    if (p.array().name().empty()) {
-      DataArray copy = p.array();
-      copy.set_name("Points");
-      array(copy, 4, false);
-    } else {
-      array(p.array(), 4, false);
-    }
+    ArrayView v = ArrayView::of(p.array());
+    if (v.name.empty()) v.name = "Points";
+    array(v, 4, false);
     x_ += "      </Points>\n";
   }
   void cell_arrays(const CellArray& c, int level) {
-    array(DataArray::from_buffer("connectivity", 1, Buffer<Index>(c.connectivity())), level, false);
-    Buffer<Index> ends(c.offsets().begin() + 1, c.offsets().end());
-    array(DataArray::from_buffer("offsets", 1, std::move(ends)), level, false);
+    static_assert(std::is_same_v<Index, std::int64_t>);
+    const auto& conn = c.connectivity();
+    const auto& offs = c.offsets();  // [0, end of cell 0, ...]: VTK stores the ends
+    array({"connectivity", ScalarType::Int64, 1, conn.size(),
+           reinterpret_cast<const std::byte*>(conn.data())},
+          level, false);
+    array({"offsets", ScalarType::Int64, 1, offs.empty() ? 0 : offs.size() - 1,
+           offs.empty() ? nullptr : reinterpret_cast<const std::byte*>(offs.data() + 1)},
+          level, false);
   }
   void cells(const char* tag, const CellArray& c) {
     x_ += "      <";
@@ -1766,43 +1830,41 @@ class Writer {
   }
 
   /// Header + (compressed) data of one array, little-endian.
-  void payload(const DataArray& a, std::string& header, std::string& data) {
+  Payload payload(const ArrayView& a) {
+    Payload p;
     const std::size_t n = a.size_bytes();
-    const std::size_t es = scalar_size(a.type());
-    std::vector<std::byte> swapped;
-    const std::byte* bytes = a.bytes();
+    const std::size_t es = scalar_size(a.type);
+    const std::byte* bytes = a.bytes;
     if (kHostEndian != Endian::Little && es > 1 && n > 0) {
-      swapped.assign(bytes, bytes + n);
-      io_detail::swap_bytes_inplace(swapped.data(), a.size(), es);
-      bytes = swapped.data();
+      p.swapped.assign(bytes, bytes + n);
+      io_detail::swap_bytes_inplace(p.swapped.data(), a.values, es);
+      bytes = p.swapped.data();
     }
     auto put_word = [&](std::uint64_t v) {
       unsigned char b[8];
       for (int i = 0; i < 8; ++i) b[i] = static_cast<unsigned char>(v >> (8 * i));
-      header.append(reinterpret_cast<const char*>(b), 8);
+      p.header.append(reinterpret_cast<const char*>(b), 8);
     };
     if (!compress_) {
       put_word(n);
-      if (n > 0) data.assign(reinterpret_cast<const char*>(bytes), n);
-      progress_.add(a.size());
-      return;
+      p.data = bytes;
+      p.size = n;
+      progress_.add(a.values);
+      return p;
     }
-    const std::size_t nblocks = (n + kWriteBlockSize - 1) / kWriteBlockSize;
-    put_word(nblocks);
+    std::size_t reported = 0;
+    p.compressed = io_detail::compress_blocks(
+        codec_, level_, bytes, n, kWriteBlockSize, [&](std::size_t done) {
+          progress_.add((done - reported) / es);
+          reported = done;
+        });
+    put_word(p.compressed.sizes.size());
     put_word(kWriteBlockSize);
     put_word(n % kWriteBlockSize);
-    std::vector<Bytef> buf(compressBound(kWriteBlockSize));
-    for (std::size_t b = 0; b < nblocks; ++b) {
-      const std::size_t len = std::min(kWriteBlockSize, n - b * kWriteBlockSize);
-      uLongf clen = static_cast<uLongf>(buf.size());
-      const int r = ::compress2(buf.data(), &clen,
-                                reinterpret_cast<const Bytef*>(bytes + b * kWriteBlockSize),
-                                static_cast<uLong>(len), Z_DEFAULT_COMPRESSION);
-      if (r != Z_OK) throw Error("VTK XML writer: zlib compression failed");
-      put_word(clen);
-      data.append(reinterpret_cast<const char*>(buf.data()), clen);
-      progress_.add(len / es);
-    }
+    for (const std::uint64_t c : p.compressed.sizes) put_word(c);
+    p.data = p.compressed.data.get();
+    p.size = p.compressed.bytes;
+    return p;
   }
 
   void ascii_values(const DataArray& a, int level) {
@@ -1826,38 +1888,42 @@ class Writer {
     });
   }
 
-  void array(const DataArray& a, int level, bool with_tuples) {
+  void array(const ArrayView& a, int level, bool with_tuples) {
     indent(level);
     x_ += "<DataArray type=\"";
-    x_ += scalar_type_name(a.type());
+    x_ += scalar_type_name(a.type);
     x_ += "\" Name=\"";
-    append_escaped(x_, a.name());
-    x_ += "\" NumberOfComponents=\"" + std::to_string(a.components()) + "\"";
-    if (with_tuples) x_ += " NumberOfTuples=\"" + num(a.tuples()) + "\"";
+    append_escaped(x_, a.name);
+    x_ += "\" NumberOfComponents=\"" + std::to_string(a.components) + "\"";
+    if (with_tuples) {
+      x_ += " NumberOfTuples=\"" + num(a.values / static_cast<std::size_t>(a.components)) + "\"";
+    }
     switch (enc_) {
-      case VtkXmlEncoding::Ascii:
+      case VtkXmlEncoding::Ascii: {
         x_ += " format=\"ascii\">\n";
-        ascii_values(a, level + 1);
+        DataArray copy(std::string(a.name), a.type, a.components,
+                       a.values / static_cast<std::size_t>(a.components));
+        if (a.values > 0) std::memcpy(copy.bytes(), a.bytes, a.size_bytes());
+        ascii_values(copy, level + 1);
         break;
+      }
       case VtkXmlEncoding::Base64: {
         x_ += " format=\"binary\">\n";
-        std::string header, data;
-        payload(a, header, data);
+        const Payload p = payload(a);
         indent(level + 1);
         Base64Encoder enc(x_);
-        enc.put(reinterpret_cast<const std::byte*>(header.data()), header.size());
+        enc.put(reinterpret_cast<const std::byte*>(p.header.data()), p.header.size());
         if (compress_) enc.finish();  // VTK encodes the compression header on its own
-        enc.put(reinterpret_cast<const std::byte*>(data.data()), data.size());
+        enc.put(p.data, p.size);
         enc.finish();
         x_ += '\n';
         break;
       }
       case VtkXmlEncoding::Appended: {
-        x_ += " format=\"appended\" offset=\"" + num(app_.size()) + "\"/>\n";
-        std::string header, data;
-        payload(a, header, data);
-        app_ += header;
-        app_ += data;
+        x_ += " format=\"appended\" offset=\"" + num(app_size_) + "\"/>\n";
+        Payload p = payload(a);
+        app_size_ += p.header.size() + p.size;
+        app_.push_back(std::move(p));
         return;
       }
     }
@@ -1867,10 +1933,13 @@ class Writer {
 
   VtkXmlEncoding enc_;
   bool compress_;
+  BlockCodec codec_;
+  int level_;
   const ProgressCallback& callback_;
   io_detail::Progress progress_;  // of building the document
   std::string x_;                 // XML text
-  std::string app_;               // raw appended data
+  std::vector<Payload> app_;      // the appended section, array by array
+  std::size_t app_size_ = 0;      // its bytes so far
 };
 
 std::string lower(std::string s) {
@@ -1928,6 +1997,15 @@ std::vector<std::byte> decode_vtk_xml_block(std::span<const std::byte> data,
 }
 
 }  // namespace io_detail
+
+std::string_view vtk_xml_compressor_name(VtkXmlCompressor compressor) {
+  return compressor == VtkXmlCompressor::Lz4 ? "lz4" : "zlib";
+}
+
+std::pair<int, int> vtk_xml_level_range(VtkXmlCompressor compressor) {
+  (void)compressor;  // both take 1-12 (libdeflate's levels; LZ4 fast and HC 2-12)
+  return {1, 12};
+}
 
 std::string_view vtk_xml_extension(DatasetRef ds) {
   return ds.visit(Overloaded{[](const ImageData&) { return std::string_view(".vti"); },

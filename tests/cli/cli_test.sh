@@ -324,7 +324,7 @@ expect_usage drc_bits_budget "--bits and --max-error-rel exclude each other" "$b
 expect_usage drc_array_malformed "--array-error: must be NAME=E with a finite E > 0, got 'confidence=-1'" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --array-error confidence=-1
 expect_usage drc_array_twice "--array-error: array 'confidence' given twice" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --array-error confidence=1 --array-error confidence=2
 expect_error drc_array_missing "error budget for 'nope', which is not a point array" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --array-error nope=1
-for opt in "--bits 12" "--level 3" "--sequential" "--max-error 1" "--max-error-rel 0.1" "--array-error a=1" "--generic-bits 9"; do
+for opt in "--bits 12" "--sequential" "--max-error 1" "--max-error-rel 0.1" "--array-error a=1" "--generic-bits 9"; do
   # shellcheck disable=SC2086
   expect_usage "drc_meaningless_${opt%% *}" "${opt%% *}: applies to Draco output \(.drc, or .glb with the draco codec\) only" "$bin" convert "$data/bunny.ply" "$tmp/x.vtp" $opt
 done
@@ -382,6 +382,33 @@ expect_error color_by_unknown_convert "--color-by: no array 'nosuch' \(point arr
 for sub in info convert sample select contour distance offset csg attractor fit decimate colormap view; do
   expect_ok "help_$sub" "Examples:" "$bin" "$sub" --help
 done
+
+# ---- VTK XML compression: --compressor and --level on every subcommand that writes XML ----
+expect_ok xml_lz4 "wrote" "$bin" convert "$data/ironProt.vtk" "$tmp/iron_lz4.vti" --compressor lz4
+grep -q 'compressor="vtkLZ4DataCompressor"' "$tmp/iron_lz4.vti" || fail "xml_lz4: no LZ4 compressor attribute"
+expect_ok xml_none "wrote" "$bin" convert "$data/ironProt.vtk" "$tmp/iron_none.vti" --compressor none
+grep -q 'compressor=' "$tmp/iron_none.vti" && fail "xml_none: compressed anyway"
+expect_ok xml_z1 "wrote" "$bin" convert "$data/ironProt.vtk" "$tmp/iron_z1.vti" --level 1
+expect_ok xml_z12 "wrote" "$bin" convert "$data/ironProt.vtk" "$tmp/iron_z12.vti" --compressor zlib --level 12
+# The same data whatever the compressor (info prints the ranges); level 12 is smaller than 1.
+for f in iron_lz4 iron_none iron_z12; do
+  [ "$("$bin" info "$tmp/$f.vti" 2>&1 | grep -v "$f")" = "$("$bin" info "$tmp/iron_z1.vti" 2>&1 | grep -v iron_z1)" ] || fail "xml_same_$f: info differs from iron_z1.vti"
+done
+[ "$(stat -c %s "$tmp/iron_z12.vti")" -lt "$(stat -c %s "$tmp/iron_z1.vti")" ] || fail "xml_levels: level 12 is not smaller than level 1"
+expect_ok xml_contour_lz4 "" "$bin" contour "$tmp/iron_lz4.vti" -v 20 --compressor lz4 --level 9 -o "$tmp/iron_iso.vtp"
+grep -q 'compressor="vtkLZ4DataCompressor"' "$tmp/iron_iso.vtp" || fail "xml_contour_lz4: no LZ4 compressor attribute"
+expect_ok xml_sample_none "" "$bin" sample -f 'sphere()' -b -1 1 -1 1 -1 1 -d 8 --compressor none -o "$tmp/s_none.vti"
+expect_usage xml_level_range "--level: must be an integer in \[1, 12\], got 13" "$bin" sample -f 'sphere()' -b -1 1 -1 1 -1 1 -d 8 --level 13 -o "$tmp/x.vti"
+expect_usage xml_level_none "--level: there is no level without compression" "$bin" sample -f 'sphere()' -b -1 1 -1 1 -1 1 -d 8 --compressor none --level 3 -o "$tmp/x.vti"
+expect_usage xml_compressor_bogus "--compressor: bogus not in" "$bin" sample -f 'sphere()' -b -1 1 -1 1 -1 1 -d 8 --compressor bogus -o "$tmp/x.vti"
+expect_usage xml_compressor_legacy "--compressor: applies to VTK XML output \(.vti .vts .vtp .vtu\) only, not .*x.vtk" "$bin" contour "$tmp/iron_lz4.vti" -v 20 --compressor lz4 -o "$tmp/x.vtk"
+expect_usage xml_level_ply "--level: applies to VTK XML output .* only, not .*x.ply" "$bin" decimate "$data/bunny.ply" -t 100 --level 3 -o "$tmp/x.ply"
+expect_usage xml_convert_legacy "--level: applies to VTK XML \(.vti .vts .vtp .vtu\) and Draco output only" "$bin" convert "$data/bunny.ply" "$tmp/x.vtk" --level 3
+expect_usage xml_convert_drc "--compressor: applies to VTK XML output only, not Draco" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --compressor lz4
+expect_usage xml_convert_no_compress "--compressor and --no-compress exclude each other" "$bin" convert "$data/bunny.ply" "$tmp/x.vtp" --compressor lz4 --no-compress
+expect_usage xml_convert_ascii "--level and --ascii exclude each other" "$bin" convert "$data/bunny.ply" "$tmp/x.vtp" --level 4 --ascii
+expect_ok xml_convert_level "wrote" "$bin" convert "$data/bunny.ply" "$tmp/bunny9.vtp" --level 9
+expect_usage xml_fit_none "--compressor" "$bin" fit "$data/bunny.ply" --primitive plane --compressor lz4
 
 # ---- one form for every error, one exit code per kind (README "Exit status") ----
 expect_usage no_subcommand "subcommand is required.*isoforge --help" "$bin"

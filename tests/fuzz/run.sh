@@ -30,6 +30,8 @@ if [ -x "$cli" ]; then
   "$cli" -q convert "$data/hello.vtk" "$corpus/vtk_xml/hello.vtp" || true
   "$cli" -q convert "$data/post.vtk" "$corpus/vtk_xml/post.vtu" --no-compress || true
   "$cli" -q convert "$data/hello.vtk" "$corpus/vtk_xml/hello_ascii.vtp" --ascii || true
+  "$cli" -q convert "$data/hello.vtk" "$corpus/vtk_xml/hello_lz4.vtp" --compressor lz4 || true
+  "$cli" -q convert "$data/post.vtk" "$corpus/vtk_xml/post_lz4.vtu" --compressor lz4 --level 9 || true
   "$cli" -q convert "$data/fran_cut.vtk" "$corpus/ply/fran.ply" || true
   "$cli" -q convert "$data/HeadMRVolume.mhd" "$corpus/vdb/head.vdb" || true
   "$cli" -q convert "$data/fran_cut.vtk" "$corpus/drc/fran.drc" --bits 12 || true

@@ -27,6 +27,7 @@
 #include "isoforge/core/progress.hpp"
 #include "isoforge/io/gltf.hpp"
 #include "isoforge/io/draco.hpp"
+#include "isoforge/io/vtk_xml.hpp"
 
 namespace isoforge {
 
@@ -71,7 +72,9 @@ struct ReadOptions {
 /// Options understood by `write`.
 struct WriteOptions {
   bool binary = true;     ///< VTK legacy/XML and PLY: binary (true) or ASCII (false)
-  bool compress = true;   ///< VTK XML: zlib-compress binary blocks
+  bool compress = true;   ///< VTK XML: compress binary blocks with `xml_compressor`
+  VtkXmlCompressor xml_compressor = VtkXmlCompressor::Zlib;  ///< VTK XML: zlib or LZ4
+  int xml_level = 0;  ///< VTK XML: compression level (vtk_xml_level_range; 0: the default)
   /// VTK legacy header version to write: "4.2" (classic cell lists, opens in every VTK) or
   /// "5.1" (OFFSETS/CONNECTIVITY).
   std::string vtk_legacy_version = "4.2";

@@ -1,14 +1,16 @@
 #pragma once
 /// \file
 /// VTK XML files `.vti .vts .vtp .vtu`: ASCII, inline base64 binary and appended (raw or
-/// base64) data; zlib-compressed blocks with UInt32 or UInt64 headers on read; Int32/Int64
-/// connectivity; either byte order on read.
+/// base64) data; compressed blocks (zlib and LZ4 read and written, LZMA read), UInt32 or UInt64
+/// headers on read; Int32/Int64 connectivity; either byte order on read. Blocks are
+/// (de)compressed in parallel; docs/algorithms/vtk_xml_io.md has the measurements.
 
 #include <cstddef>
 #include <filesystem>
 #include <ostream>
 #include <span>
 #include <string_view>
+#include <utility>
 
 #include "isoforge/core/dataset.hpp"
 #include "isoforge/core/progress.hpp"
@@ -29,9 +31,24 @@ enum class VtkXmlEncoding {
   Appended,  ///< raw binary in one <AppendedData> block (smallest, fastest)
 };
 
+/// The compressor of binary blocks (each block of 32 KiB is compressed on its own, as VTK does).
+enum class VtkXmlCompressor {
+  Zlib,  ///< vtkZLibDataCompressor: opens in every VTK and ParaView
+  Lz4,   ///< vtkLZ4DataCompressor: larger files, several times faster (VTK 8.2 and later)
+};
+
+/// "zlib" or "lz4".
+[[nodiscard]] std::string_view vtk_xml_compressor_name(VtkXmlCompressor compressor);
+/// The levels a compressor accepts: zlib 1-12 (libdeflate's levels: 1-9 as zlib's, 10-12
+/// slower and smaller), LZ4 1-12 (1: LZ4's fast compressor; 2-12: LZ4 HC of that level).
+[[nodiscard]] std::pair<int, int> vtk_xml_level_range(VtkXmlCompressor compressor);
+
 struct VtkXmlWriteOptions {
   VtkXmlEncoding encoding = VtkXmlEncoding::Appended;  ///< how the arrays are stored
-  bool compress = true;  ///< zlib-compress binary blocks (vtkZLibDataCompressor, UInt64 headers)
+  bool compress = true;  ///< compress binary blocks with `compressor` (UInt64 headers)
+  VtkXmlCompressor compressor = VtkXmlCompressor::Zlib;  ///< when `compress`
+  /// Compression level in vtk_xml_level_range(compressor); 0: the default (zlib 3, LZ4 1).
+  int level = 0;
   /// Told the fraction written (about every megabyte of values); false cancels (`Cancelled`).
   ProgressCallback progress{};
 };
@@ -39,8 +56,8 @@ struct VtkXmlWriteOptions {
 /// The extension a dataset type is written with (".vti", ".vts", ".vtp", ".vtu").
 [[nodiscard]] std::string_view vtk_xml_extension(DatasetRef ds);
 
-/// Writes atomically. \throw Error if the extension does not match the dataset type, or on
-/// I/O failure.
+/// Writes atomically. \throw Error if the extension does not match the dataset type, the level
+/// is out of range, or on I/O failure.
 void write_vtk_xml(DatasetRef ds, const std::filesystem::path& path,
                    const VtkXmlWriteOptions& options = {});
 /// Writes to a stream (no atomicity, no extension check).

@@ -4,6 +4,7 @@ input layout): DataArray payloads as VTK writes them, in every encoding the deco
 Run from this directory: python3 make_vtk_xml_block_seeds.py"""
 import base64
 import os
+import lzma
 import struct
 import zlib
 
@@ -11,13 +12,26 @@ data = struct.pack("<12f", *[0.5 * i for i in range(12)])  # 4 tuples of 3 float
 unit = 12
 
 
-def prefix(b64, compressed, header64, big, expected):
-    flags = b64 | compressed << 1 | header64 << 2 | big << 3 | (expected is not None) << 4
+def prefix(b64, compressed, header64, big, expected, codec=0):
+    flags = b64 | compressed << 1 | header64 << 2 | big << 3 | (expected is not None) << 4 | codec << 5
     return bytes([flags, unit - 1]) + struct.pack("<I", expected or 0)
 
 
 def word(v, header64, big):
     return struct.pack((">" if big else "<") + ("Q" if header64 else "I"), v)
+
+
+def lz4_literals(raw):
+    """An LZ4 block holding `raw` as one run of literals (token, length bytes, the bytes)."""
+    n = len(raw)
+    if n < 15:
+        return bytes([n << 4]) + raw
+    out = bytes([0xF0])
+    rest = n - 15
+    while rest >= 255:
+        out += b"\xff"
+        rest -= 255
+    return out + bytes([rest]) + raw
 
 
 def seeds():
@@ -35,6 +49,14 @@ def seeds():
             # VTK encodes the compression header and the blocks as separate base64 streams.
             yield prefix(1, 1, header64, big, None), base64.b64encode(header) + base64.b64encode(
                 b"".join(blocks))
+            # The same blocks as LZ4 (literals only: a valid LZ4 block any decoder reads) and as
+            # .xz streams (vtkLZMADataCompressor).
+            for codec, blocks in ((1, [lz4_literals(data[:32]), lz4_literals(data[32:])]),
+                                  (2, [lzma.compress(data[:32], check=lzma.CHECK_CRC32),
+                                       lzma.compress(data[32:], check=lzma.CHECK_CRC32)])):
+                header = b"".join(word(v, header64, big)
+                                  for v in [2, 32, 16] + [len(b) for b in blocks])
+                yield prefix(0, 1, header64, big, len(data), codec), header + b"".join(blocks)
 
 
 for i, (head, payload) in enumerate(seeds()):

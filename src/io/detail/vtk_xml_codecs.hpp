@@ -1,0 +1,64 @@
+#pragma once
+// Private: the block codecs of VTK XML files (vtkZLibDataCompressor, vtkLZ4DataCompressor,
+// vtkLZMADataCompressor): each block of a DataArray payload is one independent stream, so whole
+// payloads are (de)compressed in parallel, block by block, straight into / out of the arrays.
+// zlib streams go through libdeflate (the same zlib format, faster: docs/algorithms/vtk_xml_io.md).
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace isoforge::io_detail {
+
+enum class BlockCodec {
+  Zlib,  ///< zlib stream (RFC 1950) per block
+  Lz4,   ///< raw LZ4 block per block (no frame)
+  Lzma,  ///< .xz stream per block (read only)
+};
+
+/// The `compressor=` attribute VTK writes for `codec`.
+[[nodiscard]] const char* block_codec_vtk_name(BlockCodec codec);
+
+/// The largest ratio uncompressed/compressed a block of `codec` can reach (plus a small
+/// constant): block headers claiming more are lying.
+[[nodiscard]] std::uint64_t block_codec_max_ratio(BlockCodec codec);
+
+/// One block to decompress: `in` into exactly `out_size` bytes at `out`.
+struct BlockJob {
+  const std::byte* in = nullptr;
+  std::size_t in_size = 0;
+  std::byte* out = nullptr;
+  std::size_t out_size = 0;
+};
+
+/// A block that failed: its index in the jobs and what is wrong ("corrupt data", ...).
+struct BlockFailure {
+  std::size_t index = 0;
+  std::string why;
+};
+
+/// Decompresses `jobs` in parallel (TBB). Returns the failure of the lowest-numbered bad block
+/// (the same whatever the thread count), or index == jobs.size() when all succeed.
+[[nodiscard]] BlockFailure decompress_blocks(BlockCodec codec, std::span<const BlockJob> jobs);
+
+/// A payload compressed block by block: `data` holds the blocks one after another, `sizes` the
+/// compressed size of each.
+struct CompressedBlocks {
+  std::unique_ptr<std::byte[]> data;  ///< uninitialized beyond `bytes` (pages never touched)
+  std::size_t bytes = 0;
+  std::vector<std::uint64_t> sizes;
+};
+
+/// Compresses `n` bytes at `in` in blocks of `block` bytes (the last may be shorter), in
+/// parallel; the result depends only on the input, `codec` and `level` (1-12; 0: the default).
+/// `progress(bytes)` is called from the calling thread as slices of the input are done.
+/// \throw Error if the codec fails (out of memory).
+[[nodiscard]] CompressedBlocks compress_blocks(BlockCodec codec, int level, const std::byte* in,
+                                               std::size_t n, std::size_t block,
+                                               const std::function<void(std::size_t)>& progress);
+
+}  // namespace isoforge::io_detail
