@@ -135,6 +135,7 @@ int main(int argc, char** argv) {
   add_tube_command(app, ctx);
   add_cut_command(app, ctx);
   add_clip_command(app, ctx);
+  add_figures_command(app, ctx);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {  // --help, --version
