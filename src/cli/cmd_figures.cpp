@@ -312,13 +312,13 @@ void add_figures_command(CLI::App& app, Context& ctx) {
       "check fails. See docs/figures.md.\n"
       "Examples:\n"
       "  isoforge figures --list\n"
-      "  isoforge figures -o out/figs --only 1.24a 1.31 --no-render");
+      "  isoforge figures -o out/figs --only 1.24a 1.31 --no-render\n"
+      "  isoforge view out/figs --for 1   (the gallery in the viewer, served for 1 second)");
   cmd->callback([args, out_opt, no_render_opt, chromium_opt, &ctx] {
     if (args->list) {
       for (const Figure& f : figures::all()) fmt::print("{:<6} {}\n", f.id, f.title);
       return;
     }
-    if (out_opt->count() == 0) throw UsageError("--out: required (the output directory)");
     require_meaningful(chromium_opt, !args->no_render, "does nothing with --no-render");
     (void)no_render_opt;
     std::vector<const Figure*> todo;
@@ -334,6 +334,7 @@ void add_figures_command(CLI::App& app, Context& ctx) {
     if (todo.empty()) {
       for (const Figure& f : figures::all()) todo.push_back(&f);
     }
+    if (out_opt->count() == 0) throw UsageError("--out: required (the output directory)");
     figures::Context fc;
     std::error_code ec;
     if (!args->data.empty()) {
