@@ -11,7 +11,9 @@ Runs `isoforge figures --only 1.23a 1.24a 1.24b 1.31` into OUT_DIR and checks
   (where the fixed camera puts the model) differs from the viewer's background; and, for the
   three figures of REFERENCES, the picture reduced to 80 x 60 matches the committed reference
   tests/figures/reference/STEM.png (mean absolute difference of the channels below TOLERANCE,
-  in 8-bit units). `--regenerate` rewrites those references from this run instead.
+  in 8-bit units). `--regenerate` rewrites those references from this run instead;
+- with them too: the gallery served by `isoforge view OUT_DIR` in Chromium shows every picture
+  and each viewer link opens its figure (viewer/test/gallery_test.mjs).
 Without node or Chromium the picture checks are skipped (exit 77, ctest's SKIP).
 """
 import os
@@ -245,6 +247,13 @@ def main():
             print(f"{stem}: mean difference from the reference {diff:.2f} (tolerance {TOLERANCE})")
             if (rw, rh) != SMALL or diff > TOLERANCE:
                 fail(f"{png}: differs from {ref} by {diff:.2f} on average (tolerance {TOLERANCE})")
+    # The gallery through `isoforge view DIR` in the browser: pictures load, viewer links open.
+    if not regenerate:
+        script = os.path.join(HERE, "..", "..", "viewer", "test", "gallery_test.mjs")
+        r = subprocess.run(["node", script, isoforge, out], capture_output=True, text=True)
+        print(r.stdout, r.stderr)
+        if r.returncode != 0 or "gallery test passed: 4 pictures, 4 viewer links opened" not in r.stdout:
+            fail("the gallery in the browser (viewer/test/gallery_test.mjs)")
     if failures:
         print(f"{len(failures)} check(s) failed")
         return 1
