@@ -12,8 +12,9 @@ Runs `isoforge figures --only 1.23a 1.24a 1.24b 1.31` into OUT_DIR and checks
   three figures of REFERENCES, the picture reduced to 80 x 60 matches the committed reference
   tests/figures/reference/STEM.png (mean absolute difference of the channels below TOLERANCE,
   in 8-bit units). `--regenerate` rewrites those references from this run instead;
-- with them too: the gallery served by `isoforge view OUT_DIR` in Chromium shows every picture
-  and each viewer link opens its figure (viewer/test/gallery_test.mjs).
+- with them too: every .glb passes the Khronos glTF validator, and the gallery served by
+  `isoforge view OUT_DIR` in Chromium shows every picture and each viewer link opens its figure
+  (viewer/test/gallery_test.mjs).
 Without node or Chromium the picture checks are skipped (exit 77, ctest's SKIP).
 """
 import os
@@ -247,6 +248,12 @@ def main():
             print(f"{stem}: mean difference from the reference {diff:.2f} (tolerance {TOLERANCE})")
             if (rw, rh) != SMALL or diff > TOLERANCE:
                 fail(f"{png}: differs from {ref} by {diff:.2f} on average (tolerance {TOLERANCE})")
+    # Every .glb through the Khronos glTF validator (npm gltf-validator).
+    glbs = [os.path.join(out, stem, stem + ".glb") for stem in files]
+    r = subprocess.run(["node", os.path.join(HERE, "..", "..", "viewer", "test", "validate.mjs"), *glbs],
+                       capture_output=True, text=True)
+    if r.returncode != 0 or r.stdout.count(": 0 errors") != len(glbs):
+        fail(f"glTF validator: {r.stdout} {r.stderr}")
     # The gallery through `isoforge view DIR` in the browser: pictures load, viewer links open.
     if not regenerate:
         script = os.path.join(HERE, "..", "..", "viewer", "test", "gallery_test.mjs")

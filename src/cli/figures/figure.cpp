@@ -70,7 +70,7 @@ const std::vector<Figure>& all() {
       {"1.33", "skin contour lines in tubes",
        "Cutting a surface model of the skin with a series of planes produces contour lines. Lines "
        "are wrapped with tubes for visual clarity.",
-       {0.3, 0.2, 1}, {0, 1, 0}, fig_1_33},
+       {0.35, 1, 0.2}, {0, 0, 1}, fig_1_33},
       {"1.35", "probes in the combustor",
        "Probing data in a combustor. Probes are regular arrays of 50^2 points that are passed "
        "through a contouring filter.",
