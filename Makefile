@@ -2,7 +2,8 @@
 # Both install missing Debian packages first (apt-get; via sudo when not root), then configure
 # and build in Release mode with CMake, then run.
 #
-#   make demo     build, then run the demo pipeline over data/ (results in out/)
+#   make demo     build, then convert data/ (out/demo/) and make the chapter's figures
+#                 (out/figures/index.html: datasets, .glb, pictures, numbers)
 #   make test     build, then run the unit tests, CLI tests, consumer-package test and the quick
 #                 verification subset (ctest)
 #   make verify   the full accuracy verification suite (CGAL), report in out/verify/
@@ -77,8 +78,9 @@ configure: deps
 build: configure
 	cmake --build $(BUILD) -j $(JOBS)
 
-# Until the figure gallery exists: read every file in data/, print what it holds, and convert
-# it to VTK XML under out/demo/ (open those in ParaView).
+# Every file in data/ read, described and converted to VTK XML under out/demo/ (open those in
+# ParaView); then the chapter's figures (docs/figures.md): datasets, .glb, PNG pictures and
+# out/figures/index.html, with a summary table.
 DEMO_INPUTS := data/hello.vtk data/fran_cut.vtk data/Torso.vtp data/bunny.ply data/ironProt.vtk \
   data/office.binary.vtk data/post.vtk data/blow.vtk data/headsq/quarter.nhdr \
   data/HeadMRVolume.mhd
@@ -92,17 +94,9 @@ demo: build
 	echo "==== data/combxyz.bin + data/combq.bin (PLOT3D combustor)"; \
 	$(BUILD)/src/isoforge info data/combxyz.bin --q data/combq.bin; \
 	$(BUILD)/src/isoforge convert data/combxyz.bin --q data/combq.bin out/demo/combustor --vtk-xml
-	@echo "==== algorithms of the chapter (results in out/demo/)"
-	$(BUILD)/src/isoforge sample -f 'icecream()' -b -0.1 2 -0.7 0.7 -0.7 0.7 -d 128 -o out/demo/icecream.vti
-	$(BUILD)/src/isoforge contour out/demo/icecream.vti -v 0 --normals gradient -o out/demo/fig_1_23c_icecream.vtp
-	$(BUILD)/src/isoforge select out/demo/icecream.vti \
-	  -f 'union(scale(sphere(), [0.8, 0.4, 0.4]), scale(sphere(), [0.4, 0.8, 0.4]))' --shrink 0.5 \
-	  -o out/demo/fig_1_24b_selected.vtu
-	$(BUILD)/src/isoforge attractor -o out/demo/fig_1_25_lorenz.vtp
-	$(BUILD)/src/isoforge offset data/hello.vtk -d 0.25 --dims 110 40 20 --bounds -1 10 -1 3 -1 1 \
-	  -o out/demo/fig_1_28_hello.vtp
 	$(BUILD)/src/isoforge contour data/headsq/quarter.nhdr -v 1150 --flip --largest -o out/demo/head_skin.vtp
-	@echo "demo results: out/demo/ (open in ParaView)"
+	@echo "==== the chapter's figures (out/figures/index.html; 'isoforge view out/figures' for the viewer)"
+	$(BUILD)/src/isoforge figures --out out/figures
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) --timeout 900

@@ -5,6 +5,11 @@
 // For tests and scripts the page publishes window.isoforgeViewer: {ready, error, triangles,
 // meshes: [{name, file, triangles, segments, points, visible}], bbox: {min, max}, units,
 // legends, modelRegion(), regionPixels(region)} (see docs/viewer.md).
+//
+// URL parameters (the figure gallery's links, docs/figures.md): glb=URL (repeatable) loads those
+// files instead of files.json; view=X,Y,Z the camera direction from the model's centre;
+// up=X,Y,Z the camera's up vector; opacity=MESH:ALPHA (repeatable) draws that mesh translucent;
+// panel=0 hides the side panel.
 
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
@@ -13,6 +18,17 @@ import { DRACOLoader } from 'three/addons/loaders/DRACOLoader.js';
 import { MeshoptDecoder } from 'three/addons/libs/meshopt_decoder.module.js';
 
 const BACKGROUND = 0x1e2126;
+const params = new URLSearchParams(window.location.search);
+const vectorParam = (name, fallback) => {
+  const v = (params.get(name) || '').split(',').map(Number);
+  return v.length === 3 && v.every(Number.isFinite) && v.some((x) => x !== 0) ? v : fallback;
+};
+const viewDirection = vectorParam('view', [0.6, 0.45, 1]);
+const opacities = new Map(params.getAll('opacity').map((o) => {
+  const i = o.lastIndexOf(':');
+  return [o.slice(0, i), Number(o.slice(i + 1))];
+}));
+if (params.get('panel') === '0') document.getElementById('panel').style.display = 'none';
 
 const state = {
   ready: false,
@@ -41,6 +57,7 @@ view.appendChild(renderer.domElement);
 const scene = new THREE.Scene();
 scene.background = new THREE.Color(BACKGROUND);
 const camera = new THREE.PerspectiveCamera(35, view.clientWidth / view.clientHeight, 0.01, 1000);
+camera.up.set(...vectorParam('up', [0, 1, 0]));
 scene.add(new THREE.HemisphereLight(0xffffff, 0x444444, 1.6));
 const headlight = new THREE.DirectionalLight(0xffffff, 2.0);
 camera.add(headlight);
@@ -108,7 +125,25 @@ function fitView() {
   const distance = radius / Math.sin(THREE.MathUtils.degToRad(camera.fov / 2)) * 1.05;
   camera.near = distance / 1000;
   camera.far = distance * 10;
-  camera.position.copy(center).add(new THREE.Vector3(0.6, 0.45, 1).normalize().multiplyScalar(distance));
+  const toEye = new THREE.Vector3(...viewDirection).normalize();
+  camera.position.copy(center).add(toEye.clone().multiplyScalar(distance));
+  camera.lookAt(center);
+  camera.updateMatrixWorld();
+  // Closer where the box allows: every corner inside the view, with a 5% margin.
+  const right = new THREE.Vector3().setFromMatrixColumn(camera.matrixWorld, 0);
+  const up = new THREE.Vector3().setFromMatrixColumn(camera.matrixWorld, 1);
+  const tanV = Math.tan(THREE.MathUtils.degToRad(camera.fov / 2)) / 1.05;
+  const tanH = tanV * camera.aspect;
+  let needed = 0;
+  for (let i = 0; i < 8; ++i) {
+    const v = new THREE.Vector3(i & 1 ? box.max.x : box.min.x, i & 2 ? box.max.y : box.min.y,
+                                i & 4 ? box.max.z : box.min.z).sub(center);
+    const z = v.dot(toEye);
+    needed = Math.max(needed, z + Math.abs(v.dot(right)) / tanH, z + Math.abs(v.dot(up)) / tanV);
+  }
+  if (needed > 0 && needed < distance) {
+    camera.position.copy(center).add(toEye.multiplyScalar(needed));
+  }
   camera.updateProjectionMatrix();
   controls.target.copy(center);
   controls.update();
@@ -193,6 +228,14 @@ async function addGltf(gltf, file) {
     const meshDef = def.mesh !== undefined ? json.meshes[def.mesh] : null;
     const name = def.name || (meshDef && meshDef.name) || `${file} #${nodeIndex}`;
     addMeshEntry(node, name, file);
+    if (opacities.has(name)) {
+      node.traverse((o) => {
+        if (!o.material) return;
+        o.material.transparent = true;
+        o.material.opacity = opacities.get(name);
+        o.material.depthWrite = false;
+      });
+    }
     if (meshDef && meshDef.extras && meshDef.extras.legend) addLegend(meshDef.extras.legend, name);
   }
 }
@@ -272,12 +315,14 @@ document.getElementById('open').addEventListener('change', (e) => {
 });
 
 async function main() {
-  let list = [];
-  try {
-    const response = await fetch('files.json');
-    if (response.ok) list = await response.json();
-  } catch {
-    // opened from a plain directory: files come from the "open" button
+  let list = params.getAll('glb').map((url) => ({ url, name: url.split('/').pop() }));
+  if (list.length === 0) {
+    try {
+      const response = await fetch('files.json');
+      if (response.ok) list = await response.json();
+    } catch {
+      // opened from a plain directory: files come from the "open" button
+    }
   }
   for (const f of list) await loadUrl(f.url, f.name);
   applyWireframe();

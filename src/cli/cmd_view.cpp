@@ -151,7 +151,9 @@ void add_view_command(CLI::App& app, Context& ctx) {
   auto* cmd = app.add_subcommand("view", "Show meshes in the browser viewer (three.js), served "
                                          "on 127.0.0.1");
   cmd->add_option("files", args->files, "Files to show: .glb as they are; any polygonal data "
-                                        "(.vtp .vtk .ply .off ...) is converted to .glb first")
+                                        "(.vtp .vtk .ply .off ...) is converted to .glb first; "
+                                        "or one directory with an index.html (a figure gallery "
+                                        "of 'isoforge figures'), served as it is")
       ->required();
   cmd->add_option("--port", args->port, "TCP port on 127.0.0.1 (0: a free one)")
       ->transform(integer_in(0, 65535));
@@ -171,8 +173,25 @@ void add_view_command(CLI::App& app, Context& ctx) {
   cmd->callback([args, &ctx] {
     const fs::path assets = viewer_dir();
     StopSignals stop;
-    TempDir temp;
     StaticServer server;
+    // A directory: its files as they are (the figure gallery; its viewer/ is the viewer's copy).
+    if (std::error_code ec; args->files.size() == 1 && fs::is_directory(args->files[0], ec)) {
+      const fs::path dir = args->files[0];
+      if (!fs::is_regular_file(dir / "index.html", ec)) {
+        throw Error(dir.string() + ": a directory without index.html (give files, or the output "
+                                   "directory of 'isoforge figures')");
+      }
+      server.add_directory("/", dir);
+      if (!fs::is_directory(dir / "viewer", ec)) server.add_directory("/viewer/", assets);
+      const int port = server.listen("127.0.0.1", static_cast<int>(args->port));
+      fmt::print("http://127.0.0.1:{}/\n", port);
+      std::fflush(stdout);
+      if (!ctx.quiet) fmt::print(stderr, "serving {}; Ctrl-C stops\n", dir.string());
+      server.serve(g_stop_pipe[0], args->seconds);
+      if (!ctx.quiet) fmt::print(stderr, "stopped after {} request(s)\n", server.requests());
+      return;
+    }
+    TempDir temp;
     server.add_directory("/", assets);
     std::string list = "[";
     ProgressBar bar(!ctx.quiet && stderr_is_tty());

@@ -37,5 +37,6 @@ void add_normals_command(CLI::App& app, Context& ctx);
 void add_tube_command(CLI::App& app, Context& ctx);
 void add_cut_command(CLI::App& app, Context& ctx);
 void add_clip_command(CLI::App& app, Context& ctx);
+void add_figures_command(CLI::App& app, Context& ctx);
 
 }  // namespace isoforge::cli

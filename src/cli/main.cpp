@@ -138,6 +138,7 @@ int main(int argc, char** argv) {
   add_tube_command(app, ctx);
   add_cut_command(app, ctx);
   add_clip_command(app, ctx);
+  add_figures_command(app, ctx);
   add_xml_compression_options(app);  // --compressor/--level on every subcommand writing VTK XML
   try {
     app.parse(argc, argv);
