@@ -52,7 +52,7 @@ struct Entry {
   std::uint32_t pieces = 0;
 };
 
-struct Block {
+struct ClipBlock {
   std::vector<Entry> entries;
   std::vector<CellType> types;        // per piece
   std::vector<std::uint8_t> sizes;    // per piece
@@ -61,7 +61,7 @@ struct Block {
   std::size_t kept = 0, split = 0;
 };
 
-constexpr std::size_t kBlockCells = 4096;
+constexpr std::size_t kClipBlockCells = 4096;
 constexpr int kCentre = 15;  // local id of a cell's centre point
 
 /// Splits a quad (q0..q3, in ring order, global ids g) into two triangles of the same
@@ -193,7 +193,7 @@ struct Clipper {
     if (p < np) used[p].store(1, std::memory_order_relaxed);
   }
 
-  void process(Index cell, CellType type, std::span<const Index> ids, Block& blk,
+  void process(Index cell, CellType type, std::span<const Index> ids, ClipBlock& blk,
                std::vector<std::array<int, 4>>& simplices, std::vector<double>& val_,
                std::vector<std::uint64_t>& gid_) const {
     const std::size_t n = ids.size();
@@ -531,7 +531,7 @@ void classify_row(const std::uint8_t* __restrict a0, const std::uint8_t* __restr
 /// of every point is known first, so the cells of a row wholly kept (runs of them) or wholly
 /// dropped are found with byte operations, and only the cells on the surface go through
 /// Clipper::process. Same blocks' content as the generic pass, in cell order.
-std::vector<Block> clip_structured(const Clipper& clipper, const Structured3D& g,
+std::vector<ClipBlock> clip_structured(const Clipper& clipper, const Structured3D& g,
                                    EdgeNumbering& edges, const ProgressCallback& progress) {
   const std::size_t np = clipper.np;
   // Per point: bit 0 above (F ≥ c; NaN is below), bit 1 F = c exactly.
@@ -546,9 +546,9 @@ std::vector<Block> clip_structured(const Clipper& clipper, const Structured3D& g
   edges.build(g, side);
   const auto flip = static_cast<std::uint8_t>(clipper.keep_above ? 0 : 1);
   const Index cx = g.cx(), rows = g.cy() * (g.nz - 1);
-  const Index rows_per_block = std::max<Index>(1, static_cast<Index>(kBlockCells) / cx);
+  const Index rows_per_block = std::max<Index>(1, static_cast<Index>(kClipBlockCells) / cx);
   const auto blocks = static_cast<std::size_t>((rows + rows_per_block - 1) / rows_per_block);
-  std::vector<Block> out(blocks);
+  std::vector<ClipBlock> out(blocks);
   const CellType type = g.image ? CellType::Voxel : CellType::Hexahedron;
   parallel_for_range(
       blocks, 1,
@@ -559,7 +559,7 @@ std::vector<Block> clip_structured(const Clipper& clipper, const Structured3D& g
         std::vector<std::uint8_t> all(static_cast<std::size_t>(cx)), any(static_cast<std::size_t>(cx));
         Index ids[8];
         for (std::size_t b = b0; b < b1; ++b) {
-          Block& blk = out[b];
+          ClipBlock& blk = out[b];
           const Index r0 = static_cast<Index>(b) * rows_per_block;
           const Index r1 = std::min(rows, r0 + rows_per_block);
           for (Index r = r0; r < r1; ++r) {
@@ -652,11 +652,11 @@ ClipStats clip_impl(DatasetRef input, const ImplicitFunction& f, const ClipOptio
   const Clipper clipper{input, f, F, options.value, !options.inside_out, np, used.data()};
   const Structured3D grid = structured_3d(input);
   EdgeNumbering edges;
-  std::vector<Block> out;
+  std::vector<ClipBlock> out;
   if (grid.valid) {
     out = clip_structured(clipper, grid, edges, options.progress);
   } else {
-    const std::size_t blocks = (nc + kBlockCells - 1) / kBlockCells;
+    const std::size_t blocks = (nc + kClipBlockCells - 1) / kClipBlockCells;
     out.resize(blocks);
     parallel_for_range(
         blocks, 1,
@@ -665,7 +665,7 @@ ClipStats clip_impl(DatasetRef input, const ImplicitFunction& f, const ClipOptio
           std::vector<double> val;
           std::vector<std::uint64_t> gid;
           for (std::size_t b = b0; b < b1; ++b) {
-            cutting::visit_cells(input, b * kBlockCells, std::min(nc, (b + 1) * kBlockCells),
+            cutting::visit_cells(input, b * kClipBlockCells, std::min(nc, (b + 1) * kClipBlockCells),
                                  [&](Index cell, CellType type, std::span<const Index> ids) {
                                    clipper.process(cell, type, ids, out[b], simplices, val, gid);
                                  });
@@ -748,11 +748,11 @@ ClipStats clip_impl(DatasetRef input, const ImplicitFunction& f, const ClipOptio
     for (const auto& bf : block_fresh) total += bf.size();
     fresh.reserve(total);
     for (auto& bf : block_fresh) fresh.insert(fresh.end(), bf.begin(), bf.end());
-    for (const Block& b : out) centres.insert(centres.end(), b.centres.begin(), b.centres.end());
+    for (const ClipBlock& b : out) centres.insert(centres.end(), b.centres.begin(), b.centres.end());
     tbb::parallel_sort(fresh.begin(), fresh.end());
     fresh.erase(std::unique(fresh.begin(), fresh.end()), fresh.end());
     if (fresh.size() >= kInput) throw Error("clip: more than 2^32 - 1 new points");
-    // Block slots to global places: each block's sorted list is found in the global one by
+    // ClipBlock slots to global places: each block's sorted list is found in the global one by
     // galloping forward from its previous element.
     parallel_for_range(blocks, 1, [&](std::size_t b0, std::size_t b1) {
       std::vector<std::uint32_t> place;
@@ -816,7 +816,7 @@ ClipStats clip_impl(DatasetRef input, const ImplicitFunction& f, const ClipOptio
 
   // Cells.
   std::size_t total_cells = 0;
-  for (const Block& b : out) {
+  for (const ClipBlock& b : out) {
     for (const Entry& e : b.entries) total_cells += e.pieces;
   }
   AttributeInterpolator interp;
@@ -824,7 +824,7 @@ ClipStats clip_impl(DatasetRef input, const ImplicitFunction& f, const ClipOptio
     interp = AttributeInterpolator(point_data(input), cell_data(input), total_points, total_cells);
   }
   ClipStats stats;
-  for (const Block& b : out) stats.cells_kept += b.kept, stats.cells_split += b.split;
+  for (const ClipBlock& b : out) stats.cells_kept += b.kept, stats.cells_split += b.split;
   auto input_index = [&](Index p) { return static_cast<Index>(input_id[static_cast<std::size_t>(p)]); };
   write_cells(out, id_of, input_index, interp);
   stats.cells = total_cells;
@@ -924,7 +924,7 @@ ClipResult clip(DatasetRef input, const ImplicitFunction& f, const ClipOptions& 
   UnstructuredGrid& g = r.output;
   r.stats = clip_impl(
       input, f, options,
-      [&](const std::vector<Block>& out, const auto& id_of, const auto& input_index,
+      [&](const std::vector<ClipBlock>& out, const auto& id_of, const auto& input_index,
           AttributeInterpolator& interp) {
         // Offsets of each block's cells and ids, then every block written in parallel.
         std::vector<std::size_t> cell_at(out.size() + 1, 0), id_at(out.size() + 1, 0);
@@ -971,7 +971,7 @@ ClipResult clip(DatasetRef input, const ImplicitFunction& f, const ClipOptions& 
           std::vector<Index> ids;
           for (std::size_t b = b0; b < b1; ++b) {
             std::size_t c = cell_at[b], at = id_at[b], piece = 0, ref = 0;
-            const Block& blk = out[b];
+            const ClipBlock& blk = out[b];
             for (const Entry& e : blk.entries) {
               if (e.whole && grid.valid) {  // a run along i: ids by arithmetic
                 Index sid[8];
@@ -1021,7 +1021,7 @@ ClipPolyResult clip_polydata(const PolyData& input, const ImplicitFunction& f,
   PolyData& pd = r.output;
   r.stats = clip_impl(
       input, f, options,
-      [&](const std::vector<Block>& out, const auto& id_of, const auto& input_index,
+      [&](const std::vector<ClipBlock>& out, const auto& id_of, const auto& input_index,
           AttributeInterpolator& interp) {
         // Each output cell goes to verts, lines, polys or strips by its type; cell data follows
         // the PolyData order (all verts, then lines, polys, strips).
@@ -1039,7 +1039,7 @@ ClipPolyResult clip_polydata(const PolyData& input, const ImplicitFunction& f,
             default: return t == CellType::TriangleStrip ? 3 : 2;
           }
         };
-        for (const Block& blk : out) {
+        for (const ClipBlock& blk : out) {
           std::size_t piece = 0, ref = 0;
           for (const Entry& e : blk.entries) {
             if (e.whole) {
