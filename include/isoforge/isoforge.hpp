@@ -28,6 +28,7 @@
 #include "isoforge/core/prefetch.hpp"
 #include "isoforge/core/progress.hpp"
 #include "isoforge/core/result.hpp"
+#include "isoforge/core/srgb.hpp"
 #include "isoforge/core/subset.hpp"
 #include "isoforge/core/union_find.hpp"
 #include "isoforge/core/vec.hpp"

@@ -28,7 +28,7 @@ constexpr std::int32_t kNone = std::numeric_limits<std::int32_t>::max();
 // Progress is reported every 2^20 cells (or points) of a labelling loop.
 constexpr std::size_t kProgressMask = (std::size_t{1} << 20) - 1;
 
-enum Kind : int { kVerts = 0, kLines = 1, kPolys = 2, kStrips = 3 };
+enum CellKind : int { kVerts = 0, kLines = 1, kPolys = 2, kStrips = 3 };
 
 std::array<const CellArray*, 4> cell_arrays(const PolyData& pd) {
   return {&pd.verts, &pd.lines, &pd.polys, &pd.strips};

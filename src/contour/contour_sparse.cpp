@@ -81,7 +81,7 @@ const std::array<EdgeInfo, 12>& edge_info() {
 
 /// Where the values of an 8³ block come from: a leaf's buffer (voxel (x, y, z) at offset
 /// 64 x + 8 y + z) or, outside leaves, one tile or background value.
-struct Source {
+struct SparseSource {
   const float* data = nullptr;
   float value = 0;
   [[nodiscard]] float at(int x, int y, int z) const {
@@ -90,12 +90,12 @@ struct Source {
 };
 
 /// One visited 8³ block of cells (the cells whose min corner lies in it).
-struct Block {
+struct SparseBlock {
   Coord origin;
   /// Index of the block at origin + 8 (d & 1, (d >> 1) & 1, (d >> 2) & 1) among the visited
   /// blocks, -1 if it is not visited (then it is not a leaf); nb[0] is the block itself.
   std::array<std::int32_t, 8> nb{};
-  Source self;
+  SparseSource self;
   std::array<float, 8> outside{};  // the value of neighbour d when nb[d] < 0
   // Per isovalue. Bits in leaf offset order: voxel (x, y, z) is bit 8 y + z of word x.
   std::array<Word, 8> above{};  // voxels at or above the isovalue
@@ -115,7 +115,7 @@ constexpr std::array<Word, 8> kAllBelow = {};
 struct Neighbourhood {
   std::array<std::uint16_t, kC * kC> above;  // row (x, y) at 9 x + y, bit z
   std::array<std::uint16_t, kC * kC> leaf;
-  std::array<Source, 27> src;  // block d ∈ {-1, 0, 1}³ at (dx + 1) + 3 (dy + 1) + 9 (dz + 1)
+  std::array<SparseSource, 27> src;  // block d ∈ {-1, 0, 1}³ at (dx + 1) + 3 (dy + 1) + 9 (dz + 1)
 
   /// Value of local voxel (x, y, z), each in [-1, 10) (the -1 side only when it was gathered).
   [[nodiscard]] float value(int x, int y, int z) const {
@@ -211,27 +211,27 @@ struct Neighbourhood {
   }
 };
 
-/// Block origins as integers ordered like (x, y, z) lexicographically, so that offsets by whole
+/// SparseBlock origins as integers ordered like (x, y, z) lexicographically, so that offsets by whole
 /// blocks are additions (the coordinates are multiples of 8 in int32, biased to unsigned).
-__extension__ typedef unsigned __int128 Key;
+__extension__ typedef unsigned __int128 CoordKey;
 
-Key key_of(const Coord& c) {
-  auto u = [](int v) { return static_cast<Key>(static_cast<std::uint32_t>(v) ^ 0x80000000u); };
+CoordKey key_of(const Coord& c) {
+  auto u = [](int v) { return static_cast<CoordKey>(static_cast<std::uint32_t>(v) ^ 0x80000000u); };
   return u(c.x()) << 64 | u(c.y()) << 32 | u(c.z());
 }
 
-Coord coord_of(Key k) {
-  auto s = [](Key v) { return static_cast<int>(static_cast<std::uint32_t>(v) ^ 0x80000000u); };
+Coord coord_of(CoordKey k) {
+  auto s = [](CoordKey v) { return static_cast<int>(static_cast<std::uint32_t>(v) ^ 0x80000000u); };
   return {s(k >> 64), s(k >> 32), s(k)};
 }
 
-/// Key offset of the block at +8 (d & 1, (d >> 1) & 1, (d >> 2) & 1). Adding or subtracting it
+/// CoordKey offset of the block at +8 (d & 1, (d >> 1) & 1, (d >> 2) & 1). Adding or subtracting it
 /// never carries between the fields while the coordinates stay within int32.
-constexpr Key neighbour_key(std::size_t d) {
-  return static_cast<Key>(8 * (d & 1)) << 64 | static_cast<Key>(8 * ((d >> 1) & 1)) << 32 |
-         static_cast<Key>(8 * ((d >> 2) & 1));
+constexpr CoordKey neighbour_key(std::size_t d) {
+  return static_cast<CoordKey>(8 * (d & 1)) << 64 | static_cast<CoordKey>(8 * ((d >> 1) & 1)) << 32 |
+         static_cast<CoordKey>(8 * ((d >> 2) & 1));
 }
-constexpr std::array<Key, 8> kNeighbour = {neighbour_key(0), neighbour_key(1), neighbour_key(2),
+constexpr std::array<CoordKey, 8> kNeighbour = {neighbour_key(0), neighbour_key(1), neighbour_key(2),
                                            neighbour_key(3), neighbour_key(4), neighbour_key(5),
                                            neighbour_key(6), neighbour_key(7)};
 
@@ -242,11 +242,11 @@ class VdbContourer {
 
   // Setup: the visited blocks, their neighbours and value sources.
   void build_blocks() {
-    std::vector<Key> leaves;
+    std::vector<CoordKey> leaves;
     leaves.reserve(static_cast<std::size_t>(tree_.leafCount()));
     for (auto it = tree_.cbeginLeaf(); it; ++it) leaves.push_back(key_of(it->origin()));
     leaves_ = leaves.size();
-    std::vector<Key> keys(8 * leaves.size());
+    std::vector<CoordKey> keys(8 * leaves.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 1024),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                         for (std::size_t l = r.begin(); l != r.end(); ++l) {
@@ -254,7 +254,7 @@ class VdbContourer {
                             keys[8 * l + d] = leaves[l] - kNeighbour[d];
                         }
                       });
-    std::vector<Key>().swap(leaves);
+    std::vector<CoordKey>().swap(leaves);
     tbb::parallel_sort(keys.begin(), keys.end());
     keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
     blocks_.resize(keys.size());
@@ -262,13 +262,13 @@ class VdbContourer {
                       [&](const tbb::blocked_range<std::size_t>& r) {
                         Accessor acc(tree_);
                         for (std::size_t b = r.begin(); b != r.end(); ++b) {
-                          Block& blk = blocks_[b];
+                          SparseBlock& blk = blocks_[b];
                           blk.origin = coord_of(keys[b]);
                           blk.self = source(acc, blk.origin);
                           blk.nb[0] = static_cast<std::int32_t>(b);
                           for (std::size_t d = 1; d < 8; ++d) {
                             // Neighbours come later in the order; +z is usually the next block.
-                            const Key k = keys[b] + kNeighbour[d];
+                            const CoordKey k = keys[b] + kNeighbour[d];
                             auto it = keys.begin() + static_cast<std::ptrdiff_t>(b) + 1;
                             if (it != keys.end() && *it != k)
                               it = std::lower_bound(it, keys.end(), k);
@@ -313,7 +313,7 @@ class VdbContourer {
     tri_offset_.resize(blocks_.size() + 1);
     Totals t;
     for (std::size_t b = 0; b < blocks_.size(); ++b) {
-      const Block& blk = blocks_[b];
+      const SparseBlock& blk = blocks_[b];
       point_offset_[b] = t.points;
       tri_offset_[b] = t.tris;
       t.points += static_cast<Index>(blk.edge_points + blk.centers);
@@ -341,12 +341,12 @@ class VdbContourer {
   }
 
  private:
-  static Source source(Accessor& acc, const Coord& origin) {
+  static SparseSource source(Accessor& acc, const Coord& origin) {
     if (const Leaf* leaf = acc.probeConstLeaf(origin)) return {leaf->buffer().data(), 0.0f};
     return {nullptr, acc.getValue(origin)};  // a tile's or the background value
   }
 
-  void classify(Block& blk) const {
+  void classify(SparseBlock& blk) const {
     if (!blk.self.data) {
       blk.above = blk.self.value >= threshold_ ? kAllAbove : kAllBelow;
       return;
@@ -374,14 +374,14 @@ class VdbContourer {
   // The neighbourhood of block b: rows, and sources for d ∈ {0, 1}³ (and d ∈ {-1, 0, 1}³ with
   // a margin, read through the accessor).
   void neighbourhood(std::size_t b, Neighbourhood& nh, Accessor* margin) const {
-    const Block& blk = blocks_[b];
+    const SparseBlock& blk = blocks_[b];
     std::array<const Word*, 8> ab;
     std::array<bool, 8> is_leaf;
     for (std::size_t d = 0; d < 8; ++d) {
       const std::int32_t n = blk.nb[d];
-      Source s;
+      SparseSource s;
       if (n >= 0) {
-        const Block& nbk = blocks_[static_cast<std::size_t>(n)];
+        const SparseBlock& nbk = blocks_[static_cast<std::size_t>(n)];
         s = nbk.self;
         ab[d] = nbk.above.data();
       } else {
@@ -405,7 +405,7 @@ class VdbContourer {
   }
 
   void count_block(Neighbourhood& nh, std::size_t b) {
-    Block& blk = blocks_[b];
+    SparseBlock& blk = blocks_[b];
     blk.mask.fill(0);
     blk.edge_points = blk.centers = blk.tris = blk.ambiguous = blk.skipped = 0;
     // Nothing crosses when every corner is on one side.
@@ -475,7 +475,7 @@ class VdbContourer {
   }
 
   void generate_block(Accessor& acc, Neighbourhood& nh, std::size_t b) const {
-    const Block& blk = blocks_[b];
+    const SparseBlock& blk = blocks_[b];
     const Index base = point_offset_[b];
     const Index tri_begin = tri_offset_[b], tri_end = tri_offset_[b + 1];
     if (point_offset_[b + 1] == base && tri_end == tri_begin) return;
@@ -543,7 +543,7 @@ class VdbContourer {
         const int d = (vx >> 3) | (vy >> 3) << 1 | (vz >> 3) << 2;
         const std::int32_t ob = blk.nb[static_cast<std::size_t>(d)];
         check_invariant(ob >= 0, "the owner block of an edge exists");
-        const Block& owner = blocks_[static_cast<std::size_t>(ob)];
+        const SparseBlock& owner = blocks_[static_cast<std::size_t>(ob)];
         const auto w = static_cast<std::size_t>(8 * ei.axis + (vx & 7));
         const int bit = 8 * (vy & 7) + (vz & 7);
         out[e] = point_offset_[static_cast<std::size_t>(ob)] + owner.rank[w] +
@@ -597,7 +597,7 @@ class VdbContourer {
   const Tree& tree_;
   UniformTransform map_;
   const ContourOptions& opt_;
-  std::vector<Block> blocks_;
+  std::vector<SparseBlock> blocks_;
   std::vector<Index> point_offset_, tri_offset_;
   std::size_t leaves_ = 0;
   double iso_ = 0;

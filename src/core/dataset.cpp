@@ -7,12 +7,6 @@ namespace isoforge {
 
 namespace {
 
-template <class... Ts>
-struct Overloaded : Ts... {
-  using Ts::operator()...;
-};
-template <class... Ts>
-Overloaded(Ts...) -> Overloaded<Ts...>;
 
 // Axes along which structured dims have more than one point, in i, j, k order.
 int varying_axes(const Dims& dims, int axes[3]) {

@@ -21,6 +21,7 @@
 
 #include "colormap_tables.hpp"
 #include "isoforge/core/parallel.hpp"
+#include "isoforge/core/srgb.hpp"
 
 namespace isoforge {
 
@@ -30,12 +31,6 @@ using Rgb = std::array<double, 3>;
 
 // ---- sRGB <-> CIELAB (D65) ----
 
-double srgb_to_linear(double c) {
-  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
-}
-double linear_to_srgb(double c) {
-  return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1 / 2.4) - 0.055;
-}
 
 constexpr double kWhite[3] = {0.95047, 1.0, 1.08883};  // D65 reference white, Y = 1
 constexpr double kDelta = 6.0 / 29;                      // CIE: the knee of L*'s cube root
@@ -235,7 +230,7 @@ std::uint8_t to_byte(double c) {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // The value of tuple i that is coloured.
-struct Source {
+struct ScalarSource {
   const DataArray& array;
   ColorSource mode;
   int component;
@@ -337,7 +332,7 @@ ColormapResult map_colors(const DataArray& array, const ColormapOptions& o) {
                                ? (array.components() == 1 ? ColorSource::Component
                                                           : ColorSource::Magnitude)
                                : o.source;
-  const Source source{array, mode, mode == ColorSource::Component ? o.component : 0};
+  const ScalarSource source{array, mode, mode == ColorSource::Component ? o.component : 0};
   std::vector<double> values(n);
   double data_lo = std::numeric_limits<double>::infinity(), data_hi = -data_lo;
   for (std::size_t i = 0; i < n; ++i) {

@@ -16,6 +16,7 @@
 
 #include "isoforge/core/memory.hpp"
 #include "isoforge/core/parallel.hpp"
+#include "point_fields.hpp"
 
 namespace isoforge {
 namespace {
@@ -54,13 +55,7 @@ const DataArray* require(const DataArray* a, const Attributes& pd, const char* w
   return a;
 }
 
-Vec3 tuple3(const DataArray& a, std::size_t i) {
-  if (a.type() == ScalarType::Float32) {  // the common case, without a type switch per value
-    const float* p = a.values<float>().data() + 3 * i;
-    return {p[0], p[1], p[2]};
-  }
-  return {a.get(i, 0), a.get(i, 1), a.get(i, 2)};
-}
+using filters_detail::tuple3;
 
 // Row-major 3x3 matrix taking +x to the unit direction of v (identity for zero or non-finite v).
 std::array<double, 9> rotation_to(const Vec3& v) {

@@ -20,4 +20,13 @@ inline bool finite(const Vec3& p) {
   return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
 }
 
+/// Tuple i of a 3-component array (float arrays read without a type switch per value).
+inline Vec3 tuple3(const DataArray& a, std::size_t i) {
+  if (a.type() == ScalarType::Float32) {
+    const float* p = a.values<float>().data() + 3 * i;
+    return {p[0], p[1], p[2]};
+  }
+  return {a.get(i, 0), a.get(i, 1), a.get(i, 2)};
+}
+
 }  // namespace isoforge::filters_detail

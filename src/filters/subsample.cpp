@@ -48,7 +48,7 @@ Selection select(const Dims& dims, const SubsampleOptions& o, bool boundary_allo
 }
 
 /// Copies tuples of every array of `src` into an array of `dst` (made here) at the ids `ids`.
-void gather(const Attributes& src, const std::vector<std::size_t>& ids, Attributes& dst) {
+void gather_tuples(const Attributes& src, const std::vector<std::size_t>& ids, Attributes& dst) {
   for (const DataArray& a : src) {
     DataArray d = DataArray::uninitialized(a.name(), a.type(), a.components(), ids.size());
     d.set_lookup_table(a.lookup_table());
@@ -101,8 +101,8 @@ ImageData subsample(const ImageData& input, const SubsampleOptions& options) {
   for (int a = 0; a < 3; ++a) out.spacing[a] = input.spacing[a] * double(options.rate[std::size_t(a)]);
   std::vector<std::size_t> points, cells;
   kept_ids(input.dims, s, points, cells);
-  gather(input.point_data, points, out.point_data);
-  gather(input.cell_data, cells, out.cell_data);
+  gather_tuples(input.point_data, points, out.point_data);
+  gather_tuples(input.cell_data, cells, out.cell_data);
   out.field_data = input.field_data;
   out.validate();
   return out;
@@ -118,10 +118,10 @@ StructuredGrid extract_voi(const StructuredGrid& input, const SubsampleOptions& 
   Attributes coords;
   coords.add(input.points.array());
   Attributes kept;
-  gather(coords, points, kept);
+  gather_tuples(coords, points, kept);
   out.points = Points(std::move(kept[0]));
-  gather(input.point_data, points, out.point_data);
-  gather(input.cell_data, cells, out.cell_data);
+  gather_tuples(input.point_data, points, out.point_data);
+  gather_tuples(input.cell_data, cells, out.cell_data);
   out.field_data = input.field_data;
   out.validate();
   return out;

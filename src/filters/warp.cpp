@@ -14,6 +14,7 @@ namespace {
 
 using filters_detail::finite;
 using filters_detail::point_field;
+using filters_detail::tuple3;
 
 /// The input's points, stored as Float32 unless the input's are Float64, each moved by
 /// move(id, p); the input's topology and all its data. Image data becomes a structured grid.
@@ -71,7 +72,6 @@ Dataset displaced(DatasetRef input, const ProgressCallback& progress, const char
   });
 }
 
-Vec3 tuple3(const DataArray& a, std::size_t i) { return {a.get(i, 0), a.get(i, 1), a.get(i, 2)}; }
 
 }  // namespace
 

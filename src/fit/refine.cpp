@@ -13,7 +13,7 @@
 // falls too. The error is measured on as many samples of the simplified mesh as of the original;
 // the energy's second term uses those dense samples and 4 per triangle in alternate solves (the
 // dense ones follow the surface closely, the sparse ones pull less against each other where the
-// original is thin). After each solve, moves that turn a face by more than 90° or make two
+// original is thin). After each solve_positions, moves that turn a face by more than 90° or make two
 // faces intersect (exact predicates, core/predicates.hpp) are shortened, then undone, vertex by
 // vertex until the neighbourhood is clean, and a step that raises the RMS or Hausdorff error is
 // halved, then dropped. Method and measurements: docs/algorithms/fitting.md.
@@ -369,7 +369,7 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
 // ---- the linear least-squares terms (analytic derivatives) ----
 //
 // The energy is quadratic, so the sample terms of one triangle are gathered into residual
-// blocks of fixed size before Ceres sees them, and the solve costs the same whatever the
+// blocks of fixed size before Ceres sees them, and the solve_positions costs the same whatever the
 // sampling density. Point to point: for the samples x_s with barycentric coordinates b_s
 // (weights w_s), per coordinate c, Σ w_s (b_sᵀ v_c − x_sc)² = v_cᵀ M v_c − 2 g_cᵀ v_c + const
 // with M = Σ w_s b_s b_sᵀ and g_c = Σ w_s b_s x_sc. With M = Q Λ Qᵀ, the rows
@@ -500,7 +500,7 @@ struct Weights {
   double rms2 = 0;  // mean squared residual: large residuals weigh more (see below)
   [[nodiscard]] double operator()(double dist2) const {
     // Without a robust loss, a residual above the RMS weighs 1 + (r / rms)², up to 16: the
-    // solve then leans on the largest distances (an L4-like energy), so the Hausdorff distance
+    // solve_positions then leans on the largest distances (an L4-like energy), so the Hausdorff distance
     // falls with the RMS instead of being traded for it.
     if (loss == RobustLoss::None || a2 == 0) {
       return rms2 > 0 ? std::min(1 + dist2 / rms2, kEmphasisMax) : 1;
@@ -526,8 +526,8 @@ Weights weights_for(const Measure& m, RobustLoss loss) {
   return w;
 }
 
-// One solve of the energy for fixed correspondences; returns the new positions.
-std::vector<Vec3> solve(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
+// One solve_positions of the energy for fixed correspondences; returns the new positions.
+std::vector<Vec3> solve_positions(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
                         const std::vector<std::array<Id, 2>>& edges,
                         const std::vector<Vec3>& samples, const ReverseSamples& rs,
                         const Measure& m, const std::vector<char>& fixed,
@@ -597,8 +597,8 @@ std::vector<Vec3> solve(const std::vector<Vec3>& pos, const std::vector<Tri>& tr
   so.linear_solver_type = ceres::CGNR;
   so.preconditioner_type = ceres::JACOBI;
   so.max_linear_solver_iterations = 500;
-  // The energy is quadratic (the weights are fixed for the solve): Levenberg-Marquardt with a
-  // huge trust region takes Gauss-Newton steps; a few suffice (the inner solve is inexact).
+  // The energy is quadratic (the weights are fixed for the solve_positions): Levenberg-Marquardt with a
+  // huge trust region takes Gauss-Newton steps; a few suffice (the inner solve_positions is inexact).
   so.initial_trust_region_radius = 1e12;
   so.max_num_iterations = 4;
   so.num_threads = 1;
@@ -808,7 +808,7 @@ RefineResult refine_mesh(const PolyData& original, const PolyData& simplified,
       current = measure(pos, tris, samples, rsamples, used, orig, true, &current);
     const auto t0 = Clock::now();
     const std::vector<Vec3> solved =
-        solve(pos, tris, edges, samples, rsamples, current, fixed, o, sparse, plain);
+        solve_positions(pos, tris, edges, samples, rsamples, current, fixed, o, sparse, plain);
     stats.seconds += seconds_since(t0);
     ++stats.solves;
     bool accepted = false;

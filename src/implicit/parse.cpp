@@ -25,7 +25,7 @@ namespace isoforge {
 
 namespace {
 
-using Kind = ImplicitFunction::Kind;
+using FunctionKind = ImplicitFunction::Kind;
 
 // A parsed argument value.
 struct Value {
@@ -326,38 +326,38 @@ std::string print(const ImplicitFunction::Node& n) {
     return s + ")";
   };
   switch (n.kind) {
-    case Kind::Plane:
+    case FunctionKind::Plane:
       return "plane(origin=" + vec_str(p[0], p[1], p[2]) + ", normal=" + vec_str(d.x, d.y, d.z) + ")";
-    case Kind::Sphere: return "sphere(center=" + vec_str(p[0], p[1], p[2]) + ", r=" + num_str(p[3]) + ")";
-    case Kind::Cylinder:
+    case FunctionKind::Sphere: return "sphere(center=" + vec_str(p[0], p[1], p[2]) + ", r=" + num_str(p[3]) + ")";
+    case FunctionKind::Cylinder:
       return "cylinder(point=" + vec_str(p[0], p[1], p[2]) + ", axis=" + vec_str(d.x, d.y, d.z) +
              ", r=" + num_str(p[6]) + ")";
-    case Kind::Cone:
+    case FunctionKind::Cone:
       return "cone(apex=" + vec_str(p[0], p[1], p[2]) + ", axis=" + vec_str(d.x, d.y, d.z) +
              ", angle=" + num_str(p[8]) + ")";
-    case Kind::Box: return "box(min=" + vec_str(p[0], p[1], p[2]) + ", max=" + vec_str(p[3], p[4], p[5]) + ")";
-    case Kind::Quadric: {
+    case FunctionKind::Box: return "box(min=" + vec_str(p[0], p[1], p[2]) + ", max=" + vec_str(p[3], p[4], p[5]) + ")";
+    case FunctionKind::Quadric: {
       std::string s = "quadric(a=[";
       for (int i = 0; i < 10; ++i) s += (i ? ", " : "") + num_str(p[static_cast<std::size_t>(i)]);
       return s + "])";
     }
-    case Kind::Superquadric:
+    case FunctionKind::Superquadric:
       return "superquadric(center=" + vec_str(p[0], p[1], p[2]) + ", radii=" + vec_str(p[3], p[4], p[5]) +
              ", n=" + num_str(p[6]) + ", e=" + num_str(p[7]) + ")";
-    case Kind::Torus:
+    case FunctionKind::Torus:
       return "torus(center=" + vec_str(p[0], p[1], p[2]) + ", axis=" + vec_str(d.x, d.y, d.z) +
              ", R=" + num_str(p[6]) + ", r=" + num_str(p[7]) + ")";
-    case Kind::Transform: {
+    case FunctionKind::Transform: {
       const auto& a = n.forward.a;
       std::string s = "transform(" + print(n.children[0].node()) + ", matrix=[";
       for (int i = 0; i < 9; ++i) s += (i ? ", " : "") + num_str(a[static_cast<std::size_t>(i)]);
       return s + "], translation=" + vec_str(n.forward.t.x, n.forward.t.y, n.forward.t.z) + ")";
     }
-    case Kind::Union: return children("union");
-    case Kind::Intersection: return children("intersection");
-    case Kind::Difference: return children("difference");
-    case Kind::Complement: return children("complement");
-    case Kind::Offset: return "offset(" + print(n.children[0].node()) + ", d=" + num_str(p[0]) + ")";
+    case FunctionKind::Union: return children("union");
+    case FunctionKind::Intersection: return children("intersection");
+    case FunctionKind::Difference: return children("difference");
+    case FunctionKind::Complement: return children("complement");
+    case FunctionKind::Offset: return "offset(" + print(n.children[0].node()) + ", d=" + num_str(p[0]) + ")";
   }
   return "?";
 }

@@ -29,8 +29,8 @@ namespace {
 
 using implicit_detail::eval_pruned;
 using openvdb::Coord;
-using Tree = openvdb::FloatTree;
-using Leaf = Tree::LeafNodeType;
+using SampleTree = openvdb::FloatTree;
+using SampleLeaf = SampleTree::LeafNodeType;
 
 struct Tile {
   Coord origin;
@@ -40,7 +40,7 @@ struct Tile {
 // Bytes one leaf of the band costs while it is built: the node, its 8³ values, and its entries in
 // the descent's list and the evaluated-leaf list.
 constexpr double kLeafBytes =
-    sizeof(Leaf) + Leaf::SIZE * sizeof(float) + sizeof(Coord) + sizeof(Leaf*);
+    sizeof(SampleLeaf) + SampleLeaf::SIZE * sizeof(float) + sizeof(Coord) + sizeof(SampleLeaf*);
 
 // The leaves of the band, estimated before any is built: the cells of a coarse grid (at most
 // kCoarse per axis, each at least a leaf wide) where F's interval bound meets the band are counted.
@@ -123,7 +123,7 @@ struct Descent {
 // Top-level (4096³) blocks the descent visits one by one: 2^24 of them is a 1.1M³-voxel box.
 constexpr double kMaxTopBlocks = 1 << 24;
 
-bool all_equal(const Leaf& leaf) {
+bool all_equal(const SampleLeaf& leaf) {
   const float first = leaf.getFirstValue();
   for (auto it = leaf.cbeginValueAll(); it; ++it) {
     if (*it != first) return false;
@@ -184,7 +184,7 @@ SparseSampleResult sample_level_set(const ImplicitFunction& f, const GridSpec& g
   }
 
   // Evaluate the leaves in parallel.
-  std::vector<Leaf*> leaves(d.leaves.size(), nullptr);
+  std::vector<SampleLeaf*> leaves(d.leaves.size(), nullptr);
   const auto& node = f.node();
   const Index nx = grid.dims[0], ny = grid.dims[1], nz = grid.dims[2];
   parallel_for_range(leaves.size(), 8, [&](std::size_t begin, std::size_t end) {
@@ -192,8 +192,8 @@ SparseSampleResult sample_level_set(const ImplicitFunction& f, const GridSpec& g
     alignas(64) double x[512], y[512], z[512], v[512];
     for (std::size_t li = begin; li != end; ++li) {
       const Coord o = d.leaves[li];
-      auto* leaf = new Leaf(o, background, false);
-      // Leaf voxel offset = (i << 6) + (j << 3) + k, the order the values are generated in.
+      auto* leaf = new SampleLeaf(o, background, false);
+      // SampleLeaf voxel offset = (i << 6) + (j << 3) + k, the order the values are generated in.
       for (int t = 0; t < 512; ++t) {
         x[t] = grid.coordinate(0, o.x() + (t >> 6));
         y[t] = grid.coordinate(1, o.y() + ((t >> 3) & 7));
@@ -221,10 +221,10 @@ SparseSampleResult sample_level_set(const ImplicitFunction& f, const GridSpec& g
   auto result = openvdb::FloatGrid::create(background);
   result->setTransform(xform);
   result->setGridClass(openvdb::GRID_LEVEL_SET);
-  Tree& tree = result->tree();
+  SampleTree& tree = result->tree();
   for (const Tile& t : d.tiles) tree.addTile(static_cast<openvdb::Index>(t.level), t.origin, -background, false);
   std::size_t kept = 0;
-  for (Leaf* leaf : leaves) {
+  for (SampleLeaf* leaf : leaves) {
     if (leaf->isEmpty() && all_equal(*leaf)) {
       // All voxels inactive with one sign: a tile says the same in far less memory.
       tree.addTile(1, leaf->origin(), leaf->getFirstValue(), false);

@@ -1,4 +1,4 @@
-// Draco `.drc`: writing (encode, decode again, measure) and reading. The one file of isoforge
+// Draco `.drc`: writing (encode, decode again, measure_errors) and reading. The one file of isoforge
 // that includes Draco's headers (docs/architecture.md).
 //
 // Draco: Google's geometry compression library (Galligan, Hemmer, Brettle et al., 2017–2022).
@@ -108,7 +108,7 @@ bool scalar_type_of(draco::DataType t, ScalarType* out) {
 
 
 // One attribute to encode: the positions or a point array.
-struct Source {
+struct DracoSource {
   std::string name;
   DracoKind kind = DracoKind::Generic;
   ScalarType type = ScalarType::Float32;  // the array's element type (restored on reading)
@@ -149,14 +149,14 @@ struct Prepared {
   std::vector<std::array<std::uint32_t, 3>> triangles;
   std::size_t degenerate_input = 0;
   std::vector<char> referenced;  // per point: in a triangle with three distinct ids
-  std::vector<Source> sources;   // positions first
+  std::vector<DracoSource> sources;   // positions first
   std::vector<std::string> dropped;
   std::uint64_t raw_bytes = 0;
 };
 
 bool is_float(ScalarType t) { return t == ScalarType::Float32 || t == ScalarType::Float64; }
 
-void fill_float_source(Source& s, const DataArray& a) {
+void fill_float_source(DracoSource& s, const DataArray& a) {
   const std::size_t n = a.size();
   s.f.resize(n);
   if (a.type() == ScalarType::Float32) {
@@ -181,7 +181,7 @@ void fill_float_source(Source& s, const DataArray& a) {
 
 // Raw bytes of an integer array in the type Draco stores: its own type, or Float64 when its
 // span is too wide for Draco's integer coder.
-void fill_integer_source(Source& s, const DataArray& a, std::string_view name) {
+void fill_integer_source(DracoSource& s, const DataArray& a, std::string_view name) {
   const std::size_t n = a.size();
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (std::size_t i = 0; i < n; ++i) {
@@ -223,7 +223,7 @@ bool unit_length(const std::vector<float>& v) {
   return true;
 }
 
-void check_options(const DracoWriteOptions& o, std::string_view name) {
+void check_draco_options(const DracoWriteOptions& o, std::string_view name) {
   const auto bits = [&](int b, const char* what) {
     if (b < 1 || b > 30) {
       throw Error(std::string(name) + ": " + what + " quantization bits must be in [1, 30], not " +
@@ -288,7 +288,7 @@ void triangulate(const PolyData& mesh, Prepared& p) {
   }
 }
 
-int roles_of(const Attributes& at, const std::string& name) {
+int draco_roles_of(const Attributes& at, const std::string& name) {
   int r = 0;
   for (std::size_t k = 0; k < kAttributeRoleCount; ++k) {
     if (at.active_name(static_cast<AttributeRole>(k)) == name) r |= 1 << k;
@@ -298,7 +298,7 @@ int roles_of(const Attributes& at, const std::string& name) {
 
 Prepared prepare(const PolyData& mesh, const DracoWriteOptions& options,
                  const io_detail::DracoRoles& roles, std::string_view name) {
-  check_options(options, name);
+  check_draco_options(options, name);
   try {
     mesh.validate();
   } catch (const Error& e) {
@@ -340,7 +340,7 @@ Prepared prepare(const PolyData& mesh, const DracoWriteOptions& options,
   const bool budget = options.max_position_error > 0 || options.max_position_error_relative > 0;
   // Positions.
   {
-    Source s;
+    DracoSource s;
     s.name = kPointsName;
     s.kind = DracoKind::Position;
     s.type = mesh.points.type();
@@ -415,12 +415,12 @@ Prepared prepare(const PolyData& mesh, const DracoWriteOptions& options,
   }
   for (const DataArray& a : mesh.point_data) {
     if (std::find(roles.skip.begin(), roles.skip.end(), a.name()) != roles.skip.end()) continue;
-    Source s;
+    DracoSource s;
     s.name = a.name();
     s.type = a.type();
     s.components = a.components();
     s.array = &a;
-    s.roles = roles_of(mesh.point_data, a.name());
+    s.roles = draco_roles_of(mesh.point_data, a.name());
     if (s.components > 127) {
       throw Error(std::string(name) + ": point array '" + a.name() + "' has " +
                   std::to_string(s.components) + " components; Draco holds at most 127");
@@ -480,7 +480,7 @@ Grid grid_of(int bits, float range) {
 
 // Sets bits/origin/range so that the grid step is `step` (or as close above as float allows)
 // and covers the source's range. Returns false if more than 30 bits would be needed.
-bool set_step(Source& s, double step) {
+bool set_step(DracoSource& s, double step) {
   const double extent = s.extent();
   int bits = 1;
   while (bits < 30 && step * double((std::uint32_t{1} << bits) - 1) < extent) ++bits;
@@ -495,7 +495,7 @@ bool set_step(Source& s, double step) {
 }
 
 // Draco's own grid for `bits`: origin = minimum, range = the largest extent (1 if zero).
-void set_bits(Source& s, int bits) {
+void set_bits(DracoSource& s, int bits) {
   s.bits = bits;
   s.origin.assign(s.lo.begin(), s.lo.end());
   float r = 0;
@@ -505,7 +505,7 @@ void set_bits(Source& s, int bits) {
 }
 
 // The largest error the grid of `s` gives on its tuples (replayed, before encoding).
-double predicted_error(const Source& s, const std::vector<char>* only) {
+double predicted_error(const DracoSource& s, const std::vector<char>* only) {
   const Grid g = grid_of(s.bits, s.range);
   const std::size_t tuples = s.f.size() / static_cast<std::size_t>(s.components);
   double worst = 0;
@@ -525,7 +525,7 @@ double predicted_error(const Source& s, const std::vector<char>* only) {
 // The largest step whose replayed error stays within the budget (grid quantization only). The
 // replay rounds as Draco does, in float32, but the decoder's float32 arithmetic may differ by an
 // ulp or two: `slack` keeps that far from the budget (the decoded file is measured anyway).
-void choose_step(Source& s, const std::vector<char>* only, double shrink, std::string_view name) {
+void choose_step(DracoSource& s, const std::vector<char>* only, double shrink, std::string_view name) {
   const double e = s.budget * shrink;
   const double c = std::sqrt(double(s.components));
   double magnitude = 0;
@@ -572,7 +572,7 @@ int normal_bits_for(double budget) {
 
 // Whether the reader, without metadata, gives back this attribute's name, type and roles
 // (see decode_draco_mesh: the default names of Draco's kinds).
-bool reads_back_as_is(const Source& s) {
+bool reads_back_as_is(const DracoSource& s) {
   const auto role = [](AttributeRole r) { return 1 << static_cast<int>(r); };
   switch (s.kind) {
     case DracoKind::Position: return s.name == kPointsName && s.type == ScalarType::Float32;
@@ -590,7 +590,7 @@ bool reads_back_as_is(const Source& s) {
   return false;
 }
 
-std::unique_ptr<draco::PointCloud> build(const Prepared& p, std::vector<Source>& sources) {
+std::unique_ptr<draco::PointCloud> build(const Prepared& p, std::vector<DracoSource>& sources) {
   std::unique_ptr<draco::PointCloud> pc;
   if (p.mesh) {
     auto m = std::make_unique<draco::Mesh>();
@@ -608,7 +608,7 @@ std::unique_ptr<draco::PointCloud> build(const Prepared& p, std::vector<Source>&
   if (!std::all_of(sources.begin(), sources.end(), reads_back_as_is)) {
     pc->AddMetadata(std::make_unique<draco::GeometryMetadata>());
   }
-  for (Source& s : sources) {
+  for (DracoSource& s : sources) {
     const draco::DataType dt = s.quantized ? draco::DT_FLOAT32 : s.dtype;
     const auto size = static_cast<std::int64_t>(draco::DataTypeLength(dt)) * s.components;
     draco::GeometryAttribute ga;
@@ -631,7 +631,7 @@ std::unique_ptr<draco::PointCloud> build(const Prepared& p, std::vector<Source>&
 }
 
 std::vector<std::uint8_t> encode_once(const draco::PointCloud& pc, const Prepared& p,
-                                      const std::vector<Source>& sources,
+                                      const std::vector<DracoSource>& sources,
                                       const DracoWriteOptions& o, std::string_view name) {
   std::unique_ptr<draco::ExpertEncoder> enc =
       p.mesh ? std::make_unique<draco::ExpertEncoder>(static_cast<const draco::Mesh&>(pc))
@@ -644,7 +644,7 @@ std::vector<std::uint8_t> encode_once(const draco::PointCloud& pc, const Prepare
   } else if (o.method == DracoMethod::Sequential) {
     enc->SetEncodingMethod(draco::POINT_CLOUD_SEQUENTIAL_ENCODING);
   }
-  for (const Source& s : sources) {
+  for (const DracoSource& s : sources) {
     if (!s.quantized || s.bits == 0) continue;
     if (s.kind == DracoKind::Normal) {
       enc->SetAttributeQuantization(s.att_id, s.bits);
@@ -673,12 +673,12 @@ struct Measured {
   std::size_t unmatched = 0;
 };
 
-Measured measure(const Prepared& p, const std::vector<Source>& sources,
+Measured measure_errors(const Prepared& p, const std::vector<DracoSource>& sources,
                  const io_detail::DracoDecodedMesh& dec, const DracoWriteOptions& o) {
   Measured m;
   m.arrays.assign(sources.size(), 0.0);
   const PolyData& d = dec.mesh;
-  const Source& pos = sources[0];
+  const DracoSource& pos = sources[0];
   std::vector<const DataArray*> decoded(sources.size(), nullptr);
   for (std::size_t k = 1; k < sources.size(); ++k) decoded[k] = d.point_data.find(sources[k].name);
 
@@ -692,7 +692,7 @@ Measured measure(const Prepared& p, const std::vector<Source>& sources,
     return std::sqrt(e2);
   };
   const auto array_error = [&](std::size_t k, std::size_t i, std::size_t j) {
-    const Source& s = sources[k];
+    const DracoSource& s = sources[k];
     if (!decoded[k]) return std::numeric_limits<double>::infinity();
     double e2 = 0;
     for (int c = 0; c < s.components; ++c) {
@@ -1068,9 +1068,9 @@ DracoEncodedMesh encode_draco_mesh(const PolyData& mesh, const DracoWriteOptions
   const Clock::time_point t_start = Clock::now();
   report_progress(options.progress, 0.0, "draco");
   Prepared p = prepare(mesh, options, roles, name);
-  std::vector<Source>& sources = p.sources;
+  std::vector<DracoSource>& sources = p.sources;
   // Bits (or grids) of every quantized attribute: a budget where one applies, else `bits`.
-  const auto bits_of = [&](const Source& s) {
+  const auto bits_of = [&](const DracoSource& s) {
     switch (s.kind) {
       case DracoKind::Position: return options.bits.position;
       case DracoKind::Normal: return options.bits.normal;
@@ -1082,7 +1082,7 @@ DracoEncodedMesh encode_draco_mesh(const PolyData& mesh, const DracoWriteOptions
   };
   std::vector<double> shrink(sources.size(), 1.0);
   for (std::size_t k = 0; k < sources.size(); ++k) {
-    Source& s = sources[k];
+    DracoSource& s = sources[k];
     if (!s.quantized) continue;
     if (s.budget <= 0) {
       set_bits(s, bits_of(s));
@@ -1094,7 +1094,7 @@ DracoEncodedMesh encode_draco_mesh(const PolyData& mesh, const DracoWriteOptions
   }
   std::unique_ptr<draco::PointCloud> pc = build(p, sources);
   const bool any_budget =
-      std::any_of(sources.begin(), sources.end(), [](const Source& s) { return s.budget > 0; });
+      std::any_of(sources.begin(), sources.end(), [](const DracoSource& s) { return s.budget > 0; });
 
   DracoEncodedMesh out;
   DracoStats& st = out.stats;
@@ -1108,7 +1108,7 @@ DracoEncodedMesh encode_draco_mesh(const PolyData& mesh, const DracoWriteOptions
         std::span<const std::byte>(reinterpret_cast<const std::byte*>(out.bytes.data()),
                                    out.bytes.size()),
         std::string(name) + " (written)");
-    const Measured m = measure(p, sources, dec, options);
+    const Measured m = measure_errors(p, sources, dec, options);
     st = DracoStats{};
     st.encodes = attempt;
     st.encode_seconds = encode_seconds;
@@ -1128,13 +1128,13 @@ DracoEncodedMesh encode_draco_mesh(const PolyData& mesh, const DracoWriteOptions
     st.max_position_error = m.position;
     st.dropped = p.dropped;
     for (std::size_t k = 0; k < sources.size(); ++k) {
-      const Source& s = sources[k];
+      const DracoSource& s = sources[k];
       st.attributes.push_back({s.name, s.quantized ? s.bits : 0,
                                s.quantized && s.kind != DracoKind::Normal ? s.step : 0.0,
                                s.budget, m.arrays[k]});
     }
     out.attributes.clear();
-    for (const Source& s : sources) out.attributes.push_back({s.name, s.unique_id, s.kind});
+    for (const DracoSource& s : sources) out.attributes.push_back({s.name, s.unique_id, s.kind});
     if (m.unmatched > 0) {
       throw Error(std::string(name) + ": internal check failed: " + std::to_string(m.unmatched) +
                   " points have no decoded counterpart");
@@ -1144,7 +1144,7 @@ DracoEncodedMesh encode_draco_mesh(const PolyData& mesh, const DracoWriteOptions
     const bool faces_lost = options.keep_faces && sources[0].budget > 0 &&
                             st.lost_triangles > p.degenerate_input;
     for (std::size_t k = 0; k < sources.size(); ++k) {
-      Source& s = sources[k];
+      DracoSource& s = sources[k];
       if (s.budget <= 0) continue;
       const bool missed = m.arrays[k] > s.budget;
       if (!missed && !(k == 0 && faces_lost)) continue;

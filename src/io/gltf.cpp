@@ -23,6 +23,7 @@
 #include "detail/json.hpp"
 #include "isoforge/core/append.hpp"
 #include "isoforge/core/normals.hpp"
+#include "isoforge/core/srgb.hpp"
 #include "isoforge/io/atomic_file.hpp"
 #include "isoforge/io/io.hpp"
 
@@ -51,12 +52,6 @@ std::size_t align4(std::size_t n) {
 }
 
 // The sRGB transfer function (IEC 61966-2-1) and its inverse, on [0, 1].
-double srgb_to_linear(double c) {
-  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
-}
-double linear_to_srgb(double c) {
-  return c <= 0.0031308 ? c * 12.92 : 1.055 * std::pow(c, 1 / 2.4) - 0.055;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Writing

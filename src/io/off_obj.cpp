@@ -23,12 +23,7 @@ using io_detail::Scanner;
 using io_detail::split_words;
 
 /// Appends `v` in the shortest form that reads back to the same value.
-template <class T>
-void append_number(std::string& out, T v) {
-  char tmp[64];
-  auto r = std::to_chars(tmp, tmp + sizeof(tmp), v);
-  out.append(tmp, r.ptr);
-}
+using io_detail::append_number;
 
 void append_coord(std::string& out, double v, bool single) {
   if (single) {

@@ -28,27 +28,16 @@ namespace isoforge {
 namespace {
 
 namespace fs = std::filesystem;
+using io_detail::ascii_lower;
 using io_detail::Endian;
 using io_detail::iequals;
 using io_detail::Scanner;
 using io_detail::split_words;
+using io_detail::trim_space;
 
 // ---------------------------------------------------------------------------------------------
 // Small text helpers
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && Scanner::is_space(s.front())) s.remove_prefix(1);
-  while (!s.empty() && Scanner::is_space(s.back())) s.remove_suffix(1);
-  return s;
-}
-
-std::string lower(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) {
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  }
-  return out;
-}
 
 std::string clip(std::string_view s) { return io_detail::printable(s, 60); }
 
@@ -485,7 +474,7 @@ std::uint64_t files_for_subdim(const std::vector<std::int64_t>& sizes, std::int6
   return n;
 }
 
-ImageData finish(ImageData img, const std::string& file) {
+ImageData finish_volume(ImageData img, const std::string& file) {
   try {
     img.validate();
   } catch (const Error& e) {
@@ -560,7 +549,7 @@ std::optional<ScalarType> nrrd_type(std::string_view t) {
                                {"uint64_t", ScalarType::UInt64},
                                {"float", ScalarType::Float32},
                                {"double", ScalarType::Float64}};
-  const std::string s = lower(trim(t));
+  const std::string s = ascii_lower(trim_space(t));
   for (const Name& n : names) {
     if (s == n.name) return n.type;
   }
@@ -591,7 +580,7 @@ std::vector<std::vector<double>> nrrd_vectors(std::string_view value, const std:
     std::string_view inner = value.substr(i + 1, close - i - 1);
     while (true) {
       const std::size_t comma = inner.find(',');
-      v.push_back(double_value(trim(inner.substr(0, comma)), file, line, what));
+      v.push_back(double_value(trim_space(inner.substr(0, comma)), file, line, what));
       if (comma == std::string_view::npos) break;
       inner.remove_prefix(comma + 1);
     }
@@ -638,7 +627,7 @@ ImageData read_nrrd_impl(std::span<const std::byte> data, const std::string& nam
       break;
     }
     if (in_list) {
-      const auto w = trim(line);
+      const auto w = trim_space(line);
       if (!w.empty()) list_files.emplace_back(w);
       continue;
     }
@@ -648,8 +637,8 @@ ImageData read_nrrd_impl(std::span<const std::byte> data, const std::string& nam
     if (colon == std::string_view::npos) {
       fail_at(name, ln, "expected 'field: value', found '" + clip(line) + "'");
     }
-    const std::string key = lower(line.substr(0, colon));
-    const std::string value(trim(line.substr(colon + 2)));
+    const std::string key = ascii_lower(line.substr(0, colon));
+    const std::string value(trim_space(line.substr(colon + 2)));
     for (const auto& [k, f] : fields) {
       if (k == key ||
           ((k == "data file" || k == "datafile") && (key == "data file" || key == "datafile"))) {
@@ -696,7 +685,7 @@ ImageData read_nrrd_impl(std::span<const std::byte> data, const std::string& nam
     fail_at(name, type_f.line, "unknown type '" + clip(type_f.value) + "'");
   }
   const Field& dim_f = require("dimension");
-  const std::int64_t dim = int_value(trim(dim_f.value), name, dim_f.line, "dimension");
+  const std::int64_t dim = int_value(trim_space(dim_f.value), name, dim_f.line, "dimension");
   if (dim < 1 || dim > 3) {
     fail_at(name, dim_f.line, "dimension " + std::to_string(dim) + " is not supported (1, 2 or 3)");
   }
@@ -782,14 +771,14 @@ ImageData read_nrrd_impl(std::span<const std::byte> data, const std::string& nam
   spec.type = *type;
   spec.tuples = checked_point_count(img.dims, name);
   const Field& enc_f = require("encoding");
-  const std::string enc = lower(trim(enc_f.value));
+  const std::string enc = ascii_lower(trim_space(enc_f.value));
   if (enc == "gzip" || enc == "gz") {
     spec.compressed = true;
   } else if (enc != "raw") {
     fail_at(name, enc_f.line, "encoding " + clip(enc) + " not supported (raw and gzip are)");
   }
   if (const Field* e = get({"endian"})) {
-    const std::string v = lower(trim(e->value));
+    const std::string v = ascii_lower(trim_space(e->value));
     if (v == "little") {
       spec.endian = Endian::Little;
     } else if (v == "big") {
@@ -803,7 +792,7 @@ ImageData read_nrrd_impl(std::span<const std::byte> data, const std::string& nam
                 std::string(scalar_type_name(spec.type)) + ")");
   }
   if (const Field* f = get({"byte skip", "byteskip"})) {
-    spec.byte_skip = int_value(trim(f->value), name, f->line, "byte skip");
+    spec.byte_skip = int_value(trim_space(f->value), name, f->line, "byte skip");
     if (spec.byte_skip < -1)
       fail_at(name, f->line, "byte skip " + std::to_string(spec.byte_skip) + " is negative");
     if (spec.byte_skip == -1 && spec.compressed) {
@@ -811,7 +800,7 @@ ImageData read_nrrd_impl(std::span<const std::byte> data, const std::string& nam
     }
   }
   if (const Field* f = get({"line skip", "lineskip"})) {
-    spec.line_skip = int_value(trim(f->value), name, f->line, "line skip");
+    spec.line_skip = int_value(trim_space(f->value), name, f->line, "line skip");
     if (spec.line_skip < 0)
       fail_at(name, f->line, "line skip " + std::to_string(spec.line_skip) + " is negative");
   }
@@ -846,7 +835,7 @@ ImageData read_nrrd_impl(std::span<const std::byte> data, const std::string& nam
     spec.attached_offset = sc.offset();
   }
   img.point_data.add(load_samples(spec), AttributeRole::Scalars);
-  return finish(std::move(img), name);
+  return finish_volume(std::move(img), name);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -887,14 +876,14 @@ ImageData read_metaimage_impl(std::span<const std::byte> data, const std::string
   while (!have_data_file) {
     const std::int64_t ln = sc.line();
     if (!sc.read_line(line)) break;
-    if (trim(line).empty()) continue;
+    if (trim_space(line).empty()) continue;
     const std::size_t eq = line.find('=');
     if (eq == std::string_view::npos) {
       if (ln == 1) fail_at(name, ln, "bad magic: not a MetaImage header (expected 'Key = Value')");
       fail_at(name, ln, "expected 'Key = Value', found '" + clip(line) + "'");
     }
-    const std::string key = lower(trim(line.substr(0, eq)));
-    const std::string value(trim(line.substr(eq + 1)));
+    const std::string key = ascii_lower(trim_space(line.substr(0, eq)));
+    const std::string value(trim_space(line.substr(eq + 1)));
     static const char* const known[] = {"objecttype",
                                         "objectsubtype",
                                         "ndims",
@@ -951,7 +940,7 @@ ImageData read_metaimage_impl(std::span<const std::byte> data, const std::string
       const auto w = split_words(value);
       if (!w.empty() && iequals(w[0], "LIST")) {
         while (sc.read_line(line)) {
-          const auto f = trim(line);
+          const auto f = trim_space(line);
           if (!f.empty()) list_files.emplace_back(f);
         }
       }
@@ -1093,7 +1082,7 @@ ImageData read_metaimage_impl(std::span<const std::byte> data, const std::string
     spec.files.names = {df.value};
   }
   img.point_data.add(load_samples(spec), AttributeRole::Scalars);
-  return finish(std::move(img), name);
+  return finish_volume(std::move(img), name);
 }
 
 }  // namespace

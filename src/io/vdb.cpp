@@ -54,15 +54,15 @@ constexpr const char* kFloatTree = "Tree_float_5_4_3";
 // Byte sources and a bounds-checked cursor
 // ---------------------------------------------------------------------------------------------
 
-class Source {
+class VdbSource {
  public:
-  virtual ~Source() = default;
+  virtual ~VdbSource() = default;
   [[nodiscard]] virtual std::uint64_t size() const = 0;
   // Copies [offset, offset + n), which the caller has checked lies within size().
   virtual void read(std::uint64_t offset, void* dst, std::size_t n) const = 0;
 };
 
-class SpanSource final : public Source {
+class SpanSource final : public VdbSource {
  public:
   explicit SpanSource(std::span<const std::byte> data) : data_(data) {}
   [[nodiscard]] std::uint64_t size() const override { return data_.size(); }
@@ -75,7 +75,7 @@ class SpanSource final : public Source {
   std::span<const std::byte> data_;
 };
 
-class FileSource final : public Source {
+class FileSource final : public VdbSource {
  public:
   FileSource(const std::filesystem::path& path, const std::string& name) : name_(name) {
     std::error_code ec;
@@ -103,11 +103,11 @@ class FileSource final : public Source {
   std::uint64_t size_ = 0;
 };
 
-// Reads a Source front to back within [pos, end), throwing an Error naming the file, the
+// Reads a VdbSource front to back within [pos, end), throwing an Error naming the file, the
 // absolute byte offset (pos + base) and what was being read when the bytes run out.
 class Cursor {
  public:
-  Cursor(const Source& src, const std::string& name, std::uint64_t pos, std::uint64_t end,
+  Cursor(const VdbSource& src, const std::string& name, std::uint64_t pos, std::uint64_t end,
          std::uint64_t base = 0)
       : src_(&src), name_(&name), pos_(pos), end_(end), base_(base) {}
 
@@ -155,7 +155,7 @@ class Cursor {
   }
 
  private:
-  const Source* src_;
+  const VdbSource* src_;
   const std::string* name_;
   std::uint64_t pos_, end_, base_;
 };
@@ -163,16 +163,16 @@ class Cursor {
 static_assert(std::endian::native == std::endian::little, "VDB files are little-endian");
 
 // ---------------------------------------------------------------------------------------------
-// Header, metadata, transform
+// VdbHeader, metadata, transform
 // ---------------------------------------------------------------------------------------------
 
-struct Header {
+struct VdbHeader {
   std::uint32_t format = 0;
   std::uint32_t lib_major = 0, lib_minor = 0;
   bool has_offsets = false;
 };
 
-Header read_header(Cursor& c) {
+VdbHeader read_header(Cursor& c) {
   if (c.remaining() < 8) {
     c.fail("not a VDB file (" + std::to_string(c.remaining()) +
            " bytes, too short for the OpenVDB magic number)");
@@ -181,7 +181,7 @@ Header read_header(Cursor& c) {
   if (magic != static_cast<std::int64_t>(openvdb::OPENVDB_MAGIC)) {
     c.fail_at(0, "not a VDB file (no OpenVDB magic number)");
   }
-  Header h;
+  VdbHeader h;
   h.format = c.get<std::uint32_t>("file format version");
   if (h.format < kMinFormat) {
     c.fail("VDB file format version " + std::to_string(h.format) +
@@ -575,11 +575,11 @@ GridLayout walk_grid(Cursor& c, const GridEntry& g, bool whole_tree, bool verify
 }
 
 struct Directory {
-  Header header;
+  VdbHeader header;
   std::vector<GridEntry> grids;
 };
 
-Directory read_directory(const Source& src, const std::string& name) {
+Directory read_directory(const VdbSource& src, const std::string& name) {
   Cursor c(src, name, 0, src.size());
   Directory d;
   d.header = read_header(c);
@@ -654,7 +654,7 @@ class GridReader final : public vio::Archive {
 // The grid's bytes with dropped metadata entries removed, and the half-float flag that
 // OpenVDB takes from the metadata (not from the descriptor) made to agree with the descriptor,
 // which the walker followed.
-std::vector<char> sanitized_grid_bytes(const Source& src, const GridEntry& g, const GridLayout& l) {
+std::vector<char> sanitized_grid_bytes(const VdbSource& src, const GridEntry& g, const GridLayout& l) {
   const std::string half_key = openvdb::GridBase::META_SAVE_HALF_FLOAT;
   std::vector<char> out;
   out.reserve(g.data_end - g.data_begin + 64);
@@ -690,7 +690,7 @@ std::vector<char> sanitized_grid_bytes(const Source& src, const GridEntry& g, co
 
 struct StreamTags {
   vio::StreamMetadata::Ptr meta{new vio::StreamMetadata};
-  void apply(std::istream& is, const Header& h) {
+  void apply(std::istream& is, const VdbHeader& h) {
     vio::setStreamMetadataPtr(is, meta, /*transfer=*/false);
     vio::setVersion(is, openvdb::VersionId(h.lib_major, h.lib_minor), h.format);
     vio::setDataCompression(is, vio::COMPRESS_NONE);
@@ -698,8 +698,8 @@ struct StreamTags {
   }
 };
 
-openvdb::GridBase::Ptr read_validated_grid(const Source& src, const std::string& name,
-                                           const Header& header, const GridEntry& g) {
+openvdb::GridBase::Ptr read_validated_grid(const VdbSource& src, const std::string& name,
+                                           const VdbHeader& header, const GridEntry& g) {
   const std::string gname = display_name(g.unique_name);
   if (!g.instance_parent.empty()) {
     throw Error(name + ": grid '" + gname + "' is an instance of grid '" +
@@ -747,7 +747,7 @@ std::string grid_list(const Directory& d) {
   return s.empty() ? "none" : s;
 }
 
-openvdb::FloatGrid::Ptr read_float_grid(const Source& src, const std::string& name,
+openvdb::FloatGrid::Ptr read_float_grid(const VdbSource& src, const std::string& name,
                                         std::string_view grid_name) {
   const Directory d = read_directory(src, name);
   const GridEntry* chosen = nullptr;

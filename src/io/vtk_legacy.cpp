@@ -66,12 +66,6 @@ using io_detail::Scanner;
 /// Largest number of points a RECTILINEAR_GRID may expand to (unless the file is larger).
 constexpr std::size_t kMaxSynthesizedPoints = std::size_t{1} << 24;
 
-template <class... Ts>
-struct Overloaded : Ts... {
-  using Ts::operator()...;
-};
-template <class... Ts>
-Overloaded(Ts...) -> Overloaded<Ts...>;
 
 std::string str(std::uint64_t v) { return std::to_string(v); }
 std::string str(std::int64_t v) { return std::to_string(v); }

@@ -50,12 +50,6 @@ using io_detail::Endian;
 using io_detail::kHostEndian;
 using io_detail::printable;
 
-template <class... Ts>
-struct Overloaded : Ts... {
-  using Ts::operator()...;
-};
-template <class... Ts>
-Overloaded(Ts...) -> Overloaded<Ts...>;
 
 using io_detail::BlockCodec;
 
@@ -82,7 +76,7 @@ std::string num(std::uint64_t v) {
 
 /// A place in the file: the element path ("Piece 0/PointData/DataArray 'Normals'") and a byte
 /// offset. Every reader error goes through here, so it names the file, the place and the problem.
-struct Where {
+struct XmlWhere {
   std::string_view file;
   std::string path;
   std::uint64_t byte = 0;
@@ -92,8 +86,8 @@ struct Where {
     std::string msg = path.empty() ? std::string(what) : path + ": " + std::string(what);
     throw Error(at_byte(file, at, msg));
   }
-  [[nodiscard]] Where child(pugi::xml_node node, std::string_view label) const {
-    Where w{file, path.empty() ? std::string(label) : path + "/" + std::string(label), byte};
+  [[nodiscard]] XmlWhere child(pugi::xml_node node, std::string_view label) const {
+    XmlWhere w{file, path.empty() ? std::string(label) : path + "/" + std::string(label), byte};
     const std::ptrdiff_t off = node.offset_debug();
     if (off >= 0) w.byte = static_cast<std::uint64_t>(off);
     return w;
@@ -104,15 +98,10 @@ struct Where {
 // Numbers
 // ================================================================================================
 
-bool is_space(char c) {
-  return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v';
-}
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && is_space(s.front())) s.remove_prefix(1);
-  while (!s.empty() && is_space(s.back())) s.remove_suffix(1);
-  return s;
-}
+using io_detail::append_number;
+using io_detail::ascii_lower;
+using io_detail::trim_space;
+constexpr auto is_space = io_detail::is_ascii_space;
 
 /// Parses a whole token as T. Floats out of range become inf/0 (strtod semantics).
 template <class T>
@@ -139,7 +128,7 @@ std::optional<std::string_view> attr(pugi::xml_node n, const char* name) {
 }
 
 /// A required (or defaulted) non-negative integer attribute.
-std::uint64_t count_attr(pugi::xml_node n, const char* name, const Where& w,
+std::uint64_t count_attr(pugi::xml_node n, const char* name, const XmlWhere& w,
                          std::optional<std::uint64_t> fallback = std::nullopt) {
   const auto v = attr(n, name);
   if (!v) {
@@ -147,7 +136,7 @@ std::uint64_t count_attr(pugi::xml_node n, const char* name, const Where& w,
     w.fail(std::string("missing attribute '") + name + "'");
   }
   std::int64_t x = 0;
-  if (!parse_value(trim(*v), x)) {
+  if (!parse_value(trim_space(*v), x)) {
     w.fail(std::string("attribute ") + name + "='" + printable(*v) + "' is not an integer");
   }
   if (x < 0) w.fail(std::string("attribute ") + name + "=" + std::to_string(x) + " is negative");
@@ -156,7 +145,7 @@ std::uint64_t count_attr(pugi::xml_node n, const char* name, const Where& w,
 
 /// Exactly `count` whitespace-separated values of T.
 template <class T>
-std::vector<T> list_attr(pugi::xml_node n, const char* name, std::size_t count, const Where& w) {
+std::vector<T> list_attr(pugi::xml_node n, const char* name, std::size_t count, const XmlWhere& w) {
   const auto v = attr(n, name);
   if (!v) w.fail(std::string("missing attribute '") + name + "'");
   std::vector<T> out;
@@ -280,7 +269,7 @@ class ByteSource {
   }
   [[nodiscard]] std::uint64_t file_pos() const { return base_ + pos_; }
 
-  void read(std::byte* dst, std::size_t n, const Where& w, std::string_view what) {
+  void read(std::byte* dst, std::size_t n, const XmlWhere& w, std::string_view what) {
     if (!b64_) {
       if (n > raw_.size() - pos_) truncated(w, n, what);
       if (n > 0) std::memcpy(dst, raw_.data() + pos_, n);
@@ -316,7 +305,7 @@ class ByteSource {
   }
 
   /// `n` bytes as a view (raw: no copy; base64: decoded into a scratch buffer).
-  std::span<const std::byte> view(std::size_t n, const Where& w, std::string_view what) {
+  std::span<const std::byte> view(std::size_t n, const XmlWhere& w, std::string_view what) {
     if (n > available()) truncated(w, n, what);
     if (!b64_) {
       auto s = raw_.subspan(pos_, n);
@@ -331,14 +320,14 @@ class ByteSource {
  private:
   ByteSource() = default;
 
-  [[noreturn]] void truncated(const Where& w, std::size_t n, std::string_view what) const {
+  [[noreturn]] void truncated(const XmlWhere& w, std::size_t n, std::string_view what) const {
     w.fail_at(file_pos(), "truncated data: " + std::string(what) + " needs " + num(n) +
                               " bytes but the " + (b64_ ? "base64 text" : "appended section") +
                               " ends first");
   }
 
   /// Decodes the next group of up to four characters into buf_; false at the end of the text.
-  bool next_group(const Where& w) {
+  bool next_group(const XmlWhere& w) {
     int vals[4] = {0, 0, 0, 0};
     int n = 0, pads = 0;
     while (n < 4 && pos_ < text_.size()) {
@@ -420,14 +409,14 @@ struct StructuredPiece {
   Extent ext{};
   Attributes pd, cd;
   std::optional<DataArray> points;
-  Where where;
+  XmlWhere where;
 };
 
 struct PolyPiece {
   Points points;
   std::array<CellArray, 4> cells;  // verts, lines, polys, strips
   Attributes pd, cd;
-  Where where;
+  XmlWhere where;
 };
 
 struct UnstructuredPiece {
@@ -435,7 +424,7 @@ struct UnstructuredPiece {
   CellArray cells;
   std::vector<CellType> types;
   Attributes pd, cd;
-  Where where;
+  XmlWhere where;
 };
 
 /// Appends tuples [first, first + count) of src to dst (same type and components).
@@ -481,8 +470,8 @@ class Reader {
                                       std::optional<std::uint64_t> expected, std::size_t unit);
 
  private:
-  [[nodiscard]] Where root_where(std::string path = "VTKFile") const {
-    return Where{name_, std::move(path), 0};
+  [[nodiscard]] XmlWhere root_where(std::string path = "VTKFile") const {
+    return XmlWhere{name_, std::move(path), 0};
   }
 
   void split_appended();
@@ -497,7 +486,7 @@ class Reader {
                (io_detail::block_codec_max_ratio(BlockCodec::Lzma) + 8) +
            (1u << 20);
   }
-  void charge(std::uint64_t bytes, const Where& w) {
+  void charge(std::uint64_t bytes, const XmlWhere& w) {
     if (bytes > budget_) {
       w.fail("arrays decode to more data than the file can hold (" + num(bytes) +
              " more bytes); overlapping offsets or lying sizes");
@@ -505,7 +494,7 @@ class Reader {
     budget_ -= bytes;
   }
 
-  std::uint64_t read_word(ByteSource& s, const Where& w, std::string_view what) {
+  std::uint64_t read_word(ByteSource& s, const XmlWhere& w, std::string_view what) {
     std::byte b[8];
     const std::size_t n = header64_ ? 8 : 4;
     s.read(b, n, w, what);
@@ -521,25 +510,25 @@ class Reader {
   }
 
   template <class Alloc>
-  void read_payload(ByteSource& src, const Where& w, std::optional<std::uint64_t> expected,
+  void read_payload(ByteSource& src, const XmlWhere& w, std::optional<std::uint64_t> expected,
                     std::size_t unit, Alloc&& alloc);
-  std::optional<DataArray> read_array(pugi::xml_node el, const Where& w, const ArrayRequest& req);
-  void read_attributes(pugi::xml_node el, const Where& w, std::optional<std::uint64_t> tuples,
+  std::optional<DataArray> read_array(pugi::xml_node el, const XmlWhere& w, const ArrayRequest& req);
+  void read_attributes(pugi::xml_node el, const XmlWhere& w, std::optional<std::uint64_t> tuples,
                        Attributes& out);
-  Points read_points(pugi::xml_node piece, const Where& w, std::uint64_t np);
-  Buffer<Index> read_index_array(pugi::xml_node el, const Where& w, std::uint64_t count);
-  CellArray read_cells(pugi::xml_node el, const Where& w, std::uint64_t ncells, std::uint64_t np);
+  Points read_points(pugi::xml_node piece, const XmlWhere& w, std::uint64_t np);
+  Buffer<Index> read_index_array(pugi::xml_node el, const XmlWhere& w, std::uint64_t count);
+  CellArray read_cells(pugi::xml_node el, const XmlWhere& w, std::uint64_t ncells, std::uint64_t np);
 
-  Extent read_extent(pugi::xml_node el, const char* name, const Where& w, bool allow_empty);
-  std::vector<StructuredPiece> read_structured_pieces(pugi::xml_node ds, const Where& w,
+  Extent read_extent(pugi::xml_node el, const char* name, const XmlWhere& w, bool allow_empty);
+  std::vector<StructuredPiece> read_structured_pieces(pugi::xml_node ds, const XmlWhere& w,
                                                       const Extent& whole, bool with_points);
   void assemble_structured(const Extent& whole, std::vector<StructuredPiece>& pieces,
-                           const Where& w, Attributes& pd, Attributes& cd, DataArray* points);
+                           const XmlWhere& w, Attributes& pd, Attributes& cd, DataArray* points);
 
-  ImageData read_image(pugi::xml_node ds, const Where& w);
-  StructuredGrid read_structured(pugi::xml_node ds, const Where& w);
-  PolyData read_poly(pugi::xml_node ds, const Where& w);
-  UnstructuredGrid read_unstructured(pugi::xml_node ds, const Where& w);
+  ImageData read_image(pugi::xml_node ds, const XmlWhere& w);
+  StructuredGrid read_structured(pugi::xml_node ds, const XmlWhere& w);
+  PolyData read_poly(pugi::xml_node ds, const XmlWhere& w);
+  UnstructuredGrid read_unstructured(pugi::xml_node ds, const XmlWhere& w);
 
   std::span<const std::byte> data_;
   std::string name_;
@@ -569,7 +558,7 @@ void Reader::split_appended() {
     xml_.assign(all.begin(), all.end());
     return;
   }
-  const Where w{name_, "AppendedData", pos};
+  const XmlWhere w{name_, "AppendedData", pos};
   const std::size_t gt = all.find('>', pos);
   if (gt == std::string_view::npos) w.fail("truncated <AppendedData> tag");
   // Parse the start tag on its own to read its attributes.
@@ -610,7 +599,7 @@ void Reader::split_appended() {
 }
 
 template <class Alloc>
-void Reader::read_payload(ByteSource& src, const Where& w, std::optional<std::uint64_t> expected,
+void Reader::read_payload(ByteSource& src, const XmlWhere& w, std::optional<std::uint64_t> expected,
                           std::size_t unit, Alloc&& alloc) {
   const std::uint64_t start = src.file_pos();
   if (!codec_) {
@@ -760,7 +749,7 @@ std::string_view element_text(pugi::xml_node el, std::string& storage, std::uint
 /// Parses whitespace-separated values; `tick(i)` is told the offset reached in `text`.
 template <class T, class Tick>
 std::vector<T> parse_ascii(std::string_view text, std::optional<std::uint64_t> count,
-                           const Where& w, std::string_view type_name, Tick&& tick) {
+                           const XmlWhere& w, std::string_view type_name, Tick&& tick) {
   std::vector<T> out;
   // Each value takes at least two characters (digit and separator), which bounds the reservation
   // whatever count the file claims.
@@ -791,7 +780,7 @@ std::vector<T> parse_ascii(std::string_view text, std::optional<std::uint64_t> c
   return out;
 }
 
-std::optional<DataArray> Reader::read_array(pugi::xml_node el, const Where& w,
+std::optional<DataArray> Reader::read_array(pugi::xml_node el, const XmlWhere& w,
                                             const ArrayRequest& req) {
   const auto type_name = attr(el, "type");
   if (!type_name) w.fail("missing attribute 'type'");
@@ -837,7 +826,7 @@ std::optional<DataArray> Reader::read_array(pugi::xml_node el, const Where& w,
 
   if (*format == "ascii") {
     std::string storage;
-    Where tw = w;
+    XmlWhere tw = w;
     const std::string_view text = element_text(el, storage, tw.byte);
     auto make = [&](auto tag) {
       using T = decltype(tag);
@@ -876,7 +865,7 @@ std::optional<DataArray> Reader::read_array(pugi::xml_node el, const Where& w,
   }
 
   std::optional<ByteSource> src;
-  Where dw = w;
+  XmlWhere dw = w;
   std::string storage;
   if (*format == "binary") {
     const std::string_view text = element_text(el, storage, dw.byte);
@@ -909,13 +898,13 @@ std::optional<DataArray> Reader::read_array(pugi::xml_node el, const Where& w,
   return out;
 }
 
-void Reader::read_attributes(pugi::xml_node el, const Where& w, std::optional<std::uint64_t> tuples,
+void Reader::read_attributes(pugi::xml_node el, const XmlWhere& w, std::optional<std::uint64_t> tuples,
                              Attributes& out) {
   if (!el) return;
   std::size_t index = 0;
   for (pugi::xml_node a = el.child("DataArray"); a; a = a.next_sibling("DataArray"), ++index) {
     const auto name = attr(a, "Name");
-    const Where aw =
+    const XmlWhere aw =
         w.child(a, name ? "DataArray '" + printable(*name, 80) + "'" : "DataArray " + num(index));
     auto arr = read_array(a, aw, ArrayRequest{tuples, 0, true});
     if (!arr) continue;
@@ -936,19 +925,19 @@ void Reader::read_attributes(pugi::xml_node el, const Where& w, std::optional<st
   }
 }
 
-Points Reader::read_points(pugi::xml_node piece, const Where& w, std::uint64_t np) {
+Points Reader::read_points(pugi::xml_node piece, const XmlWhere& w, std::uint64_t np) {
   const pugi::xml_node pel = piece.child("Points");
   if (!pel) {
     if (np == 0) return Points();
     w.fail("missing <Points> element for NumberOfPoints=" + num(np));
   }
-  const Where pw = w.child(pel, "Points");
+  const XmlWhere pw = w.child(pel, "Points");
   const pugi::xml_node da = pel.child("DataArray");
   if (!da) {
     if (np == 0) return Points();
     pw.fail("missing <DataArray> with the point coordinates");
   }
-  const Where aw = pw.child(da, "DataArray");
+  const XmlWhere aw = pw.child(da, "DataArray");
   auto arr = read_array(da, aw, ArrayRequest{np, 3, false});
   if (arr->name().empty()) arr->set_name("Points");
   Points pts(std::move(*arr));
@@ -961,7 +950,7 @@ Points Reader::read_points(pugi::xml_node piece, const Where& w, std::uint64_t n
   return pts;
 }
 
-Buffer<Index> Reader::read_index_array(pugi::xml_node el, const Where& w, std::uint64_t count) {
+Buffer<Index> Reader::read_index_array(pugi::xml_node el, const XmlWhere& w, std::uint64_t count) {
   auto arr = read_array(el, w, ArrayRequest{count, 1, false});
   Buffer<Index> out;
   arr->visit([&](const auto& v) {
@@ -992,13 +981,13 @@ pugi::xml_node named_array(pugi::xml_node el, std::string_view name) {
   return {};
 }
 
-CellArray Reader::read_cells(pugi::xml_node el, const Where& w, std::uint64_t ncells,
+CellArray Reader::read_cells(pugi::xml_node el, const XmlWhere& w, std::uint64_t ncells,
                              std::uint64_t np) {
   const pugi::xml_node off_el = named_array(el, "offsets");
   const pugi::xml_node conn_el = named_array(el, "connectivity");
   if (ncells == 0 && !off_el && !conn_el) return CellArray();
   if (!off_el) w.fail("missing DataArray 'offsets' for " + num(ncells) + " cells");
-  const Where ow = w.child(off_el, "DataArray 'offsets'");
+  const XmlWhere ow = w.child(off_el, "DataArray 'offsets'");
   Buffer<Index> ends = read_index_array(off_el, ow, ncells);
   Index prev = 0;
   for (std::size_t c = 0; c < ends.size(); ++c) {
@@ -1013,7 +1002,7 @@ CellArray Reader::read_cells(pugi::xml_node el, const Where& w, std::uint64_t nc
   if (!conn_el) {
     if (nconn != 0) w.fail("missing DataArray 'connectivity'");
   } else {
-    const Where cw = w.child(conn_el, "DataArray 'connectivity'");
+    const XmlWhere cw = w.child(conn_el, "DataArray 'connectivity'");
     conn = read_index_array(conn_el, cw, nconn);
     const auto n = static_cast<Index>(np);
     std::size_t cell = 0;
@@ -1032,7 +1021,7 @@ CellArray Reader::read_cells(pugi::xml_node el, const Where& w, std::uint64_t nc
   return CellArray(std::move(offsets), std::move(conn));
 }
 
-Extent Reader::read_extent(pugi::xml_node el, const char* name, const Where& w, bool allow_empty) {
+Extent Reader::read_extent(pugi::xml_node el, const char* name, const XmlWhere& w, bool allow_empty) {
   const auto v = list_attr<std::int64_t>(el, name, 6, w);
   Extent e{};
   constexpr std::int64_t kLimit = std::int64_t{1} << 62;
@@ -1056,12 +1045,12 @@ Extent Reader::read_extent(pugi::xml_node el, const char* name, const Where& w, 
   return e;
 }
 
-std::vector<StructuredPiece> Reader::read_structured_pieces(pugi::xml_node ds, const Where& w,
+std::vector<StructuredPiece> Reader::read_structured_pieces(pugi::xml_node ds, const XmlWhere& w,
                                                             const Extent& whole, bool with_points) {
   std::vector<StructuredPiece> pieces;
   std::size_t index = 0;
   for (pugi::xml_node p = ds.child("Piece"); p; p = p.next_sibling("Piece"), ++index) {
-    const Where pw = w.child(p, "Piece " + num(index));
+    const XmlWhere pw = w.child(p, "Piece " + num(index));
     if (pieces.size() >= kMaxStructuredPieces) {
       pw.fail("more than " + num(kMaxStructuredPieces) + " pieces are not supported");
     }
@@ -1088,7 +1077,7 @@ std::vector<StructuredPiece> Reader::read_structured_pieces(pugi::xml_node ds, c
   return pieces;
 }
 
-void check_same_arrays(const Attributes& a0, const Attributes& ap, const Where& w,
+void check_same_arrays(const Attributes& a0, const Attributes& ap, const XmlWhere& w,
                        std::string_view what) {
   if (a0.size() != ap.size()) {
     w.fail(std::string(what) + " has " + num(ap.size()) + " arrays but piece 0 has " +
@@ -1107,7 +1096,7 @@ void check_same_arrays(const Attributes& a0, const Attributes& ap, const Where& 
 }
 
 void Reader::assemble_structured(const Extent& whole, std::vector<StructuredPiece>& pieces,
-                                 const Where& w, Attributes& pd, Attributes& cd,
+                                 const XmlWhere& w, Attributes& pd, Attributes& cd,
                                  DataArray* points) {
   if (pieces.size() == 1 && pieces[0].ext == whole) {
     pd = std::move(pieces[0].pd);
@@ -1220,7 +1209,7 @@ void Reader::assemble_structured(const Extent& whole, std::vector<StructuredPiec
   cd = std::move(ncd);
 }
 
-ImageData Reader::read_image(pugi::xml_node ds, const Where& w) {
+ImageData Reader::read_image(pugi::xml_node ds, const XmlWhere& w) {
   ImageData img;
   const Extent whole = read_extent(ds, "WholeExtent", w, false);
   std::array<double, 3> origin{0, 0, 0}, spacing{1, 1, 1};
@@ -1265,7 +1254,7 @@ ImageData Reader::read_image(pugi::xml_node ds, const Where& w) {
   return img;
 }
 
-StructuredGrid Reader::read_structured(pugi::xml_node ds, const Where& w) {
+StructuredGrid Reader::read_structured(pugi::xml_node ds, const XmlWhere& w) {
   StructuredGrid sg;
   const Extent whole = read_extent(ds, "WholeExtent", w, false);
   sg.dims = extent_dims(whole);
@@ -1283,7 +1272,7 @@ StructuredGrid Reader::read_structured(pugi::xml_node ds, const Where& w) {
   return sg;
 }
 
-PolyData Reader::read_poly(pugi::xml_node ds, const Where& w) {
+PolyData Reader::read_poly(pugi::xml_node ds, const XmlWhere& w) {
   static constexpr const char* kCat[4] = {"Verts", "Lines", "Polys", "Strips"};
   static constexpr const char* kCount[4] = {"NumberOfVerts", "NumberOfLines", "NumberOfPolys",
                                             "NumberOfStrips"};
@@ -1293,7 +1282,7 @@ PolyData Reader::read_poly(pugi::xml_node ds, const Where& w) {
   for (pugi::xml_node p = ds.child("Piece"); p; p = p.next_sibling("Piece"), ++index) {
     PolyPiece pp;
     pp.where = w.child(p, "Piece " + num(index));
-    const Where& pw = pp.where;
+    const XmlWhere& pw = pp.where;
     const std::uint64_t np = count_attr(p, "NumberOfPoints", pw);
     std::array<std::uint64_t, 4> n{};
     std::uint64_t nc = 0;
@@ -1376,13 +1365,13 @@ PolyData Reader::read_poly(pugi::xml_node ds, const Where& w) {
   return out;
 }
 
-UnstructuredGrid Reader::read_unstructured(pugi::xml_node ds, const Where& w) {
+UnstructuredGrid Reader::read_unstructured(pugi::xml_node ds, const XmlWhere& w) {
   std::vector<UnstructuredPiece> pieces;
   std::size_t index = 0;
   for (pugi::xml_node p = ds.child("Piece"); p; p = p.next_sibling("Piece"), ++index) {
     UnstructuredPiece up;
     up.where = w.child(p, "Piece " + num(index));
-    const Where& pw = up.where;
+    const XmlWhere& pw = up.where;
     const std::uint64_t np = count_attr(p, "NumberOfPoints", pw);
     const std::uint64_t nc = count_attr(p, "NumberOfCells", pw);
     up.points = read_points(p, pw, np);
@@ -1392,13 +1381,13 @@ UnstructuredGrid Reader::read_unstructured(pugi::xml_node ds, const Where& w) {
     if (!cel) {
       if (nc != 0) pw.fail("missing <Cells> for NumberOfCells=" + num(nc));
     } else {
-      const Where cw = pw.child(cel, "Cells");
+      const XmlWhere cw = pw.child(cel, "Cells");
       up.cells = read_cells(cel, cw, nc, np);
       const pugi::xml_node tel = named_array(cel, "types");
       if (!tel) {
         if (nc != 0) cw.fail("missing DataArray 'types'");
       } else {
-        const Where tw = cw.child(tel, "DataArray 'types'");
+        const XmlWhere tw = cw.child(tel, "DataArray 'types'");
         const Buffer<Index> t = read_index_array(tel, tw, nc);
         up.types.resize(t.size());
         for (std::size_t c = 0; c < t.size(); ++c) {
@@ -1475,7 +1464,7 @@ Dataset Reader::read() {
                 "not a VTK XML file: the root element is <" + printable(root.name()) +
                     ">, expected <VTKFile>"));
   }
-  const Where w = root_where("").child(root, "VTKFile");
+  const XmlWhere w = root_where("").child(root, "VTKFile");
 
   const auto type = attr(root, "type");
   if (!type) w.fail("missing attribute 'type'");
@@ -1498,7 +1487,7 @@ Dataset Reader::read() {
   }
 
   if (const auto v = attr(root, "version")) {
-    const std::string_view s = trim(*v);
+    const std::string_view s = trim_space(*v);
     const std::size_t dot = s.find('.');
     int major = -1, minor = 0;
     const bool ok = parse_value(s.substr(0, dot), major) &&
@@ -1542,7 +1531,7 @@ Dataset Reader::read() {
   const pugi::xml_node ds = root.child(type->data());
   if (!ds) w.fail("missing <" + std::string(*type) + "> element");
   // Paths below name the dataset element, e.g. "PolyData/Piece 0/PointData/DataArray 'N'".
-  const Where dw = root_where("").child(ds, std::string(*type));
+  const XmlWhere dw = root_where("").child(ds, std::string(*type));
   Dataset out;
   switch (kind) {
     case Kind::Image:
@@ -1595,12 +1584,6 @@ void append_escaped(std::string& out, std::string_view s) {
   }
 }
 
-template <class T>
-void append_number(std::string& out, T v) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof(buf), v);
-  out.append(buf, r.ptr);
-}
 
 /// What the writer stores of one array: its XML attributes and its values as bytes (a view of a
 /// dataset's storage: cell offsets and connectivity are written without being copied first).
@@ -1942,10 +1925,6 @@ class Writer {
   std::size_t app_size_ = 0;      // its bytes so far
 };
 
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
 }  // namespace
 
@@ -2029,7 +2008,7 @@ void write_vtk_xml(DatasetRef ds, std::ostream& out, const VtkXmlWriteOptions& o
 void write_vtk_xml(DatasetRef ds, const std::filesystem::path& path,
                    const VtkXmlWriteOptions& options) {
   const std::string want(vtk_xml_extension(ds));
-  const std::string ext = lower(path.extension().string());
+  const std::string ext = ascii_lower(path.extension().string());
   if (ext != want) {
     std::filesystem::path fixed = path;
     fixed.replace_extension(want);

@@ -50,7 +50,7 @@ namespace isoforge::model_detail {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr int kChunk = 8;  // samples per kernel step (one AVX-512 vector of doubles)
 
 // Every kernel must be inlined into the cloned plane functions (a kernel left out of line is
@@ -282,7 +282,7 @@ struct SegChunks {
     const double hc = std::sqrt(hc2 < 0.0 ? 0.0 : hc2);
     const double par_in = c.row_slack * c.row_slack - (wy * wy + c.wz2);
     double lc0, lc1;
-    x_span(c, c.parallel ? -kInf : c.ax + sstar - hc, c.parallel ? kInf : c.ax + sstar + hc,
+    x_span(c, c.parallel ? -kInfinity : c.ax + sstar - hc, c.parallel ? kInfinity : c.ax + sstar + hc,
            c.parallel ? par_in : hc2, lc0, lc1);
     // Where t = −δ and t = 1 + δ (sample indices); t at sample m is t_row + m · tau. With
     // tau = 0, t is the same all along the row: everything is one cap or the middle.
@@ -431,7 +431,7 @@ struct SegChunks {
   c.parallel = parallel;
   c.inv_yz2 = parallel ? 1.0 : 1.0 / s.yz2;
   c.tau = tau;
-  c.inv_tau = tau != 0.0 ? 1.0 / tau : kInf;
+  c.inv_tau = tau != 0.0 ? 1.0 / tau : kInfinity;
   c.delta = delta;
   c.t_base = t_base;
   int* lo_a = p.scratch;  // the cap at the low-x end of the row
@@ -495,7 +495,7 @@ struct PlaneWork {
 // Everything one plane does, in one clone: the primitives, then the values.
 ISOFORGE_SIMD_CLONES
 std::size_t plane_pass(const Plane& p, const PlaneWork& w) {
-  std::fill(p.d2, p.d2 + static_cast<std::size_t>(p.ny) * p.nxp, kInf);
+  std::fill(p.d2, p.d2 + static_cast<std::size_t>(p.ny) * p.nxp, kInfinity);
   const std::uint32_t npts = static_cast<std::uint32_t>(w.centers->size());
   std::size_t evals = 0;
   for (std::size_t q = 0; q < w.count; ++q) {

@@ -12,20 +12,20 @@
 namespace isoforge::reduce {
 namespace {
 
-struct Entry {
+struct CellEntry {
   double cost;
   Fid f;
   std::array<std::uint32_t, 3> stamps;
 };
 
-struct Later {
-  bool operator()(const Entry& a, const Entry& b) const {
+struct CellLater {
+  bool operator()(const CellEntry& a, const CellEntry& b) const {
     if (a.cost != b.cost) return a.cost > b.cost;
     return a.f > b.f;
   }
 };
 
-struct Candidate {
+struct CellCandidate {
   bool valid = false;
   std::array<Vid, 3> group{};  // group[0] survives
   Vec3 p;
@@ -41,8 +41,8 @@ class CellCollapser {
   DecimateStats run();
 
  private:
-  [[nodiscard]] Candidate evaluate(Fid f) const;
-  [[nodiscard]] Entry entry(Fid f, const Candidate& c) const {
+  [[nodiscard]] CellCandidate evaluate(Fid f) const;
+  [[nodiscard]] CellEntry entry(Fid f, const CellCandidate& c) const {
     const Tri& t = mesh_.face(f);
     return {c.cost, f, {stamp_[t[0]], stamp_[t[1]], stamp_[t[2]]}};
   }
@@ -56,11 +56,11 @@ class CellCollapser {
   std::vector<PointQuadric> point_;
   std::vector<double> area_;
   std::vector<std::uint32_t> stamp_;
-  std::vector<Entry> heap_;
+  std::vector<CellEntry> heap_;
 };
 
-Candidate CellCollapser::evaluate(Fid f) const {
-  Candidate c;
+CellCandidate CellCollapser::evaluate(Fid f) const {
+  CellCandidate c;
   const Tri& t = mesh_.face(f);
   int locked = 0, lock_at = 0;
   for (int k = 0; k < 3; ++k) {
@@ -104,13 +104,13 @@ Candidate CellCollapser::evaluate(Fid f) const {
 
 void CellCollapser::fill_heap() {
   const std::size_t nf = mesh_.face_count();
-  std::vector<Entry> entries(nf);
+  std::vector<CellEntry> entries(nf);
   std::vector<std::uint8_t> ok(nf, 0);
   parallel_for_range(nf, 1024, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       const Fid f = static_cast<Fid>(i);
       if (!mesh_.face_alive(f)) continue;
-      const Candidate c = evaluate(f);
+      const CellCandidate c = evaluate(f);
       if (!c.valid) continue;
       entries[i] = entry(f, c);
       ok[i] = 1;
@@ -120,7 +120,7 @@ void CellCollapser::fill_heap() {
   for (std::size_t i = 0; i < nf; ++i) {
     if (ok[i]) heap_.push_back(entries[i]);
   }
-  std::make_heap(heap_.begin(), heap_.end(), Later{});
+  std::make_heap(heap_.begin(), heap_.end(), CellLater{});
 }
 
 DecimateStats CellCollapser::run() {
@@ -135,8 +135,8 @@ DecimateStats CellCollapser::run() {
   RunLoop loop(stats, target, options_.progress);
   for (;;) {
     while (mesh_.live_faces() > target && !heap_.empty()) {
-      std::pop_heap(heap_.begin(), heap_.end(), Later{});
-      const Entry e = heap_.back();
+      std::pop_heap(heap_.begin(), heap_.end(), CellLater{});
+      const CellEntry e = heap_.back();
       heap_.pop_back();
       if (!mesh_.face_alive(e.f)) continue;
       const Tri& t = mesh_.face(e.f);
@@ -144,7 +144,7 @@ DecimateStats CellCollapser::run() {
           stamp_[t[2]] != e.stamps[2]) {
         continue;
       }
-      const Candidate c = evaluate(e.f);
+      const CellCandidate c = evaluate(e.f);
       if (!c.valid) continue;
       if (prepared_.max_error > 0 && c.error > prepared_.max_error) {
         loop.skip_for_error();
@@ -163,10 +163,10 @@ DecimateStats CellCollapser::run() {
       for (Vid v : c.group) ++stamp_[v];
       stats.max_error = std::max(stats.max_error, c.error);
       for (Fid g : mesh_.faces_of(c.group[0])) {
-        const Candidate n = evaluate(g);
+        const CellCandidate n = evaluate(g);
         if (!n.valid) continue;
         heap_.push_back(entry(g, n));
-        std::push_heap(heap_.begin(), heap_.end(), Later{});
+        std::push_heap(heap_.begin(), heap_.end(), CellLater{});
       }
       loop.done(mesh_.live_faces());
     }

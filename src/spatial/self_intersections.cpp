@@ -23,7 +23,7 @@ namespace {
 
 constexpr int kMaxDim = (1 << 21) - 1;      // cells per axis: keys pack three 21-bit indices
 constexpr double kCellsPerFace = 4;         // grid size bound of triangle_grid_cell_size
-constexpr std::size_t kBlock = 512;         // triangles per result block (results in order)
+constexpr std::size_t kPairBlock = 512;         // triangles per result block (results in order)
 constexpr std::size_t kBlocksPerWave = 64;  // blocks between progress reports / max_pairs checks
 
 float round_down(double x) {
@@ -309,12 +309,12 @@ std::vector<std::pair<Index, Index>> self_intersections(const PolyData& mesh,
   }
 
   // Each face tests the later faces in its cells; results by blocks of faces, in order.
-  const std::size_t nblocks = (nf + kBlock - 1) / kBlock;
+  const std::size_t nblocks = (nf + kPairBlock - 1) / kPairBlock;
   std::vector<std::vector<std::pair<Index, Index>>> found(nblocks);
   const auto run_block = [&](std::size_t block) {
     auto& out = found[block];
-    const std::size_t end = std::min(nf, (block + 1) * kBlock);
-    for (std::size_t f = block * kBlock; f < end; ++f) {
+    const std::size_t end = std::min(nf, (block + 1) * kPairBlock);
+    for (std::size_t f = block * kPairBlock; f < end; ++f) {
       if (!valid[f]) continue;
       const Face& a = faces[f];
       const CellRange& ra = ranges[f];

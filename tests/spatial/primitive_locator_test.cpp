@@ -106,7 +106,9 @@ TEST(PrimitiveLocator, AnyWithinIsNeverWronglyFalse) {
       }
       any = any || d2 <= reach * reach;
     }
-    if (any) ASSERT_TRUE(locator.any_within(lo, hi, reach * reach)) << q;
+    if (any) {
+      ASSERT_TRUE(locator.any_within(lo, hi, reach * reach)) << q;
+    }
   }
 }
 

@@ -130,6 +130,15 @@ struct UnstructuredGrid {
 /// `DatasetRef`, which binds to a `Dataset` or to any concrete dataset without copying it.
 using Dataset = std::variant<ImageData, StructuredGrid, PolyData, UnstructuredGrid>;
 
+/// A visitor made of several lambdas, one per dataset type (or `auto` for the rest):
+/// `ds.visit(Overloaded{[](const ImageData& d) {...}, [](const auto& d) {...}})`.
+template <class... Ts>
+struct Overloaded : Ts... {
+  using Ts::operator()...;
+};
+template <class... Ts>
+Overloaded(Ts...) -> Overloaded<Ts...>;
+
 /// A non-owning reference to any dataset: constructible (implicitly, for free) from
 /// `ImageData`, `StructuredGrid`, `PolyData`, `UnstructuredGrid` or `Dataset`. Passing a concrete
 /// dataset where a `const Dataset&` was expected would copy it into a temporary variant; a

@@ -74,6 +74,35 @@ inline std::string quoted(std::string_view text, std::size_t max = 40) {
   return "'" + printable(text, max) + "'";
 }
 
+/// Whether `c` is ASCII white space (the C locale's isspace).
+inline bool is_ascii_space(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v';
+}
+
+/// `s` without its leading and trailing ASCII white space.
+inline std::string_view trim_space(std::string_view s) {
+  while (!s.empty() && is_ascii_space(s.front())) s.remove_prefix(1);
+  while (!s.empty() && is_ascii_space(s.back())) s.remove_suffix(1);
+  return s;
+}
+
+/// `s` with its ASCII letters lowered (locale-independent).
+inline std::string ascii_lower(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) {
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  }
+  return out;
+}
+
+/// Appends the shortest decimal text that reads back as `v` (std::to_chars).
+template <class T>
+inline void append_number(std::string& out, T v) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof(buf), v);
+  out.append(buf, r.ptr);
+}
+
 class Scanner {
  public:
   Scanner(std::span<const std::byte> data, std::string name)
@@ -115,7 +144,7 @@ class Scanner {
   }
 
   // ---- text ----
-  static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
+  static bool is_space(char c) { return is_ascii_space(c); }
   [[nodiscard]] char peek_char() const {
     return at_end() ? '\0' : static_cast<char>(data_[pos_]);
   }
