@@ -46,6 +46,7 @@
 #include "isoforge/filters/cut.hpp"
 #include "isoforge/filters/elevation.hpp"
 #include "isoforge/filters/gradient.hpp"
+#include "isoforge/filters/streamline.hpp"
 #include "isoforge/filters/warp.hpp"
 #include "isoforge/fit/fit_primitive.hpp"
 #include "isoforge/fit/refine.hpp"

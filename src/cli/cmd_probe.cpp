@@ -3,9 +3,6 @@
 
 #include <fmt/core.h>
 
-#include <charconv>
-#include <cmath>
-
 #include "commands.hpp"
 #include "common.hpp"
 #include "isoforge/filters/probe.hpp"
@@ -15,42 +12,6 @@
 namespace isoforge::cli {
 
 namespace {
-
-/// Value `index` of `option`'s values: a finite number. \throw UsageError naming the option.
-double finite_at(const std::vector<std::string>& v, std::size_t index, const char* option,
-                 const char* what) {
-  const std::string& s = v[index];
-  const char* b = s.data();
-  const char* e = b + s.size();
-  if (b != e && *b == '+') ++b;
-  double x = 0;
-  const auto [p, ec] = std::from_chars(b, e, x);
-  if (b == e || p != e || ec != std::errc() || !std::isfinite(x)) {
-    throw UsageError(option, fmt::format("{} must be a finite number, got '{}'", what, s));
-  }
-  return x;
-}
-
-/// Value `index`: an integer >= min (and at most 2^31 - 1). \throw UsageError.
-Index integer_at(const std::vector<std::string>& v, std::size_t index, const char* option,
-                 const char* what, Index min) {
-  const std::string& s = v[index];
-  const char* b = s.data();
-  const char* e = b + s.size();
-  if (b != e && *b == '+') ++b;
-  std::int64_t x = 0;
-  const auto [p, ec] = std::from_chars(b, e, x);
-  if (b == e || p != e || ec != std::errc() || x < min || x > INT32_MAX) {
-    throw UsageError(option, fmt::format("{} must be an integer >= {}, got '{}'", what, min, s));
-  }
-  return x;
-}
-
-Vec3 vec_at(const std::vector<std::string>& v, std::size_t first, const char* option,
-            const char* what) {
-  return {finite_at(v, first, option, what), finite_at(v, first + 1, option, what),
-          finite_at(v, first + 2, option, what)};
-}
 
 /// The VTK XML format of a dataset type, and whether `format` can hold it.
 bool holds(FileFormat format, std::size_t type_index) {

@@ -26,6 +26,7 @@ void add_fit_command(CLI::App& app, Context& ctx);
 void add_view_command(CLI::App& app, Context& ctx);
 void add_colormap_command(CLI::App& app, Context& ctx);
 void add_probe_command(CLI::App& app, Context& ctx);
+void add_streamlines_command(CLI::App& app, Context& ctx);
 void add_subsample_command(CLI::App& app, Context& ctx);
 void add_threshold_command(CLI::App& app, Context& ctx);
 void add_surface_command(CLI::App& app, Context& ctx);

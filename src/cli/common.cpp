@@ -287,6 +287,40 @@ ImplicitFunction parse_function(const std::string& expression, const char* optio
   }
 }
 
+double finite_at(const std::vector<std::string>& v, std::size_t index, const char* option,
+                 const char* what) {
+  const std::string& s = v[index];
+  const char* b = s.data();
+  const char* e = b + s.size();
+  if (b != e && *b == '+') ++b;
+  double x = 0;
+  const auto [p, ec] = std::from_chars(b, e, x);
+  if (b == e || p != e || ec != std::errc() || !std::isfinite(x)) {
+    throw UsageError(option, fmt::format("{} must be a finite number, got '{}'", what, s));
+  }
+  return x;
+}
+
+Index integer_at(const std::vector<std::string>& v, std::size_t index, const char* option,
+                 const char* what, Index min) {
+  const std::string& s = v[index];
+  const char* b = s.data();
+  const char* e = b + s.size();
+  if (b != e && *b == '+') ++b;
+  std::int64_t x = 0;
+  const auto [p, ec] = std::from_chars(b, e, x);
+  if (b == e || p != e || ec != std::errc() || x < min || x > INT32_MAX) {
+    throw UsageError(option, fmt::format("{} must be an integer >= {}, got '{}'", what, min, s));
+  }
+  return x;
+}
+
+Vec3 vec_at(const std::vector<std::string>& v, std::size_t first, const char* option,
+            const char* what) {
+  return {finite_at(v, first, option, what), finite_at(v, first + 1, option, what),
+          finite_at(v, first + 2, option, what)};
+}
+
 Bounds parse_bounds(const std::vector<double>& b, const char* option) {
   if (b.size() != 6)
     throw UsageError(std::string(option) + ": needs 6 numbers: xmin xmax ymin ymax zmin zmax");

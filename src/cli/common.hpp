@@ -124,6 +124,17 @@ void write_output(DatasetRef ds, const std::filesystem::path& path, ProgressBar&
 /// the option, the column and the problem.
 [[nodiscard]] ImplicitFunction parse_function(const std::string& expression, const char* option);
 
+/// Value `index` of an option's string values: a finite number. \throw UsageError naming
+/// `option` and `what`.
+double finite_at(const std::vector<std::string>& v, std::size_t index, const char* option,
+                 const char* what);
+/// Value `index`: an integer ≥ min (and at most 2^31 − 1). \throw UsageError.
+Index integer_at(const std::vector<std::string>& v, std::size_t index, const char* option,
+                 const char* what, Index min);
+/// Values first .. first + 2: a finite point. \throw UsageError.
+Vec3 vec_at(const std::vector<std::string>& v, std::size_t first, const char* option,
+            const char* what);
+
 /// "--bounds xmin xmax ymin ymax zmin zmax" → Bounds. \throw UsageError naming `option`.
 Bounds parse_bounds(const std::vector<double>& values, const char* option);
 /// "--dims N" or "--dims NX NY NZ" → Dims. \throw UsageError naming `option`.

@@ -136,6 +136,7 @@ int main(int argc, char** argv) {
   add_glyph_command(app, ctx);
   add_normals_command(app, ctx);
   add_tube_command(app, ctx);
+  add_streamlines_command(app, ctx);
   add_cut_command(app, ctx);
   add_clip_command(app, ctx);
   add_figures_command(app, ctx);

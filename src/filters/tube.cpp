@@ -16,21 +16,40 @@
 #include "isoforge/core/memory.hpp"
 #include "isoforge/core/parallel.hpp"
 #include "isoforge/core/subset.hpp"
+#include "point_fields.hpp"
 
 namespace isoforge {
 namespace {
 
-Vec3 unit_or_zero(const Vec3& v) {
-  const double l = norm(v);
-  return l > 0 && std::isfinite(l) ? v / l : Vec3{0, 0, 0};
+using filters_detail::perpendicular;
+using filters_detail::transport;
+using filters_detail::unit_or_zero;
+
+// The point ids of line l without consecutive repeats (by position).
+std::vector<Index> distinct_path(const PolyData& lines, std::size_t l) {
+  std::vector<Index> path;
+  for (const Index id : lines.lines.cell(l)) {
+    if (path.empty() || lines.points[static_cast<std::size_t>(id)] !=
+                            lines.points[static_cast<std::size_t>(path.back())]) {
+      path.push_back(id);
+    }
+  }
+  return path;
 }
 
-// Some unit vector perpendicular to unit t.
-Vec3 perpendicular(const Vec3& t) {
-  const double ax = std::abs(t.x), ay = std::abs(t.y), az = std::abs(t.z);
-  const Vec3 axis = ax <= ay && ax <= az ? Vec3{1, 0, 0} : (ay <= az ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
-  return unit_or_zero(cross(t, axis));
+// Unit tangents of a path of distinct points: the mean of the adjacent segment directions.
+void path_tangents(const std::vector<Vec3>& P, std::vector<Vec3>& T) {
+  const std::size_t n = P.size();
+  T.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 before = i > 0 ? unit_or_zero(P[i] - P[i - 1]) : Vec3{0, 0, 0};
+    const Vec3 after = i + 1 < n ? unit_or_zero(P[i + 1] - P[i]) : Vec3{0, 0, 0};
+    Vec3 t = unit_or_zero(before + after);
+    if (norm2(t) == 0) t = norm2(before) > 0 ? before : after;  // a reversal: keep going
+    T[i] = t;
+  }
 }
+
 
 }  // namespace
 
@@ -87,12 +106,7 @@ Result<PolyData, TubeStats> tube(const PolyData& lines, const TubeOptions& o) {
   std::vector<std::size_t> first_point(nl + 1, 0), first_tri(nl + 1, 0);
   TubeStats stats;
   for (std::size_t l = 0; l < nl; ++l) {
-    for (const Index id : lines.lines.cell(l)) {
-      if (path[l].empty() || lines.points[static_cast<std::size_t>(id)] !=
-                                 lines.points[static_cast<std::size_t>(path[l].back())]) {
-        path[l].push_back(id);
-      }
-    }
+    path[l] = distinct_path(lines, l);
     const std::size_t n = path[l].size();
     if (n < 2) {
       ++stats.skipped_lines;
@@ -149,15 +163,8 @@ Result<PolyData, TubeStats> tube(const PolyData& lines, const TubeOptions& o) {
           const std::size_t n = ids.size();
           if (n < 2) continue;
           P.resize(n);
-          T.resize(n);
           for (std::size_t i = 0; i < n; ++i) P[i] = lines.points[static_cast<std::size_t>(ids[i])];
-          for (std::size_t i = 0; i < n; ++i) {
-            const Vec3 before = i > 0 ? unit_or_zero(P[i] - P[i - 1]) : Vec3{0, 0, 0};
-            const Vec3 after = i + 1 < n ? unit_or_zero(P[i + 1] - P[i]) : Vec3{0, 0, 0};
-            Vec3 t = unit_or_zero(before + after);
-            if (norm2(t) == 0) t = norm2(before) > 0 ? before : after;  // a reversal: keep going
-            T[i] = t;
-          }
+          path_tangents(P, T);
           std::size_t v = first_point[l];
           Vec3 nrm = perpendicular(T[0]);
           const auto put = [&](std::size_t at, const Vec3& p, const Vec3& normal, std::size_t from) {
@@ -169,10 +176,7 @@ Result<PolyData, TubeStats> tube(const PolyData& lines, const TubeOptions& o) {
           };
           const std::size_t rings = v;
           for (std::size_t i = 0; i < n; ++i) {
-            if (i > 0) {
-              const Vec3 projected = nrm - T[i] * dot(nrm, T[i]);
-              nrm = norm2(projected) > 1e-24 ? unit_or_zero(projected) : perpendicular(T[i]);
-            }
+            if (i > 0) nrm = transport(nrm, T[i]);
             const Vec3 bin = cross(T[i], nrm);
             const auto id = static_cast<std::size_t>(ids[i]);
             const double r = radius_at(id);
@@ -220,6 +224,115 @@ Result<PolyData, TubeStats> tube(const PolyData& lines, const TubeOptions& o) {
       progress_range(o.progress, 0.1, 1.0), "tube");
   out.polys = CellArray(std::move(offsets), std::move(conn));
   out.point_data.add(std::move(normals), AttributeRole::Normals);
+  out.field_data = lines.field_data;
+  return {std::move(out), stats};
+}
+
+Result<PolyData, RibbonStats> ribbon(const PolyData& lines, const RibbonOptions& o) {
+  if (!(o.width > 0 && std::isfinite(o.width))) {
+    throw Error("ribbon: width must be a finite number > 0, got " + std::to_string(o.width));
+  }
+  if (!std::isfinite(o.angle)) throw Error("ribbon: the angle must be finite");
+  lines.validate();
+  const DataArray* normals = nullptr;
+  if (!o.normals.empty()) {
+    normals = lines.point_data.find(o.normals);
+    if (!normals) {
+      throw Error("ribbon: normals '" + o.normals + "': no such point array (point arrays: " +
+                  lines.point_data.names() + ")");
+    }
+  } else {
+    normals = lines.point_data.normals();
+  }
+  if (normals && normals->components() != 3) {
+    throw Error("ribbon: normals '" + normals->name() + "' have " +
+                std::to_string(normals->components()) + " components, 3 needed");
+  }
+  RibbonStats stats;
+  stats.oriented = normals != nullptr;
+  const std::size_t nl = lines.lines.size();
+  std::vector<std::vector<Index>> path(nl);
+  std::vector<std::size_t> first_point(nl + 1, 0), first_tri(nl + 1, 0);
+  for (std::size_t l = 0; l < nl; ++l) {
+    path[l] = distinct_path(lines, l);
+    const std::size_t n = path[l].size();
+    if (n < 2) {
+      ++stats.skipped_lines;
+      path[l].clear();
+    } else {
+      ++stats.ribbons;
+    }
+    first_point[l + 1] = first_point[l] + (n < 2 ? 0 : 2 * n);
+    first_tri[l + 1] = first_tri[l] + (n < 2 ? 0 : 2 * (n - 1));
+  }
+  const std::size_t np = first_point[nl], nt = first_tri[nl];
+  double point_bytes = 12.0 + (lines.points.type() == ScalarType::Float64 ? 24.0 : 12.0);
+  for (const DataArray& a : lines.point_data) point_bytes += static_cast<double>(scalar_size(a.type())) * a.components();
+  require_memory(static_cast<double>(np) * point_bytes + static_cast<double>(nt) * 32.0,
+                 "ribbon: " + std::to_string(stats.ribbons) + " ribbons");
+
+  PolyData out;
+  out.points = Points(np, lines.points.type());
+  out.point_data = empty_like(lines.point_data, np);
+  out.point_data.remove("Normals");
+  DataArray surface_normals = DataArray::uninitialized("Normals", ScalarType::Float32, 3, np);
+  float* N = surface_normals.values<float>().data();
+  Buffer<Index> offsets(nt + 1), conn(3 * nt);
+  for (std::size_t t = 0; t <= nt; ++t) offsets[t] = static_cast<Index>(3 * t);
+  out.cell_data = empty_like(lines.cell_data, nt);
+  const std::size_t first_line_cell = lines.verts.size();
+  const double ca = std::cos(o.angle * std::numbers::pi / 180), sa = std::sin(o.angle * std::numbers::pi / 180);
+  const double half = o.width / 2;
+  parallel_for_range(
+      nl, 16,
+      [&](std::size_t begin, std::size_t end) {
+        std::vector<Vec3> P, T;
+        for (std::size_t l = begin; l < end; ++l) {
+          const std::vector<Index>& ids = path[l];
+          const std::size_t n = ids.size();
+          if (n < 2) continue;
+          P.resize(n);
+          for (std::size_t i = 0; i < n; ++i) P[i] = lines.points[static_cast<std::size_t>(ids[i])];
+          path_tangents(P, T);
+          Vec3 nrm = perpendicular(T[0]);
+          std::size_t v = first_point[l];
+          for (std::size_t i = 0; i < n; ++i) {
+            const auto id = static_cast<std::size_t>(ids[i]);
+            if (normals) {
+              const Vec3 given{normals->get(id, 0), normals->get(id, 1), normals->get(id, 2)};
+              const Vec3 projected = given - T[i] * dot(given, T[i]);
+              // A normal along the line (or zero) orients nothing: keep the carried frame.
+              nrm = norm2(projected) > 1e-24 ? unit_or_zero(projected) : transport(nrm, T[i]);
+            } else if (i > 0) {
+              nrm = transport(nrm, T[i]);
+            }
+            const Vec3 turned = nrm * ca + cross(T[i], nrm) * sa;
+            const Vec3 across = cross(T[i], turned);
+            for (const double side : {-1.0, 1.0}) {
+              out.points.set(v, P[i] + across * (side * half));
+              N[3 * v] = static_cast<float>(turned.x);
+              N[3 * v + 1] = static_cast<float>(turned.y);
+              N[3 * v + 2] = static_cast<float>(turned.z);
+              copy_tuple(lines.point_data, id, out.point_data, v);
+              ++v;
+            }
+          }
+          // Triangles (a, b on the left, c, d on the right), facing along the normal.
+          Index* c = conn.data() + 3 * first_tri[l];
+          for (std::size_t i = 0; i + 1 < n; ++i) {
+            const auto a = static_cast<Index>(first_point[l] + 2 * i);
+            const Index b = a + 1, d = a + 2, e = a + 3;
+            *c++ = a, *c++ = b, *c++ = e;
+            *c++ = a, *c++ = e, *c++ = d;
+          }
+          for (std::size_t t = first_tri[l]; t < first_tri[l + 1]; ++t) {
+            copy_tuple(lines.cell_data, first_line_cell + l, out.cell_data, t);
+          }
+        }
+      },
+      o.progress, "ribbon");
+  out.polys = CellArray(std::move(offsets), std::move(conn));
+  out.point_data.add(std::move(surface_normals), AttributeRole::Normals);
   out.field_data = lines.field_data;
   return {std::move(out), stats};
 }

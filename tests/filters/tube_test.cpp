@@ -174,3 +174,85 @@ TEST(Tube, BadOptionsAreErrors) {
   o.scalar_range = std::array<double, 2>{2, 1};
   test::expect_error([&] { (void)tube(line, o); }, "MIN < MAX");
 }
+
+TEST(Ribbon, StraightLineWithoutNormalsIsAFlatStripOfTheWidth) {
+  PolyData line = polyline({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {2, 0, 0}, {3, 0, 0}});
+  DataArray s("s", ScalarType::Float32, 1, 5);
+  for (std::size_t i = 0; i < 5; ++i) s.set(i, 0, double(i));
+  line.point_data.add(std::move(s));
+  RibbonOptions o;
+  o.width = 0.5;
+  const auto [out, stats] = ribbon(line, o);
+  EXPECT_EQ(stats.ribbons, 1u);
+  EXPECT_FALSE(stats.oriented);
+  ASSERT_EQ(out.num_points(), 8u);  // 4 distinct points, 2 each
+  ASSERT_EQ(out.polys.size(), 6u);
+  const DataArray& n = out.point_data.get("Normals");
+  for (std::size_t i = 0; i < out.num_points(); ++i) {
+    const Vec3 p = out.points[i];
+    EXPECT_NEAR(std::hypot(p.y, p.z), 0.25, 1e-6);  // width/2 from the line
+    const Vec3 ni{n.get(i, 0), n.get(i, 1), n.get(i, 2)};
+    EXPECT_NEAR(norm(ni), 1, 1e-6);
+    EXPECT_NEAR(ni.x, 0, 1e-6);
+    EXPECT_NEAR(dot(ni, Vec3{0, p.y, p.z}), 0, 1e-6);  // the strip lies in its normal's plane
+  }
+  // Both sides of point i carry the line's value at i; point 3 was a repeat of point 2.
+  const DataArray& c = out.point_data.get("s");
+  EXPECT_EQ(c.get(4), 2.0);
+  EXPECT_EQ(c.get(7), 4.0);
+  // Triangles face along the normals.
+  for (std::size_t t = 0; t < out.polys.size(); ++t) {
+    const auto v = out.polys.cell(t);
+    const Vec3 a = out.points[std::size_t(v[0])], b = out.points[std::size_t(v[1])],
+               d = out.points[std::size_t(v[2])];
+    const Vec3 face = cross(b - a, d - a);
+    EXPECT_GT(dot(face, Vec3{n.get(std::size_t(v[0]), 0), n.get(std::size_t(v[0]), 1),
+                             n.get(std::size_t(v[0]), 2)}),
+              0);
+  }
+}
+
+TEST(Ribbon, NormalsAndAngleOrientIt) {
+  PolyData line = polyline({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}});
+  DataArray normals("N", ScalarType::Float32, 3, 3);
+  for (std::size_t i = 0; i < 3; ++i) {
+    normals.set(i, 0, 0.7);  // along the line: projected away
+    normals.set(i, 2, 1.0);
+  }
+  line.point_data.add(std::move(normals), AttributeRole::Normals);
+  for (const double angle : {0.0, 90.0}) {
+    RibbonOptions o;
+    o.width = 2;
+    o.angle = angle;
+    const auto [out, stats] = ribbon(line, o);  // the active normals
+    EXPECT_TRUE(stats.oriented);
+    for (std::size_t i = 0; i < out.num_points(); ++i) {
+      const Vec3 p = out.points[i];
+      // Normal +z: the ribbon spans y; turned by 90° about +x it spans z.
+      EXPECT_NEAR(std::abs(angle == 0 ? p.y : p.z), 1, 1e-6);
+      EXPECT_NEAR(angle == 0 ? p.z : p.y, 0, 1e-6);
+    }
+  }
+  RibbonOptions named;
+  named.normals = "N";
+  EXPECT_TRUE(ribbon(line, named).stats.oriented);
+}
+
+TEST(Ribbon, BadOptionsAreErrors) {
+  const PolyData line = polyline({{0, 0, 0}, {1, 0, 0}});
+  RibbonOptions o;
+  o.width = 0;
+  test::expect_error([&] { (void)ribbon(line, o); }, "ribbon: width must be a finite number > 0");
+  o.width = NAN;
+  test::expect_error([&] { (void)ribbon(line, o); }, "ribbon: width must be a finite number > 0");
+  o.width = 1;
+  o.angle = INFINITY;
+  test::expect_error([&] { (void)ribbon(line, o); }, "ribbon: the angle must be finite");
+  o.angle = 0;
+  o.normals = "nope";
+  test::expect_error([&] { (void)ribbon(line, o); }, "ribbon: normals 'nope': no such point array");
+  PolyData scalar = line;
+  scalar.point_data.add(DataArray("one", ScalarType::Float32, 1, 2));
+  o.normals = "one";
+  test::expect_error([&] { (void)ribbon(scalar, o); }, "have 1 components, 3 needed");
+}

@@ -1,8 +1,9 @@
 #pragma once
 /// \file
-/// Tubes around lines (VTK's vtkTubeFilter): each polyline becomes a triangulated tube of
-/// `sides` sides, optionally capped, with outward point normals; radius constant or varying
-/// with a point scalar. See docs/algorithms/glyph.md.
+/// Tubes and ribbons around lines (VTK's vtkTubeFilter and vtkRibbonFilter): each polyline
+/// becomes a triangulated tube of `sides` sides, optionally capped, with outward point normals,
+/// radius constant or varying with a point scalar; or a flat ribbon oriented by the lines'
+/// normals (streamlines' rotation). See docs/algorithms/glyph.md.
 
 #include <array>
 #include <cstddef>
@@ -44,5 +45,31 @@ struct TubeStats {
 /// \throw Error if radius or max_radius is not positive and finite, sides < 3, the range is not
 /// increasing, or radius_array is missing or has 2 or more than 3 components.
 [[nodiscard]] Result<PolyData, TubeStats> tube(const PolyData& lines, const TubeOptions& options = {});
+
+struct RibbonOptions {
+  double width = 0.1;       ///< data units, > 0: the ribbon's full width
+  /// Point vector array orienting the ribbon: its surface normal at each point is this vector
+  /// made perpendicular to the line. "" = the lines' active normals if they have any (the
+  /// "Normals" of `streamlines`, turned by the flow's rotation), else a frame carried along
+  /// each line without twisting.
+  std::string normals;
+  double angle = 0;         ///< degrees: the ribbon turned about the line by this much
+  ProgressCallback progress{};
+};
+
+struct RibbonStats {
+  std::size_t ribbons = 0;        ///< polylines turned into ribbons
+  std::size_t skipped_lines = 0;  ///< polylines with fewer than two distinct points
+  bool oriented = false;          ///< a normals array oriented the ribbons
+};
+
+/// Ribbons along the lines of `lines` (its `lines` cells): at each distinct point of a line,
+/// two points width/2 either side of it, perpendicular to the line and to the (projected,
+/// turned) normal; 2(n − 1) triangles per line of n points. Point data is carried to both
+/// points, cell data to the line's triangles; "Normals" (active) is the ribbon's normal.
+/// 	hrow Error if width is not positive and finite, angle is not finite, or `normals` names
+/// no 3-component point array.
+[[nodiscard]] Result<PolyData, RibbonStats> ribbon(const PolyData& lines,
+                                                   const RibbonOptions& options = {});
 
 }  // namespace isoforge
