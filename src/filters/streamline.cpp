@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <iterator>
 #include <limits>
 #include <memory>
 #include <optional>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 #include <fmt/format.h>
@@ -62,6 +64,61 @@ class ImageField {
     }
     // A flat axis (one point) holds points within a millionth of a cell of its plane.
     flat_tolerance_ = 1e-6 * cell_length;
+    solid_ = image.dims[0] > 1 && image.dims[1] > 1 && image.dims[2] > 1;
+    for (int a = 0; a < 3; ++a) {
+      inverse_spacing_[a] = 1 / image.spacing[a];
+      cells_[a] = static_cast<double>(image.dims[a] - 1);
+    }
+    for (int c = 0; c < 8; ++c) {
+      corner_[static_cast<std::size_t>(c)] = ((c & 1) ? point_stride_[0] : 0) +
+                                             ((c & 2) ? point_stride_[1] : 0) +
+                                             ((c & 4) ? point_stride_[2] : 0);
+    }
+  }
+
+  /// Whether the image is 3D (every axis has cells): `velocity` and `voxel_gradient` apply.
+  [[nodiscard]] bool solid() const { return solid_; }
+
+  /// The trilinear interpolation of `values` at p (a 3D image), without building a stencil:
+  /// false outside. Same weights, so the same value, as `find`.
+  template <class Values>
+  bool velocity(const Vec3& p, const Values& values, Vec3& v) const {
+    double f[3];
+    std::size_t base = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double u = (p[a] - image_.origin[a]) * inverse_spacing_[a];
+      if (!(u >= -kPcoordTolerance && u <= cells_[a] + kPcoordTolerance)) return false;
+      const double i = std::clamp(std::floor(u), 0.0, cells_[a] - 1);
+      f[a] = std::clamp(u - i, 0.0, 1.0);
+      base += static_cast<std::size_t>(i) * point_stride_[static_cast<std::size_t>(a)];
+    }
+    const double gx[2] = {1 - f[0], f[0]}, gy[2] = {1 - f[1], f[1]}, gz[2] = {1 - f[2], f[2]};
+    Vec3 sum{0, 0, 0};
+    for (std::size_t c = 0; c < 8; ++c) {
+      sum += values.at(base + corner_[c]) * (gx[c & 1] * gy[(c >> 1) & 1] * gz[c >> 2]);
+    }
+    v = sum;
+    return true;
+  }
+
+  /// The gradients of the 3 components of `values` (grad[c] of component c) at a hit of a 3D
+  /// image: the trilinear map's derivatives, in closed form.
+  template <class Values>
+  void voxel_gradient(const StreamHit& hit, const Values& values, std::array<Vec3, 3>& grad) const {
+    const double r = hit.pcoords.x, s = hit.pcoords.y, t = hit.pcoords.z;
+    Vec3 dr{0, 0, 0}, ds{0, 0, 0}, dt{0, 0, 0};
+    for (std::size_t c = 0; c < 8; ++c) {
+      const Vec3 u = values.at(hit.fixed[c].first);
+      const double wr = (c & 1) ? r : 1 - r, ws = (c & 2) ? s : 1 - s, wt = (c & 4) ? t : 1 - t;
+      const double sr = (c & 1) ? 1 : -1, ss = (c & 2) ? 1 : -1, st = (c & 4) ? 1 : -1;
+      dr += u * (sr * ws * wt);
+      ds += u * (wr * ss * wt);
+      dt += u * (wr * ws * st);
+    }
+    for (int k = 0; k < 3; ++k) {
+      grad[static_cast<std::size_t>(k)] = {dr[k] * inverse_spacing_[0], ds[k] * inverse_spacing_[1],
+                                           dt[k] * inverse_spacing_[2]};
+    }
   }
   bool find(const Vec3& p, Cursor& /*cursor*/, StreamHit& hit) const {
     hit.general = false;
@@ -101,7 +158,11 @@ class ImageField {
  private:
   const ImageData& image_;
   std::array<std::size_t, 3> point_stride_{};
+  std::array<std::size_t, 8> corner_{};
+  double inverse_spacing_[3] = {1, 1, 1};
+  double cells_[3] = {0, 0, 0};
   double flat_tolerance_ = 0;
+  bool solid_ = false;
 };
 
 /// A 3D structured grid: the prober's walking locator (Newton's method in each hexahedron).
@@ -233,6 +294,10 @@ struct Line {
   std::vector<double> time;
   StreamTermination reason = StreamTermination::OutOfDomain;
   std::size_t steps = 0, rejected = 0;
+  // Filled right after tracing, while the field around the line is still in cache: the
+  // input's point arrays at the line's points, and the vorticity arrays (3, 1, 1, 3 floats).
+  Attributes arrays;
+  std::vector<float> vorticity, angular, rotation, normals;
 };
 
 /// The options in world units.
@@ -267,6 +332,13 @@ class Tracer {
 
   /// The velocity at x (times `sign`), false outside the domain or where it is not finite.
   bool eval(const Vec3& x, double sign, Vec3& v) {
+    if constexpr (std::is_same_v<Field, ImageField>) {
+      if (field_.solid()) {
+        if (!field_.velocity(x, values_, v)) return false;
+        v = v * sign;
+        return finite(v);
+      }
+    }
     if (!field_.find(x, cursor_, hit_)) return false;
     v = values_.interpolate(hit_.stencil()) * sign;
     return finite(v);
@@ -360,7 +432,7 @@ class Tracer {
     return line;
   }
 
-  [[nodiscard]] const StreamHit& hit() const { return hit_; }
+  typename Field::Cursor& cursor() { return cursor_; }
 
  private:
   const Field& field_;
@@ -435,7 +507,9 @@ StreamlineResult trace_all(DatasetRef input, const Field& field, const DataArray
   c.max_length = o.max_length;
   c.terminal_speed = o.terminal_speed;
 
-  // 1. Every seed and direction, in parallel; each line owned by its seed's slot.
+  // 1. Every seed and direction, in parallel; each line owned by its seed's slot. Each line,
+  // once traced, is located again point by point (the field around it is still in cache) for
+  // the input's arrays and the vorticity.
   const std::size_t nseeds = num_points(seeds);
   std::vector<double> signs;
   if (o.direction != StreamDirection::Backward) signs.push_back(1);
@@ -443,10 +517,80 @@ StreamlineResult trace_all(DatasetRef input, const Field& field, const DataArray
   const std::size_t per_seed = signs.size();
   std::vector<Line> lines(nseeds * per_seed);
   std::vector<std::uint8_t> outside(nseeds, 0);
+  const Attributes& input_arrays = point_data(input);
+  Attributes no_cells;
   parallel_for_range(
       nseeds, 16,
       [&](std::size_t s0, std::size_t s1) {
         Tracer<Field> tracer(field, values, c);
+        std::vector<Vec3> cell_points;
+        std::vector<double> cell_values;
+        std::array<Vec3, 3> grad{};
+        std::vector<Vec3> direction;
+        StreamHit hit;
+        const auto finish = [&](Line& line) {
+          const std::size_t n = line.x.size();
+          AttributeInterpolator carry(input_arrays, no_cells, n, 0);
+          direction.assign(n, Vec3{0, 0, 0});
+          if (o.vorticity) {
+            line.vorticity.assign(3 * n, 0.0f);
+            line.angular.assign(n, 0.0f);
+          }
+          // Vorticity ω = curl v from the gradients of v's components; angular velocity ½ ω·v̂.
+          const auto store_vorticity = [&](const Vec3& v, std::size_t i) {
+            const Vec3 w{grad[2].y - grad[1].z, grad[0].z - grad[2].x, grad[1].x - grad[0].y};
+            line.vorticity[3 * i] = static_cast<float>(w.x);
+            line.vorticity[3 * i + 1] = static_cast<float>(w.y);
+            line.vorticity[3 * i + 2] = static_cast<float>(w.z);
+            const double speed = norm(v);
+            line.angular[i] = speed > 0 ? static_cast<float>(0.5 * dot(w, v) / speed) : 0.0f;
+          };
+          for (std::size_t i = 0; i < n; ++i) {
+            if (!field.find(line.x[i], tracer.cursor(), hit)) continue;  // found when traced
+            const auto stencil = hit.stencil();
+            const Vec3 v = values.interpolate(stencil);
+            direction[i] = unit_or_zero(v);
+            carry.combine(i, stencil);
+            if (!o.vorticity) continue;
+            if constexpr (std::is_same_v<Field, ImageField>) {
+              if (field.solid()) {
+                field.voxel_gradient(hit, values, grad);
+                store_vorticity(v, i);
+                continue;
+              }
+            }
+            cell_points.resize(stencil.size());
+            cell_values.resize(3 * stencil.size());
+            for (std::size_t j = 0; j < stencil.size(); ++j) {
+              cell_points[j] = point(input, static_cast<Index>(stencil[j].first));
+              const Vec3 u = values.at(stencil[j].first);
+              cell_values[3 * j] = u.x, cell_values[3 * j + 1] = u.y, cell_values[3 * j + 2] = u.z;
+            }
+            derivatives(cell_type(input, hit.cell), cell_points, hit.pcoords, cell_values, 3, grad,
+                        hit.sub_id);
+            store_vorticity(v, i);
+          }
+          carry.move_into(line.arrays, no_cells);
+          if (!o.vorticity) return;
+          // Rotation: the angular velocity integrated over time (trapezoids); Normals: a frame
+          // carried along the flow direction without twisting, turned by the rotation.
+          line.rotation.assign(n, 0.0f);
+          line.normals.assign(3 * n, 0.0f);
+          double angle = 0;
+          Vec3 nrm = perpendicular(direction[0]);
+          for (std::size_t i = 0; i < n; ++i) {
+            if (i > 0) {
+              angle += 0.5 * double(line.angular[i - 1] + line.angular[i]) *
+                       (line.time[i] - line.time[i - 1]);
+              nrm = transport(nrm, direction[i]);
+            }
+            const Vec3 turned = nrm * std::cos(angle) + cross(direction[i], nrm) * std::sin(angle);
+            line.rotation[i] = static_cast<float>(angle);
+            line.normals[3 * i] = static_cast<float>(turned.x);
+            line.normals[3 * i + 1] = static_cast<float>(turned.y);
+            line.normals[3 * i + 2] = static_cast<float>(turned.z);
+          }
+        };
         for (std::size_t s = s0; s < s1; ++s) {
           const Vec3 seed = point(seeds, static_cast<Index>(s));
           Vec3 v;
@@ -455,11 +599,13 @@ StreamlineResult trace_all(DatasetRef input, const Field& field, const DataArray
             continue;
           }
           for (std::size_t d = 0; d < per_seed; ++d) {
-            lines[s * per_seed + d] = tracer.trace(seed, v * signs[d], signs[d]);
+            Line& line = lines[s * per_seed + d];
+            line = tracer.trace(seed, v * signs[d], signs[d]);
+            if (line.x.size() >= 2) finish(line);
           }
         }
       },
-      progress_range(o.progress, 0, 0.8), "streamlines");
+      progress_range(o.progress, 0, 0.9), "streamlines");
 
   // 2. The output: lines of two or more points, in seed order (forward first).
   StreamlineResult r;
@@ -495,9 +641,10 @@ StreamlineResult trace_all(DatasetRef input, const Field& field, const DataArray
   std::vector<Index> connectivity(np);
   for (std::size_t i = 0; i < np; ++i) connectivity[i] = static_cast<Index>(i);
   out.lines = CellArray(offsets, connectivity);
-
-  Attributes no_cells;
-  AttributeInterpolator carry(point_data(input), no_cells, np, 0);
+  {
+    AttributeInterpolator shapes(input_arrays, no_cells, np, 0);  // the input's arrays, np long
+    shapes.move_into(out.point_data, no_cells);
+  }
   DataArray time("IntegrationTime", ScalarType::Float64, 1, np);
   DataArray arc("ArcLength", ScalarType::Float64, 1, np);
   DataArray vorticity, angular, rotation, normals;
@@ -509,77 +656,40 @@ StreamlineResult trace_all(DatasetRef input, const Field& field, const DataArray
   }
   auto* tp = time.values<double>().data();
   auto* ap = arc.values<double>().data();
-  float* vp = o.vorticity ? vorticity.values<float>().data() : nullptr;
-  float* wp = o.vorticity ? angular.values<float>().data() : nullptr;
-  float* rp = o.vorticity ? rotation.values<float>().data() : nullptr;
-  float* np3 = o.vorticity ? normals.values<float>().data() : nullptr;
 
-  // 3. Every line point located again: the input's arrays interpolated, vorticity from the
-  // derivatives of the field in its cell.
+  // 3. Each line copied to its slots.
   parallel_for_range(
-      kept.size(), 4,
+      kept.size(), 16,
       [&](std::size_t l0, std::size_t l1) {
-        Tracer<Field> tracer(field, values, c);
-        std::vector<Vec3> cell_points;
-        std::vector<double> cell_values;
-        std::array<Vec3, 3> grad{};
-        std::vector<Vec3> direction;
         for (std::size_t k = l0; k < l1; ++k) {
           const Line& line = lines[kept[k]];
-          direction.assign(line.x.size(), Vec3{0, 0, 0});
+          const std::size_t at = first[k], n = line.x.size();
           double length = 0;
-          for (std::size_t i = 0; i < line.x.size(); ++i) {
-            const std::size_t id = first[k] + i;
-            const Vec3& x = line.x[i];
-            out.points.set(id, x);
-            if (i > 0) length += norm(x - line.x[i - 1]);
-            tp[id] = line.time[i];
-            ap[id] = length;
-            Vec3 v;
-            if (!tracer.eval(x, 1.0, v)) continue;  // found in step 1: not expected
-            direction[i] = unit_or_zero(v);
-            const StreamHit& hit = tracer.hit();
-            carry.combine(id, hit.stencil());
-            if (!vp) continue;
-            const auto stencil = hit.stencil();
-            cell_points.resize(stencil.size());
-            cell_values.resize(3 * stencil.size());
-            for (std::size_t j = 0; j < stencil.size(); ++j) {
-              cell_points[j] = point(input, static_cast<Index>(stencil[j].first));
-              const Vec3 u = values.at(stencil[j].first);
-              cell_values[3 * j] = u.x, cell_values[3 * j + 1] = u.y, cell_values[3 * j + 2] = u.z;
-            }
-            derivatives(cell_type(input, hit.cell), cell_points, hit.pcoords, cell_values, 3, grad,
-                        hit.sub_id);
-            const Vec3 w{grad[2].y - grad[1].z, grad[0].z - grad[2].x, grad[1].x - grad[0].y};
-            vp[3 * id] = static_cast<float>(w.x);
-            vp[3 * id + 1] = static_cast<float>(w.y);
-            vp[3 * id + 2] = static_cast<float>(w.z);
-            const double speed = norm(v);
-            wp[id] = speed > 0 ? static_cast<float>(0.5 * dot(w, v) / speed) : 0.0f;
+          for (std::size_t i = 0; i < n; ++i) {
+            out.points.set(at + i, line.x[i]);
+            if (i > 0) length += norm(line.x[i] - line.x[i - 1]);
+            tp[at + i] = line.time[i];
+            ap[at + i] = length;
           }
-          if (!rp) continue;
-          // Rotation: the angular velocity integrated over time (trapezoids); Normals: a frame
-          // carried along the flow direction without twisting, turned by the rotation.
-          double angle = 0;
-          Vec3 n = perpendicular(direction[0]);
-          for (std::size_t i = 0; i < line.x.size(); ++i) {
-            const std::size_t id = first[k] + i;
-            if (i > 0) {
-              angle += 0.5 * double(wp[id - 1] + wp[id]) * (tp[id] - tp[id - 1]);
-              n = transport(n, direction[i]);
-            }
-            const Vec3 turned = n * std::cos(angle) + cross(direction[i], n) * std::sin(angle);
-            rp[id] = static_cast<float>(angle);
-            np3[3 * id] = static_cast<float>(turned.x);
-            np3[3 * id + 1] = static_cast<float>(turned.y);
-            np3[3 * id + 2] = static_cast<float>(turned.z);
+          for (std::size_t a = 0; a < line.arrays.size(); ++a) {
+            DataArray& dst = out.point_data[a];
+            const DataArray& src = line.arrays[a];
+            const std::size_t tuple = scalar_size(dst.type()) * static_cast<std::size_t>(dst.components());
+            std::memcpy(dst.bytes() + at * tuple, src.bytes(), src.size_bytes());
           }
+          if (!o.vorticity) continue;
+          std::copy(line.vorticity.begin(), line.vorticity.end(),
+                    vorticity.values<float>().begin() + std::ptrdiff_t(3 * at));
+          std::copy(line.angular.begin(), line.angular.end(),
+                    angular.values<float>().begin() + std::ptrdiff_t(at));
+          std::copy(line.rotation.begin(), line.rotation.end(),
+                    rotation.values<float>().begin() + std::ptrdiff_t(at));
+          std::copy(line.normals.begin(), line.normals.end(),
+                    normals.values<float>().begin() + std::ptrdiff_t(3 * at));
         }
       },
-      progress_range(o.progress, 0.8, 1.0), "streamlines");
+      progress_range(o.progress, 0.9, 1.0), "streamlines");
 
-  carry.move_into(out.point_data, no_cells);
   // The arrays made here replace input arrays of the same names.
   for (std::size_t a = 0; a < (o.vorticity ? std::size(kStreamArrays) : 2); ++a) {
     out.point_data.remove(kStreamArrays[a]);

@@ -3,7 +3,8 @@
 ABC flow over an N^3 image (float vectors), the same seeds as streamline_time.cpp, RK4 with
 0.5-cell steps and RK45 (error 1e-4), both directions, 500 steps at most, vorticity on.
 
-  vtk_streamline.py [N [SEEDS [REPEAT]]]    one JSON line per case (minimum of REPEAT)
+  vtk_streamline.py [N [SEEDS [REPEAT [THREADS]]]]   one JSON line per case (minimum of
+                                                     REPEAT); THREADS for vtkSMPTools (TBB)
 """
 import json
 import math
@@ -48,6 +49,9 @@ def main():
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 256
     s = int(sys.argv[2]) if len(sys.argv) > 2 else 10000
     repeat = int(sys.argv[3]) if len(sys.argv) > 3 else 3
+    if len(sys.argv) > 4:
+        vtk.vtkSMPTools.Initialize(int(sys.argv[4]))
+    threads = vtk.vtkSMPTools.GetEstimatedNumberOfThreads()
     field, source = abc_field(n), seeds(s)
     for name in ("rk4", "rk45"):
         best, out = 1e300, None
@@ -73,7 +77,7 @@ def main():
             t.Update()
             best = min(best, time.perf_counter() - t0)
             out = t.GetOutput()
-        print(json.dumps({"case": f"{name}/{n}", "peer": "vtkStreamTracer", "threads": "vtk default",
+        print(json.dumps({"case": f"{name}/{n}", "peer": "vtkStreamTracer", "threads": threads,
                           "seconds": round(best, 4), "lines": out.GetNumberOfLines(),
                           "points": out.GetNumberOfPoints()}), flush=True)
 
