@@ -42,6 +42,7 @@
 #include "isoforge/filters/glyph.hpp"
 #include "isoforge/filters/mask_points.hpp"
 #include "isoforge/filters/tube.hpp"
+#include "isoforge/filters/calculator.hpp"
 #include "isoforge/filters/clip.hpp"
 #include "isoforge/filters/cut.hpp"
 #include "isoforge/filters/elevation.hpp"

@@ -1,9 +1,11 @@
-// isoforge elevation, warp and gradient: attribute transformations and warping of any dataset.
+// isoforge elevation, warp, gradient and calc: attribute transformations and warping of any
+// dataset.
 
 #include <fmt/core.h>
 
 #include "commands.hpp"
 #include "common.hpp"
+#include "isoforge/filters/calculator.hpp"
 #include "isoforge/filters/elevation.hpp"
 #include "isoforge/filters/gradient.hpp"
 #include "isoforge/filters/warp.hpp"
@@ -239,6 +241,91 @@ void add_gradient_command(CLI::App& app, Context& ctx) {
     write_output(ds, args->out, bar);
     bar.finish();
     if (!ctx.quiet) fmt::print(stderr, "wrote {}: added point arrays {}\n", args->out, added);
+  });
+}
+
+void add_calc_command(CLI::App& app, Context& ctx) {
+  struct Args {
+    std::string in, out, q;
+    std::vector<std::string> expressions;
+    bool cells = false, single = false;
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand(
+      "calc", "Add arrays computed from expressions over a dataset's arrays and coordinates "
+              "(ParaView's Calculator)");
+  cmd->add_option("input", args->in, "Input dataset (any type)")->required();
+  cmd->add_option("-e,--expression", args->expressions,
+                  "NAME = EXPRESSION (repeatable; later ones may use earlier results)")
+      ->required();
+  cmd->add_flag("--cells", args->cells, "Evaluate over the cell arrays (one value per cell)");
+  cmd->add_flag("--float", args->single, "Store results as Float32 (default Float64)");
+  auto* q_opt = add_q_option(*cmd, args->q);
+  cmd->add_option("-o,--output", args->out, "Output: " + std::string(kDatasetExtensions))->required();
+  cmd->footer(
+      "Operands: numbers, pi, array names (\"quoted\" if they hold other characters), A[i] for\n"
+      "component i, coords and coordsX/Y/Z (points only), vectors [a, b, c]. Operators + - * / ^;\n"
+      "functions abs sqrt exp log log10 sin cos tan asin acos atan sinh cosh tanh floor ceil,\n"
+      "min max atan2 pow, and mag norm dot cross of vectors. A scalar result has 1 component, a\n"
+      "vector 3. An existing array of the same name is replaced. Method and measurements:\n"
+      "docs/algorithms/calculator.md.\n"
+      "Examples:\n"
+      "  isoforge calc data/office.binary.vtk -e 'speed = mag(vectors)' -o office_speed.vts\n"
+      "  isoforge calc data/combxyz.bin --q data/combq.bin -e 'p = Density * coordsZ' \\\n"
+      "      -e 'up = dot(Momentum, [0, 0, 1]) / Density' -o comb_calc.vts\n"
+      "  isoforge calc data/blow.vtk -e 'd = displacement5 - displacement0' -e 'n = mag(d)' \\\n"
+      "      --float -o blow_diff.vtu");
+  cmd->callback([args, &ctx, q_opt] {
+    (void)output_format(args->out, kDatasetFormats, kDatasetExtensions);
+    require_plot3d_input(q_opt, args->in);
+    // NAME = EXPRESSION, checked before reading anything.
+    std::vector<std::pair<std::string, std::string>> parts;
+    for (const std::string& e : args->expressions) {
+      const std::size_t eq = e.find('=');
+      if (eq == std::string::npos) {
+        throw UsageError("-e", fmt::format("'{}': write NAME = EXPRESSION", e));
+      }
+      std::string name = e.substr(0, eq);
+      name.erase(0, name.find_first_not_of(" \t"));
+      name.erase(name.find_last_not_of(" \t") + 1);
+      if (name.empty()) throw UsageError("-e", fmt::format("'{}': the result needs a name", e));
+      const std::size_t start = e.find_first_not_of(" \t", eq + 1);
+      if (start == std::string::npos) {
+        throw UsageError("-e", fmt::format("'{}': the expression is empty", e));
+      }
+      parts.emplace_back(name, e.substr(start));
+    }
+    ProgressBar bar(!ctx.quiet && stderr_is_tty());
+    bar.stage("reading");
+    ReadOptions ro;
+    ro.plot3d_q = args->q;
+    Dataset ds = read_input(args->in, bar, ro);
+    CalculatorOptions o;
+    o.cells = args->cells;
+    o.type = args->single ? ScalarType::Float32 : ScalarType::Float64;
+    std::string added;
+    for (const auto& [name, expression] : parts) {
+      bar.stage("calculating " + name);
+      o.progress = bar.callback();
+      DataArray a;
+      try {
+        a = calculate(ds, name, expression, o);
+      } catch (const Cancelled&) {
+        throw;
+      } catch (const Error& e) {
+        // The column counts in the expression, shown after the name.
+        throw Error(fmt::format("calc: {} = '{}': {}", name, expression, e.what()));
+      }
+      added += fmt::format("{}'{}' ({} component{})", added.empty() ? "" : ", ", name,
+                           a.components(), a.components() == 1 ? "" : "s");
+      (args->cells ? cell_data(ds) : point_data(ds)).add(std::move(a));
+    }
+    write_output(ds, args->out, bar);
+    bar.finish();
+    if (!ctx.quiet) {
+      fmt::print(stderr, "wrote {}: added {} arrays {}\n", args->out,
+                 args->cells ? "cell" : "point", added);
+    }
   });
 }
 

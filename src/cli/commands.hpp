@@ -33,6 +33,7 @@ void add_surface_command(CLI::App& app, Context& ctx);
 void add_elevation_command(CLI::App& app, Context& ctx);
 void add_warp_command(CLI::App& app, Context& ctx);
 void add_gradient_command(CLI::App& app, Context& ctx);
+void add_calc_command(CLI::App& app, Context& ctx);
 void add_glyph_command(CLI::App& app, Context& ctx);
 void add_normals_command(CLI::App& app, Context& ctx);
 void add_tube_command(CLI::App& app, Context& ctx);

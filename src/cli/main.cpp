@@ -133,6 +133,7 @@ int main(int argc, char** argv) {
   add_elevation_command(app, ctx);
   add_warp_command(app, ctx);
   add_gradient_command(app, ctx);
+  add_calc_command(app, ctx);
   add_glyph_command(app, ctx);
   add_normals_command(app, ctx);
   add_tube_command(app, ctx);

@@ -63,7 +63,31 @@ expect_usage grad_name_no_grad "--name: the gradient is left out" "$bin" gradien
 expect_fail 1 grad_div_scalar "divergence needs a 3-component point array; 'Pressure' has 1" "$bin" gradient "$data/post.vtk" -a Pressure --divergence -o "$tmp/p.vtu"
 expect_fail 1 grad_no_scalars "gradient: the input has no active point scalars" "$bin" gradient "$data/post.vtk" -o "$tmp/p.vtu"
 
-for sub in elevation warp gradient; do expect_ok "help_$sub" "Examples:" "$bin" "$sub" --help; done
+# ---- calc ----
+# speed = |vectors| has the same range as the vectors' magnitude in `info`.
+expect_ok calc_speed "added point arrays 'speed' \(1 component\)" "$bin" calc "$data/office.binary.vtk" -e 'speed = mag(vectors)' -o "$tmp/speed.vts"
+mag=$("$bin" info "$data/office.binary.vtk" | sed -n "s/.*'vectors'.*|v| \[\([^]]*\)\].*/\1/p")
+expect_ok calc_speed_file "'speed' +Float64 x1 +\[$mag\]" "$bin" info "$tmp/speed.vts"
+# Later expressions use earlier results; a vector minus itself is zero; Float32 on request.
+expect_ok calc_chain "added point arrays 'd' \(3 components\), 'n' \(1 component\)" "$bin" calc "$data/blow.vtk" -e 'd = displacement5 - displacement5' -e 'n = mag(d) + 1' --float -o "$tmp/d.vtu"
+expect_ok calc_chain_file "'n' +Float32 x1 +\[1, 1\]" "$bin" info "$tmp/d.vtu"
+# Coordinates: z of office points is within [0.01, 2.5]... exactly its bounds.
+expect_ok calc_coords "added point arrays 'z'" "$bin" calc "$data/office.binary.vtk" -e 'z=coordsZ' -o "$tmp/z.vts"
+zb=$("$bin" info "$data/office.binary.vtk" | sed -n 's/.*z \[\([^]]*\)\].*/\1/p')
+expect_ok calc_coords_file "'z' +Float64 x1 +\[$zb\]" "$bin" info "$tmp/z.vts"
+# Over cells: post.vtk has no cell arrays; a constant works.
+expect_ok calc_cells "added cell arrays 'one'" "$bin" calc "$data/post.vtk" --cells -e 'one = 1' -o "$tmp/c.vtu"
+expect_ok calc_cells_file "'one' +Float64 x1 +\[1, 1\]" "$bin" info "$tmp/c.vtu"
+expect_usage calc_no_eq "-e: 'speed': write NAME = EXPRESSION" "$bin" calc "$data/office.binary.vtk" -e speed -o "$tmp/cx.vts"
+expect_usage calc_no_name "-e: '= 1': the result needs a name" "$bin" calc "$data/office.binary.vtk" -e '= 1' -o "$tmp/cx.vts"
+expect_usage calc_empty "-e: 's = ': the expression is empty" "$bin" calc "$data/office.binary.vtk" -e 's = ' -o "$tmp/cx.vts"
+expect_usage calc_no_e "--expression is required" "$bin" calc "$data/office.binary.vtk" -o "$tmp/cx.vts"
+expect_fail 1 calc_unknown "calc: s = 'mag\(vector\)': calculator: column 5: no point array 'vector' \(point arrays: 'scalars', 'vectors'\)" "$bin" calc "$data/office.binary.vtk" -e 's = mag(vector)' -o "$tmp/cx.vts"
+expect_fail 1 calc_kind "column 9: cannot add a scalar and a vector" "$bin" calc "$data/office.binary.vtk" -e 's = scalars + vectors' -o "$tmp/cx.vts"
+expect_fail 1 calc_coords_cells "coords are point coordinates: not available over cells" "$bin" calc "$data/post.vtk" --cells -e 'x = coordsX' -o "$tmp/cx.vtu"
+[ ! -e "$tmp/cx.vts" ] && [ ! -e "$tmp/cx.vtu" ] || fail "calc: a failed run left its output behind"
 
-if [ $failures -ne 0 ]; then echo "$failures elevation/warp/gradient CLI test(s) failed"; exit 1; fi
-echo "all elevation/warp/gradient CLI tests passed"
+for sub in elevation warp gradient calc; do expect_ok "help_$sub" "Examples:" "$bin" "$sub" --help; done
+
+if [ $failures -ne 0 ]; then echo "$failures elevation/warp/gradient/calc CLI test(s) failed"; exit 1; fi
+echo "all elevation/warp/gradient/calc CLI tests passed"
