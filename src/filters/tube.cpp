@@ -37,9 +37,13 @@ std::vector<Index> distinct_path(const PolyData& lines, std::size_t l) {
   return path;
 }
 
-// Unit tangents of a path of distinct points: the mean of the adjacent segment directions.
-void path_tangents(const std::vector<Vec3>& P, std::vector<Vec3>& T) {
-  const std::size_t n = P.size();
+// The points P of a path of distinct points and their unit tangents T: the mean of the adjacent
+// segment directions.
+void path_geometry(const PolyData& lines, const std::vector<Index>& ids, std::vector<Vec3>& P,
+                   std::vector<Vec3>& T) {
+  const std::size_t n = ids.size();
+  P.resize(n);
+  for (std::size_t i = 0; i < n; ++i) P[i] = lines.points[static_cast<std::size_t>(ids[i])];
   T.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 before = i > 0 ? unit_or_zero(P[i] - P[i - 1]) : Vec3{0, 0, 0};
@@ -162,9 +166,7 @@ Result<PolyData, TubeStats> tube(const PolyData& lines, const TubeOptions& o) {
           const std::vector<Index>& ids = path[l];
           const std::size_t n = ids.size();
           if (n < 2) continue;
-          P.resize(n);
-          for (std::size_t i = 0; i < n; ++i) P[i] = lines.points[static_cast<std::size_t>(ids[i])];
-          path_tangents(P, T);
+          path_geometry(lines, ids, P, T);
           std::size_t v = first_point[l];
           Vec3 nrm = perpendicular(T[0]);
           const auto put = [&](std::size_t at, const Vec3& p, const Vec3& normal, std::size_t from) {
@@ -291,9 +293,7 @@ Result<PolyData, RibbonStats> ribbon(const PolyData& lines, const RibbonOptions&
           const std::vector<Index>& ids = path[l];
           const std::size_t n = ids.size();
           if (n < 2) continue;
-          P.resize(n);
-          for (std::size_t i = 0; i < n; ++i) P[i] = lines.points[static_cast<std::size_t>(ids[i])];
-          path_tangents(P, T);
+          path_geometry(lines, ids, P, T);
           Vec3 nrm = perpendicular(T[0]);
           std::size_t v = first_point[l];
           for (std::size_t i = 0; i < n; ++i) {
