@@ -37,6 +37,7 @@
 #include "isoforge/filters/probe.hpp"
 #include "isoforge/filters/subsample.hpp"
 #include "isoforge/filters/surface.hpp"
+#include "isoforge/filters/tensor_glyph.hpp"
 #include "isoforge/filters/threshold.hpp"
 #include "isoforge/filters/compute_normals.hpp"
 #include "isoforge/filters/glyph.hpp"

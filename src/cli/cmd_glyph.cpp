@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "common.hpp"
 #include "isoforge/filters/glyph.hpp"
+#include "isoforge/filters/tensor_glyph.hpp"
 #include "isoforge/io/io.hpp"
 #include "progress_bar.hpp"
 
@@ -171,6 +172,81 @@ void add_glyph_command(CLI::App& app, Context& ctx) {
                  stats.orient_array.empty() ? "nothing" : "'" + stats.orient_array + "'",
                  stats.scale_array.empty() ? "nothing" : "'" + stats.scale_array + "'",
                  stats.min_scale, stats.max_scale);
+    }
+  });
+}
+
+void add_tensor_glyph_command(CLI::App& app, Context& ctx) {
+  struct Args {
+    std::string in, out, q, tensors, color = "eigenvalue";
+    std::int64_t resolution = 12, every = 0, max_points = 0;
+    double scale = 1, max_size = 0;
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand(
+      "tensor-glyph", "Ellipsoids showing a tensor field: axes along the eigenvectors, sized by "
+                      "the eigenvalues (vtkTensorGlyph)");
+  cmd->add_option("input", args->in, "Input dataset with a point tensor array (any type)")
+      ->required();
+  cmd->add_option("-o,--output", args->out, "Output: " + std::string(kSurfaceExtensions))
+      ->required();
+  cmd->add_option("-a,--array", args->tensors,
+                  "Tensor point array: 9 components (3x3) or 6 (symmetric: XX YY ZZ XY YZ XZ); "
+                  "default: the active tensors");
+  cmd->add_option("-s,--scale", args->scale, "Semi-axis = scale x |eigenvalue| (default 1)")
+      ->check(positive_number());
+  cmd->add_option("--max-size", args->max_size,
+                  "Shrink glyphs whose largest semi-axis exceeds this (data units)")
+      ->check(positive_number());
+  cmd->add_option("-r,--resolution", args->resolution, "Slices of each ellipsoid (N >= 3, default 12)")
+      ->transform(integer_in(3, 1024));
+  cmd->add_option("--color-by", args->color,
+                  "The point scalar 'TensorColor': eigenvalue (the largest), anisotropy "
+                  "(fractional, 0 to 1) or none")
+      ->check(CLI::IsMember({"eigenvalue", "anisotropy", "none"}));
+  cmd->add_option("--mask-every", args->every, "Glyph every Nth point (N >= 1)")
+      ->transform(integer_in(1));
+  cmd->add_option("--mask-max", args->max_points, "At most N glyphs, spread evenly over the points")
+      ->transform(integer_in(1));
+  auto* q_opt = add_q_option(*cmd, args->q);
+  cmd->footer(
+      "Only the upper triangle of a 3x3 tensor is read (it is taken as symmetric, as VTK does).\n"
+      "Method: docs/algorithms/tensor_glyph.md.\n"
+      "Examples:\n"
+      "  isoforge gradient data/office.binary.vtk -a vectors --name strain -o office_grad.vts\n"
+      "  isoforge tensor-glyph office_grad.vts -a strain -s 0.2 --max-size 0.1 --mask-every 7 \\\n"
+      "      --color-by anisotropy -o office_ellipsoids.vtp");
+  cmd->callback([args, &ctx, q_opt] {
+    (void)output_format(args->out, kSurfaceFormats, kSurfaceExtensions);
+    require_plot3d_input(q_opt, args->in);
+    TensorGlyphOptions o;
+    o.tensors = args->tensors;
+    o.scale = args->scale;
+    o.max_size = args->max_size;
+    o.resolution = static_cast<int>(args->resolution);
+    o.color = args->color == "none"         ? TensorColor::None
+              : args->color == "anisotropy" ? TensorColor::Anisotropy
+                                            : TensorColor::Eigenvalue;
+    o.mask.every = static_cast<std::size_t>(args->every);
+    o.mask.max_points = static_cast<std::size_t>(args->max_points);
+    ProgressBar bar(!ctx.quiet && stderr_is_tty());
+    bar.stage("reading");
+    ReadOptions ro;
+    ro.plot3d_q = args->q;
+    const Dataset input = read_input(args->in, bar, ro);
+    bar.stage("glyphs");
+    o.progress = bar.callback();
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto [out, stats] = tensor_glyph(input, o);
+    const double ms = elapsed_ms(t0);
+    write_output(out, args->out, bar);
+    bar.finish();
+    if (!ctx.quiet) {
+      fmt::print(stderr,
+                 "wrote {}: {} ellipsoids ({} flat or collapsed), {} triangles in {:.3f} s; "
+                 "eigenvalues {:.4g} .. {:.4g}\n",
+                 args->out, stats.glyphs, stats.degenerate, out.polys.size(), ms / 1000,
+                 stats.min_eigenvalue, stats.max_eigenvalue);
     }
   });
 }

@@ -35,6 +35,7 @@ void add_warp_command(CLI::App& app, Context& ctx);
 void add_gradient_command(CLI::App& app, Context& ctx);
 void add_calc_command(CLI::App& app, Context& ctx);
 void add_glyph_command(CLI::App& app, Context& ctx);
+void add_tensor_glyph_command(CLI::App& app, Context& ctx);
 void add_normals_command(CLI::App& app, Context& ctx);
 void add_tube_command(CLI::App& app, Context& ctx);
 void add_cut_command(CLI::App& app, Context& ctx);

@@ -135,6 +135,7 @@ int main(int argc, char** argv) {
   add_gradient_command(app, ctx);
   add_calc_command(app, ctx);
   add_glyph_command(app, ctx);
+  add_tensor_glyph_command(app, ctx);
   add_normals_command(app, ctx);
   add_tube_command(app, ctx);
   add_streamlines_command(app, ctx);

@@ -172,7 +172,9 @@ void cell_gradient(DatasetRef ds, const double* f, int nc, double* grad,
         for (std::size_t k = 0; k < 3 * ncs; ++k) grad[p * 3 * ncs + k] += sub_grad[s * 3 * ncs + k];
       };
       if (is_composite_cell(type)) {
-        for (int local : sub_cell(type, ids.size(), int(s - first[c])).points()) add(ids[std::size_t(local)]);
+        // Named: points() views the SubCell, which a temporary in the range would not outlive.
+        const SubCell sc = sub_cell(type, ids.size(), int(s - first[c]));
+        for (int local : sc.points()) add(ids[std::size_t(local)]);
       } else {
         for (Index id : ids) add(id);
       }

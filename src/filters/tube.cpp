@@ -275,8 +275,7 @@ Result<PolyData, RibbonStats> ribbon(const PolyData& lines, const RibbonOptions&
 
   PolyData out;
   out.points = Points(np, lines.points.type());
-  out.point_data = empty_like(lines.point_data, np);
-  out.point_data.remove("Normals");
+  out.point_data = empty_like(lines.point_data, np);  // copy_tuple pairs arrays by position
   DataArray surface_normals = DataArray::uninitialized("Normals", ScalarType::Float32, 3, np);
   float* N = surface_normals.values<float>().data();
   Buffer<Index> offsets(nt + 1), conn(3 * nt);
@@ -332,7 +331,7 @@ Result<PolyData, RibbonStats> ribbon(const PolyData& lines, const RibbonOptions&
       },
       o.progress, "ribbon");
   out.polys = CellArray(std::move(offsets), std::move(conn));
-  out.point_data.add(std::move(surface_normals), AttributeRole::Normals);
+  out.point_data.add(std::move(surface_normals), AttributeRole::Normals);  // replaces the lines'
   out.field_data = lines.field_data;
   return {std::move(out), stats};
 }

@@ -102,5 +102,22 @@ expect_error tube_array "radius by 'nope': no such point array" "$bin" tube "$da
 expect_error tube_grid "combxyz.bin is structured grid; tubes go around the lines" "$bin" tube "$data/combxyz.bin" --q "$data/combq.bin" -r 1 -o "$tmp/x.vtp"
 [ -e "$tmp/x.vtp" ] && fail "a refused command wrote its output"
 
+# ---- tensor-glyph ----
+# The office's velocity gradient (9 components) as a tensor: 8400 points, every 7th: 1200
+# ellipsoids of 12 slices (120 triangles each).
+"$bin" -q gradient "$data/office.binary.vtk" -a vectors --name strain -o "$tmp/grad.vts" || fail "tensor: gradient failed"
+expect_ok tensor_every "wrote .*: 1200 ellipsoids \([0-9]+ flat or collapsed\), 144000 triangles" "$bin" tensor-glyph "$tmp/grad.vts" -a strain -s 0.2 --mask-every 7 -o "$tmp/ell.vtp"
+expect_ok tensor_file "'TensorColor' +Float32 x1 \[scalars\]" "$bin" info "$tmp/ell.vtp"
+expect_ok tensor_ids "'InputPointIds' +Int64 +x1 +\[0, 8393\]" "$bin" info "$tmp/ell.vtp"
+expect_ok tensor_aniso "wrote .*: 10 ellipsoids .*, 80 triangles" "$bin" tensor-glyph "$tmp/grad.vts" -a strain --mask-max 10 -r 4 --color-by anisotropy -o "$tmp/ell2.vtp"
+expect_ok tensor_aniso_range "'TensorColor' +Float32 x1 .*\[0(\.[0-9]+)?, (0\.[0-9]+|1)\]" "$bin" info "$tmp/ell2.vtp"
+expect_error tensor_none "tensor glyph: the input has no active point tensors" "$bin" tensor-glyph "$data/office.binary.vtk" -o "$tmp/x.vtp"
+expect_error tensor_vectors "point array 'vectors' has 3 components: a tensor has 9" "$bin" tensor-glyph "$data/office.binary.vtk" -a vectors -o "$tmp/x.vtp"
+expect_usage tensor_scale "--scale: .*" "$bin" tensor-glyph "$tmp/grad.vts" -a strain -s 0 -o "$tmp/x.vtp"
+expect_usage tensor_res "--resolution: .*" "$bin" tensor-glyph "$tmp/grad.vts" -a strain -r 2 -o "$tmp/x.vtp"
+expect_usage tensor_color "--color-by: .*not in" "$bin" tensor-glyph "$tmp/grad.vts" -a strain --color-by red -o "$tmp/x.vtp"
+expect_usage tensor_every "--mask-every: .*" "$bin" tensor-glyph "$tmp/grad.vts" -a strain --mask-every 0 -o "$tmp/x.vtp"
+[ -e "$tmp/x.vtp" ] && fail "a refused tensor-glyph wrote its output"
+
 if [ $failures -ne 0 ]; then echo "$failures failure(s)"; exit 1; fi
 echo "all glyph/normals/tube CLI tests passed"

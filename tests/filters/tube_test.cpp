@@ -214,12 +214,15 @@ TEST(Ribbon, StraightLineWithoutNormalsIsAFlatStripOfTheWidth) {
 
 TEST(Ribbon, NormalsAndAngleOrientIt) {
   PolyData line = polyline({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}});
-  DataArray normals("N", ScalarType::Float32, 3, 3);
+  DataArray normals("Normals", ScalarType::Float32, 3, 3);
+  DataArray after("after", ScalarType::Int32, 1, 3);  // an array after the normals is carried too
   for (std::size_t i = 0; i < 3; ++i) {
     normals.set(i, 0, 0.7);  // along the line: projected away
     normals.set(i, 2, 1.0);
+    after.set(i, 0, double(10 + i));
   }
   line.point_data.add(std::move(normals), AttributeRole::Normals);
+  line.point_data.add(std::move(after));
   for (const double angle : {0.0, 90.0}) {
     RibbonOptions o;
     o.width = 2;
@@ -231,10 +234,13 @@ TEST(Ribbon, NormalsAndAngleOrientIt) {
       // Normal +z: the ribbon spans y; turned by 90° about +x it spans z.
       EXPECT_NEAR(std::abs(angle == 0 ? p.y : p.z), 1, 1e-6);
       EXPECT_NEAR(angle == 0 ? p.z : p.y, 0, 1e-6);
+      EXPECT_EQ(out.point_data.get("after").get(i), double(10 + i / 2));
     }
+    // The ribbon's normals replace the lines'.
+    EXPECT_NEAR(std::abs(out.point_data.normals()->get(0, angle == 0 ? 2 : 1)), 1, 1e-6);
   }
   RibbonOptions named;
-  named.normals = "N";
+  named.normals = "Normals";
   EXPECT_TRUE(ribbon(line, named).stats.oriented);
 }
 
