@@ -21,6 +21,7 @@
 #include "isoforge/spatial/cell_locator.hpp"
 #include "point_fields.hpp"
 #include "probe_grid.hpp"
+#include "probe_tets.hpp"
 
 namespace isoforge {
 namespace {
@@ -193,6 +194,47 @@ class GridField {
  private:
   probe_detail::GridLocator locator_;
   std::array<std::size_t, 8> offsets_;
+};
+
+/// A mesh of tetrahedra: the prober's walk from the previous query's tetrahedron across the
+/// face opposite the most negative barycentric coordinate, then the cell locator.
+class TetField {
+ public:
+  struct Cursor {
+    Index cell = -1;
+  };
+  TetField(const UnstructuredGrid& mesh, double cell_length)
+      : mesh_(mesh), walker_(mesh, {}, kPcoordTolerance), locator_(mesh, locator_options(cell_length)) {}
+  bool find(const Vec3& p, Cursor& cursor, StreamHit& hit) const {
+    std::array<double, 4> w{};
+    Index cell = cursor.cell >= 0 ? cursor.cell : walker_.seed(p);
+    if (cell < 0 || !walker_.walk(p, cell, w)) {
+      const CellHit h = locator_.find_cell(p);
+      if (!h.found()) return false;
+      cell = h.cell;
+      for (std::size_t k = 0; k < 4; ++k) w[k] = h.weights[k];
+    }
+    cursor.cell = cell;
+    const auto ids = mesh_.cells.cell(static_cast<std::size_t>(cell));
+    hit.general = false;
+    hit.n = 4;
+    hit.cell = cell;
+    hit.sub_id = 0;
+    hit.pcoords = {w[1], w[2], w[3]};  // a tetrahedron's r, s, t are the weights of points 1-3
+    for (std::size_t k = 0; k < 4; ++k) hit.fixed[k] = {static_cast<std::size_t>(ids[k]), w[k]};
+    return true;
+  }
+
+ private:
+  static CellLocatorOptions locator_options(double cell_length) {
+    CellLocatorOptions o;
+    o.tolerance = kPcoordTolerance;
+    o.distance_tolerance = 1e-6 * cell_length;
+    return o;
+  }
+  const UnstructuredGrid& mesh_;
+  probe_detail::TetWalker walker_;
+  CellLocator locator_;
 };
 
 /// Any other dataset: the cell of the previous query first, then the cell locator.
@@ -740,6 +782,11 @@ StreamlineResult streamlines(DatasetRef input, DatasetRef seeds, const Streamlin
   if (const auto* grid = input.get_if<StructuredGrid>()) {
     if (structured_dimension(grid->dims) == 3) {
       return trace_all(input, GridField(*grid), vectors, seeds, o, cell_length);
+    }
+  }
+  if (const auto* mesh = input.get_if<UnstructuredGrid>()) {
+    if (probe_detail::TetWalker::applicable(*mesh)) {
+      return trace_all(input, TetField(*mesh, cell_length), vectors, seeds, o, cell_length);
     }
   }
   return trace_all(input, CellField(input, cell_length), vectors, seeds, o, cell_length);

@@ -5,6 +5,9 @@ ABC flow over an N^3 image (float vectors), the same seeds as streamline_time.cp
 
   vtk_streamline.py [N [SEEDS [REPEAT [THREADS]]]]   one JSON line per case (minimum of
                                                      REPEAT); THREADS for vtkSMPTools (TBB)
+  vtk_streamline.py files DIR [REPEAT [THREADS]]     RK4 on DIR/stream_grid.vts and
+                                                     DIR/stream_tets.vtu (written by
+                                                     streamline_time --write), 2000 seeds
 """
 import json
 import math
@@ -34,10 +37,9 @@ def abc_field(n):
     return img
 
 
-def seeds(s):
+def seeds(s, L=2 * math.pi):
     alpha = (0.8191725133961645, 0.6710436067037893, 0.5497004779019703)
     pts = vtk.vtkPoints()
-    L = 2 * math.pi
     for i in range(1, s + 1):
         pts.InsertNextPoint(*[L * (0.05 + 0.9 * math.fmod(0.5 + i * a, 1.0)) for a in alpha])
     out = vtk.vtkPolyData()
@@ -45,7 +47,54 @@ def seeds(s):
     return out
 
 
+def tracer(field, source, name):
+    t = vtk.vtkStreamTracer()
+    t.SetInputData(field)
+    t.SetSourceData(source)
+    t.SetIntegrationDirectionToBoth()
+    if name == "rk4":
+        t.SetIntegratorTypeToRungeKutta4()
+    else:
+        t.SetIntegratorTypeToRungeKutta45()
+        t.SetMaximumError(1e-4)
+        t.SetMinimumIntegrationStep(0.01)
+        t.SetMaximumIntegrationStep(1.0)
+    t.SetIntegrationStepUnit(vtk.vtkStreamTracer.CELL_LENGTH_UNIT)
+    t.SetInitialIntegrationStep(0.5)
+    t.SetMaximumNumberOfSteps(500)
+    t.SetMaximumPropagation(1e9)
+    t.SetTerminalSpeed(1e-12)
+    t.SetComputeVorticity(True)
+    return t
+
+
+def files(d, repeat, threads):
+    source = seeds(2000, 1.0)
+    for case, name in (("rk4/curvilinear100", "stream_grid.vts"), ("rk4/tets44", "stream_tets.vtu")):
+        r = vtk.vtkXMLStructuredGridReader() if name.endswith(".vts") else vtk.vtkXMLUnstructuredGridReader()
+        r.SetFileName(f"{d}/{name}")
+        r.Update()
+        field = r.GetOutput()
+        field.GetPointData().SetActiveVectors("V")
+        best, out = 1e300, None
+        for _ in range(repeat):
+            t = tracer(field, source, "rk4")
+            t0 = time.perf_counter()
+            t.Update()
+            best = min(best, time.perf_counter() - t0)
+            out = t.GetOutput()
+        print(json.dumps({"case": case, "peer": "vtkStreamTracer", "threads": threads,
+                          "seconds": round(best, 4), "lines": out.GetNumberOfLines(),
+                          "points": out.GetNumberOfPoints()}), flush=True)
+
+
 def main():
+    if sys.argv[1:2] == ["files"]:
+        repeat = int(sys.argv[3]) if len(sys.argv) > 3 else 3
+        if len(sys.argv) > 4:
+            vtk.vtkSMPTools.Initialize(int(sys.argv[4]))
+        files(sys.argv[2], repeat, vtk.vtkSMPTools.GetEstimatedNumberOfThreads())
+        return
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 256
     s = int(sys.argv[2]) if len(sys.argv) > 2 else 10000
     repeat = int(sys.argv[3]) if len(sys.argv) > 3 else 3
@@ -56,23 +105,7 @@ def main():
     for name in ("rk4", "rk45"):
         best, out = 1e300, None
         for _ in range(repeat):
-            t = vtk.vtkStreamTracer()
-            t.SetInputData(field)
-            t.SetSourceData(source)
-            t.SetIntegrationDirectionToBoth()
-            if name == "rk4":
-                t.SetIntegratorTypeToRungeKutta4()
-            else:
-                t.SetIntegratorTypeToRungeKutta45()
-                t.SetMaximumError(1e-4)
-                t.SetMinimumIntegrationStep(0.01)
-                t.SetMaximumIntegrationStep(1.0)
-            t.SetIntegrationStepUnit(vtk.vtkStreamTracer.CELL_LENGTH_UNIT)
-            t.SetInitialIntegrationStep(0.5)
-            t.SetMaximumNumberOfSteps(500)
-            t.SetMaximumPropagation(1e9)
-            t.SetTerminalSpeed(1e-12)
-            t.SetComputeVorticity(True)
+            t = tracer(field, source, name)
             t0 = time.perf_counter()
             t.Update()
             best = min(best, time.perf_counter() - t0)
