@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <iterator>
@@ -17,6 +18,7 @@
 #include "isoforge/core/cell.hpp"
 #include "isoforge/core/cell_type.hpp"
 #include "isoforge/core/interpolate.hpp"
+#include "isoforge/core/memory.hpp"
 #include "isoforge/core/parallel.hpp"
 #include "isoforge/spatial/cell_locator.hpp"
 #include "point_fields.hpp"
@@ -561,6 +563,17 @@ StreamlineResult trace_all(DatasetRef input, const Field& field, const DataArray
   std::vector<std::uint8_t> outside(nseeds, 0);
   const Attributes& input_arrays = point_data(input);
   Attributes no_cells;
+  // The lines' memory, checked as they grow (their length is not known before): a point holds
+  // its position and time, the carried arrays and the vorticity arrays, once while traced and
+  // once in the output.
+  double point_bytes = 32 + (o.vorticity ? 32 : 0) + 12;
+  for (const DataArray& a : input_arrays) {
+    point_bytes += static_cast<double>(scalar_size(a.type())) * a.components();
+  }
+  point_bytes *= 2;
+  std::atomic<std::size_t> traced_points{0};
+  const std::uint64_t physical = physical_memory();
+  const double memory = physical ? static_cast<double>(physical) : INFINITY;
   parallel_for_range(
       nseeds, 16,
       [&](std::size_t s0, std::size_t s1) {
@@ -643,6 +656,12 @@ StreamlineResult trace_all(DatasetRef input, const Field& field, const DataArray
           for (std::size_t d = 0; d < per_seed; ++d) {
             Line& line = lines[s * per_seed + d];
             line = tracer.trace(seed, v * signs[d], signs[d]);
+            const std::size_t total = traced_points += line.x.size();
+            if (static_cast<double>(total) * point_bytes > memory) {
+              require_memory(static_cast<double>(total) * point_bytes,
+                             fmt::format("streamlines: {} line points (so far; lower max_steps "
+                                         "or the number of seeds)", total));
+            }
             if (line.x.size() >= 2) finish(line);
           }
         }
