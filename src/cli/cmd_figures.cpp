@@ -182,27 +182,6 @@ std::string shell_quote(const std::string& s) {
   return out + "'";
 }
 
-// The viewer's files (as `isoforge view` finds them): $ISOFORGE_VIEWER_DIR, else
-// ../share/isoforge/viewer from the program's directory. Empty when absent.
-fs::path find_viewer() {
-  std::vector<fs::path> tried;
-  if (const char* env = std::getenv("ISOFORGE_VIEWER_DIR"); env && *env) {
-    tried.emplace_back(env);
-  } else {
-    std::error_code ec;
-    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-    if (!ec) tried.push_back(exe.parent_path().parent_path() / "share" / "isoforge" / "viewer");
-  }
-  for (const auto& dir : tried) {
-    std::error_code ec;
-    if (fs::is_regular_file(dir / "index.html", ec) &&
-        fs::is_regular_file(dir / "three" / "build" / "three.module.js", ec)) {
-      return dir;
-    }
-  }
-  return {};
-}
-
 // The renderer script (viewer/render_figures.mjs beside viewer/node_modules).
 fs::path find_renderer() {
   if (const char* env = std::getenv("ISOFORGE_FIGURES_RENDERER"); env && *env) return env;
@@ -387,10 +366,11 @@ void add_figures_command(CLI::App& app, Context& ctx) {
 
     // The viewer, copied beside the figures so that the page's links work from any static
     // server (isoforge view DIR).
-    const fs::path viewer = find_viewer();
+    std::string looked_in;
+    const fs::path viewer = find_viewer_dir(looked_in);
     std::string skip;
     if (viewer.empty()) {
-      skip = "the viewer's files are not built (build the target 'viewer')";
+      skip = "the viewer's files are not in " + looked_in + " (build the target 'viewer')";
     } else {
       fs::copy(viewer, dir / "viewer",
                fs::copy_options::recursive | fs::copy_options::overwrite_existing, ec);

@@ -90,27 +90,16 @@ class TempDir {
   fs::path path_;
 };
 
-// The viewer's files: $ISOFORGE_VIEWER_DIR, else ../share/isoforge/viewer from the program's
-// directory (the layout of both the build tree and an install).
+// The viewer's files, or an error saying how to get them.
 fs::path viewer_dir() {
-  std::vector<fs::path> tried;
-  if (const char* env = std::getenv("ISOFORGE_VIEWER_DIR"); env && *env) {
-    tried.emplace_back(env);
-  } else {
-    std::error_code ec;
-    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-    if (!ec) tried.push_back(exe.parent_path().parent_path() / "share" / "isoforge" / "viewer");
+  std::string looked_in;
+  fs::path dir = find_viewer_dir(looked_in);
+  if (dir.empty()) {
+    throw Error("the viewer's files (index.html and three.js) are not in " + looked_in +
+                ": build the target 'viewer' (it runs npm ci in viewer/), or set "
+                "ISOFORGE_VIEWER_DIR");
   }
-  for (const auto& dir : tried) {
-    std::error_code ec;
-    if (fs::is_regular_file(dir / "index.html", ec) &&
-        fs::is_regular_file(dir / "three" / "build" / "three.module.js", ec)) {
-      return dir;
-    }
-  }
-  throw Error("the viewer's files (index.html and three.js) are not in " +
-              (tried.empty() ? std::string("?") : tried.front().string()) +
-              ": build the target 'viewer' (it runs npm ci in viewer/), or set ISOFORGE_VIEWER_DIR");
+  return dir;
 }
 
 std::string json_string(std::string_view s) {

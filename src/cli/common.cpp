@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <charconv>
+#include <filesystem>
+#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -319,6 +321,25 @@ Vec3 vec_at(const std::vector<std::string>& v, std::size_t first, const char* op
             const char* what) {
   return {finite_at(v, first, option, what), finite_at(v, first + 1, option, what),
           finite_at(v, first + 2, option, what)};
+}
+
+std::filesystem::path find_viewer_dir(std::string& looked_in) {
+  namespace fs = std::filesystem;
+  fs::path dir;
+  if (const char* env = std::getenv("ISOFORGE_VIEWER_DIR"); env && *env) {
+    dir = env;
+  } else {
+    std::error_code ec;
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (!ec) dir = exe.parent_path().parent_path() / "share" / "isoforge" / "viewer";
+  }
+  looked_in = dir.empty() ? std::string("?") : dir.string();
+  std::error_code ec;
+  if (!dir.empty() && fs::is_regular_file(dir / "index.html", ec) &&
+      fs::is_regular_file(dir / "three" / "build" / "three.module.js", ec)) {
+    return dir;
+  }
+  return {};
 }
 
 Bounds parse_bounds(const std::vector<double>& b, const char* option) {

@@ -117,6 +117,12 @@ void apply_xml_compression(WriteOptions& options);
 [[nodiscard]] PolyData read_polydata(const std::string& path, ProgressBar& bar,
                                      std::string_view why, ReadOptions options = {});
 /// `write(ds, path, options)` as the stage "writing" of `bar`.
+/// The viewer's files (index.html and three.js): $ISOFORGE_VIEWER_DIR, else
+/// ../share/isoforge/viewer from the program's directory (the layout of both the build tree and
+/// an install). Empty when they are not there; `looked_in` is then the place searched ("?" when
+/// the program's directory is unknown), for messages.
+[[nodiscard]] std::filesystem::path find_viewer_dir(std::string& looked_in);
+
 void write_output(DatasetRef ds, const std::filesystem::path& path, ProgressBar& bar,
                   WriteOptions options = {});
 
