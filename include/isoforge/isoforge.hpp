@@ -70,6 +70,7 @@
 #include "isoforge/model/csg.hpp"
 #include "isoforge/model/distance.hpp"
 #include "isoforge/model/implicit_modeller.hpp"
+#include "isoforge/model/point_load.hpp"
 #include "isoforge/reduce/decimate.hpp"
 #include "isoforge/reduce/mesh_distance.hpp"
 #include "isoforge/spatial/cell_locator.hpp"

@@ -21,6 +21,7 @@ void add_distance_command(CLI::App& app, Context& ctx);
 void add_offset_command(CLI::App& app, Context& ctx);
 void add_csg_command(CLI::App& app, Context& ctx);
 void add_attractor_command(CLI::App& app, Context& ctx);
+void add_point_load_command(CLI::App& app, Context& ctx);
 void add_decimate_command(CLI::App& app, Context& ctx);
 void add_fit_command(CLI::App& app, Context& ctx);
 void add_view_command(CLI::App& app, Context& ctx);

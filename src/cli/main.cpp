@@ -122,6 +122,7 @@ int main(int argc, char** argv) {
   add_offset_command(app, ctx);
   add_csg_command(app, ctx);
   add_attractor_command(app, ctx);
+  add_point_load_command(app, ctx);
   add_decimate_command(app, ctx);
   add_fit_command(app, ctx);
   add_view_command(app, ctx);
