@@ -178,14 +178,15 @@ void add_glyph_command(CLI::App& app, Context& ctx) {
 
 void add_tensor_glyph_command(CLI::App& app, Context& ctx) {
   struct Args {
-    std::string in, out, q, tensors, color = "eigenvalue";
+    std::string in, out, q, tensors, color = "eigenvalue", shape = "ellipsoid";
     std::int64_t resolution = 12, every = 0, max_points = 0;
-    double scale = 1, max_size = 0;
+    double scale = 1, max_size = 0, gamma = 3;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
-      "tensor-glyph", "Ellipsoids showing a tensor field: axes along the eigenvectors, sized by "
-                      "the eigenvalues (vtkTensorGlyph)");
+      "tensor-glyph",
+      "Ellipsoids or superquadrics showing a tensor field: axes along the eigenvectors, sized by "
+      "the eigenvalues (vtkTensorGlyph)");
   cmd->add_option("input", args->in, "Input dataset with a point tensor array (any type)")
       ->required();
   cmd->add_option("-o,--output", args->out, "Output: " + std::string(kSurfaceExtensions))
@@ -200,6 +201,13 @@ void add_tensor_glyph_command(CLI::App& app, Context& ctx) {
       ->check(positive_number());
   cmd->add_option("-r,--resolution", args->resolution, "Slices of each ellipsoid (N >= 3, default 12)")
       ->transform(integer_in(3, 1024));
+  cmd->add_option("--shape", args->shape,
+                  "ellipsoid (default) or superquadric (Kindlmann: cylinder for a linear tensor, "
+                  "disc for a planar one)")
+      ->check(CLI::IsMember({"ellipsoid", "superquadric"}));
+  auto* gamma_opt = cmd->add_option("--gamma", args->gamma,
+                                    "Superquadric edge sharpness, > 0 (default 3)")
+                        ->check(positive_number());
   cmd->add_option("--color-by", args->color,
                   "The point scalar 'TensorColor': eigenvalue (the largest), anisotropy "
                   "(fractional, 0 to 1) or none")
@@ -215,15 +223,21 @@ void add_tensor_glyph_command(CLI::App& app, Context& ctx) {
       "Examples:\n"
       "  isoforge gradient data/office.binary.vtk -a vectors --name strain -o office_grad.vts\n"
       "  isoforge tensor-glyph office_grad.vts -a strain -s 0.2 --max-size 0.1 --mask-every 7 \\\n"
-      "      --color-by anisotropy -o office_ellipsoids.vtp");
-  cmd->callback([args, &ctx, q_opt] {
+      "      --color-by anisotropy -o office_ellipsoids.vtp\n"
+      "  isoforge point-load --dims 12 -o load.vti\n"
+      "  isoforge tensor-glyph load.vti -s 0.3 --max-size 0.08 --shape superquadric -o sq.vtp");
+  cmd->callback([args, &ctx, q_opt, gamma_opt] {
     (void)output_format(args->out, kSurfaceFormats, kSurfaceExtensions);
+    require_meaningful(gamma_opt, args->shape == "superquadric", "applies to --shape superquadric");
     require_plot3d_input(q_opt, args->in);
     TensorGlyphOptions o;
     o.tensors = args->tensors;
     o.scale = args->scale;
     o.max_size = args->max_size;
     o.resolution = static_cast<int>(args->resolution);
+    o.shape = args->shape == "superquadric" ? TensorGlyphShape::Superquadric
+                                            : TensorGlyphShape::Ellipsoid;
+    o.gamma = args->gamma;
     o.color = args->color == "none"         ? TensorColor::None
               : args->color == "anisotropy" ? TensorColor::Anisotropy
                                             : TensorColor::Eigenvalue;
@@ -243,10 +257,11 @@ void add_tensor_glyph_command(CLI::App& app, Context& ctx) {
     bar.finish();
     if (!ctx.quiet) {
       fmt::print(stderr,
-                 "wrote {}: {} ellipsoids ({} flat or collapsed), {} triangles in {:.3f} s; "
+                 "wrote {}: {} {} ({} flat or collapsed), {} triangles in {:.3f} s; "
                  "eigenvalues {:.4g} .. {:.4g}\n",
-                 args->out, stats.glyphs, stats.degenerate, out.polys.size(), ms / 1000,
-                 stats.min_eigenvalue, stats.max_eigenvalue);
+                 args->out, stats.glyphs,
+                 args->shape == "superquadric" ? "superquadrics" : "ellipsoids", stats.degenerate,
+                 out.polys.size(), ms / 1000, stats.min_eigenvalue, stats.max_eigenvalue);
     }
   });
 }

@@ -22,6 +22,50 @@
 namespace isoforge {
 namespace {
 
+/// sgn(x) |x|^e, 0 at 0 (the superquadric's signed power).
+double signed_pow(double x, double e) {
+  if (x == 0) return 0;
+  return std::copysign(std::pow(std::abs(x), e), x);
+}
+
+/// Kindlmann's superquadric for semi-axes `axis` (G. Kindlmann, "Superquadric tensor glyphs",
+/// VisSym 2004): the Westin metrics cl, cp of the sorted semi-axes choose the symmetry axis (the
+/// largest if cl ≥ cp, else the smallest) and the exponents α (around it) and β (along it).
+struct Superquadric {
+  int sym = 0;              ///< the eigen-axis the source's x axis goes to
+  double alpha = 1, beta = 1;
+
+  Superquadric(const double axis[3], double gamma) {
+    int order[3] = {0, 1, 2};
+    std::sort(order, order + 3, [&](int a, int b) { return axis[a] > axis[b]; });
+    const double l1 = axis[order[0]], l2 = axis[order[1]], l3 = axis[order[2]];
+    const double sum = l1 + l2 + l3;
+    if (!(sum > 0)) return;  // collapsed to a point: any shape
+    const double cl = (l1 - l2) / sum, cp = 2 * (l2 - l3) / sum;
+    if (cl >= cp) {
+      sym = order[0];
+      alpha = std::pow(1 - cp, gamma);
+      beta = std::pow(1 - cl, gamma);
+    } else {
+      sym = order[2];
+      alpha = std::pow(1 - cl, gamma);
+      beta = std::pow(1 - cp, gamma);
+    }
+  }
+
+  /// The point and normal (unnormalised) of unit-sphere point s, in the frame (x along the
+  /// symmetry axis): s = (sin η, cos η cos ω, cos η sin ω) goes to
+  /// (sin^β η, cos^β η cos^α ω, cos^β η sin^α ω), normal (sin^(2−β) η, cos^(2−β) η cos^(2−α) ω, …).
+  void map(const Vec3& s, Vec3& point, Vec3& normal) const {
+    const double r = std::sqrt(s.y * s.y + s.z * s.z);
+    const double cu = r > 0 ? s.y / r : 0, cv = r > 0 ? s.z / r : 0;
+    const double rb = signed_pow(r, beta), rn = signed_pow(r, 2 - beta);
+    point = {signed_pow(s.x, beta), rb * signed_pow(cu, alpha), rb * signed_pow(cv, alpha)};
+    normal = {signed_pow(s.x, 2 - beta), rn * signed_pow(cu, 2 - alpha),
+              rn * signed_pow(cv, 2 - alpha)};
+  }
+};
+
 /// The tensor of point i as a row-major 3×3 matrix, from 9 or 6 (XX YY ZZ XY YZ XZ) components.
 std::array<double, 9> tensor_at(const DataArray& a, std::size_t i) {
   if (a.components() == 9) {
@@ -65,6 +109,9 @@ Result<PolyData, TensorGlyphStats> tensor_glyph(DatasetRef input, const TensorGl
   }
   if (!(std::isfinite(o.max_size) && o.max_size >= 0)) {
     throw Error(fmt::format("tensor glyph: max size must be finite and >= 0, got {}", o.max_size));
+  }
+  if (!(std::isfinite(o.gamma) && o.gamma > 0)) {
+    throw Error(fmt::format("tensor glyph: gamma must be finite and > 0, got {}", o.gamma));
   }
   if (o.resolution < 3) {
     throw Error(fmt::format("tensor glyph: resolution must be >= 3, got {}", o.resolution));
@@ -158,17 +205,37 @@ Result<PolyData, TensorGlyphStats> tensor_glyph(DatasetRef input, const TensorGl
             const double den = l1 * l1 + l2 * l2 + l3 * l3;
             value = den > 0 ? std::sqrt(1.5 * num / den) : 0;
           }
+          const bool super = o.shape == TensorGlyphShape::Superquadric;
+          const Superquadric sq(axis, o.gamma);
           for (std::size_t j = 0; j < m; ++j) {
             const std::size_t at = k * m + j;
             const Vec3 s = sphere.points[j] * 2.0;  // the unit sphere
             Vec3 q = p, n{0, 0, 0}, flat{0, 0, 0};
             const Vec3 sn{source_normals[3 * j], source_normals[3 * j + 1], source_normals[3 * j + 2]};
+            // The shape's coordinates along the eigenvectors: the sphere rotated onto them, or the
+            // superquadric with the source's x axis on the symmetry axis (a cyclic, so
+            // right-handed, relabelling: x → sym, y → sym + 1, z → sym + 2).
+            double local[3], local_n[3];
+            if (super) {
+              Vec3 lp, ln;
+              sq.map(s, lp, ln);
+              for (int c = 0; c < 3; ++c) {
+                local[(sq.sym + c) % 3] = lp[c];
+                local_n[(sq.sym + c) % 3] = ln[c];
+              }
+            } else {
+              for (int a = 0; a < 3; ++a) {
+                const Vec3& ea = ev.vectors[static_cast<std::size_t>(a)];
+                local[a] = dot(s, ea);
+                local_n[a] = dot(sn, ea);
+              }
+            }
             for (int a = 0; a < 3; ++a) {
               const Vec3& ea = ev.vectors[static_cast<std::size_t>(a)];
-              q += ea * (axis[a] * dot(s, ea));
+              q += ea * (axis[a] * local[a]);
               // Normals by the inverse transpose, diag(1 / axis); along a zero axis (a flat
               // glyph) that term dominates: the normal is the axis, on the source normal's side.
-              const double d = dot(sn, ea);
+              const double d = local_n[a];
               if (axis[a] > 0) {
                 n += ea * (d / axis[a]);
               } else {

@@ -117,7 +117,31 @@ expect_usage tensor_scale "--scale: .*" "$bin" tensor-glyph "$tmp/grad.vts" -a s
 expect_usage tensor_res "--resolution: .*" "$bin" tensor-glyph "$tmp/grad.vts" -a strain -r 2 -o "$tmp/x.vtp"
 expect_usage tensor_color "--color-by: .*not in" "$bin" tensor-glyph "$tmp/grad.vts" -a strain --color-by red -o "$tmp/x.vtp"
 expect_usage tensor_every "--mask-every: .*" "$bin" tensor-glyph "$tmp/grad.vts" -a strain --mask-every 0 -o "$tmp/x.vtp"
+# Superquadrics: the same counts as ellipsoids; --gamma only with them.
+expect_ok tensor_sq "wrote .*: 10 superquadrics .*, 80 triangles" "$bin" tensor-glyph "$tmp/grad.vts" -a strain --mask-max 10 -r 4 --shape superquadric --gamma 2 -o "$tmp/sq.vtp"
+expect_usage tensor_gamma_shape "--gamma: applies to --shape superquadric" "$bin" tensor-glyph "$tmp/grad.vts" -a strain --gamma 2 -o "$tmp/x.vtp"
+expect_usage tensor_gamma "--gamma: .*" "$bin" tensor-glyph "$tmp/grad.vts" -a strain --shape superquadric --gamma 0 -o "$tmp/x.vtp"
+expect_usage tensor_gamma_nan "--gamma: .*" "$bin" tensor-glyph "$tmp/grad.vts" -a strain --shape superquadric --gamma nan -o "$tmp/x.vtp"
+expect_usage tensor_shape "--shape: .*not in" "$bin" tensor-glyph "$tmp/grad.vts" -a strain --shape cube -o "$tmp/x.vtp"
 [ -e "$tmp/x.vtp" ] && fail "a refused tensor-glyph wrote its output"
+
+# ---- point-load ----
+# 5^3 samples of [-1, 1]^3: the load point (0, 0, 1) is one of them (its glyph collapses, as
+# do the 24 others on the free surface, where the stress is plane).
+expect_ok load_grid "wrote .*: 125 points .*effective stress up to .*the load point itself is a sample" "$bin" point-load --dims 5 -o "$tmp/load.vti"
+expect_ok load_arrays "'stress' +Float32 x9 \[tensors\]" "$bin" info "$tmp/load.vti"
+expect_ok load_mask "'ValidPointMask' +UInt8 +x1 +\[0, 1\]" "$bin" info "$tmp/load.vti"
+expect_ok load_box "wrote .*: 336 points in [0-9.]+ s$" "$bin" point-load --dims 6 7 8 --bounds -10 10 -10 10 -20 0 --load 100 --poisson 0.5 --no-effective-stress -o "$tmp/load2.vtk"
+expect_ok load_box_dims "dimensions: 6 x 7 x 8" "$bin" info "$tmp/load2.vtk"
+expect_ok load_box_arrays "point data \(2 arrays\)" "$bin" info "$tmp/load2.vtk"
+expect_ok load_glyphs "wrote .*: 125 ellipsoids \(25 flat or collapsed\)" "$bin" tensor-glyph "$tmp/load.vti" -s 0.2 --max-size 0.3 -r 4 -o "$tmp/load_ell.vtp"
+expect_usage load_poisson "--poisson: .*" "$bin" point-load --poisson 0.6 -o "$tmp/x.vti"
+expect_usage load_negative "--load: .*" "$bin" point-load --load -1 -o "$tmp/x.vti"
+expect_usage load_inf "--load: .*" "$bin" point-load --load inf -o "$tmp/x.vti"
+expect_usage load_dims "--dims: .*" "$bin" point-load --dims 1 -o "$tmp/x.vti"
+expect_usage load_flat "--bounds: the box must have a positive extent along z" "$bin" point-load --bounds -1 1 -1 1 0 0 -o "$tmp/x.vti"
+expect_usage load_format "vtp" "$bin" point-load -o "$tmp/x.vtp"
+[ -e "$tmp/x.vti" ] && fail "a refused point-load wrote its output"
 
 if [ $failures -ne 0 ]; then echo "$failures failure(s)"; exit 1; fi
 echo "all glyph/normals/tube CLI tests passed"

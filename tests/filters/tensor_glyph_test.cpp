@@ -192,3 +192,87 @@ TEST(TensorGlyph, RejectsBadInput) {
   PolyData bad = one_tensor({0, 0, 0}, {1, 0, 0, 0, INFINITY, 0, 0, 0, 1});
   expect_error([&] { (void)tensor_glyph(bad, {}); }, "the tensor of point 0 is not finite");
 }
+
+namespace {
+
+// Checks glyph 0 of `out` (centre p, eigenvectors a, b, a × b with semi-axes `axes`) against
+// Kindlmann's superquadric with symmetry axis `sym` and exponents α, β: every point satisfies
+// (|Y|^(2/α) + |Z|^(2/α))^(α/β) + |X|^(2/β) = 1 in coordinates normalised by the semi-axes, X
+// along the symmetry axis; every normal is along the implicit function's gradient; triangles
+// face outward.
+void expect_superquadric(const PolyData& out, const Vec3& p, const Vec3 (&e)[3],
+                         const double (&axes)[3], int sym, double alpha, double beta) {
+  const DataArray& normals = out.point_data.get("Normals");
+  const int ia = sym, ib = (sym + 1) % 3, ic = (sym + 2) % 3;
+  ASSERT_GT(out.points.size(), 50u);
+  for (std::size_t i = 0; i < out.points.size(); ++i) {
+    const Vec3 d = out.points[i] - p;
+    const double X = dot(d, e[ia]) / axes[ia], Y = dot(d, e[ib]) / axes[ib],
+                 Z = dot(d, e[ic]) / axes[ic];
+    const double ay = std::pow(std::abs(Y), 2 / alpha), az = std::pow(std::abs(Z), 2 / alpha);
+    const double S = ay + az;
+    EXPECT_NEAR(std::pow(S, alpha / beta) + std::pow(std::abs(X), 2 / beta), 1, 2e-4) << i;
+    // The gradient, in world coordinates (chain rule through the normalisation).
+    const double gx = (2 / beta) * std::copysign(std::pow(std::abs(X), 2 / beta - 1), X);
+    const double f = S > 0 ? (2 / beta) * std::pow(S, alpha / beta - 1) : 0;
+    const double gy = Y == 0 ? 0 : f * std::copysign(std::pow(std::abs(Y), 2 / alpha - 1), Y);
+    const double gz = Z == 0 ? 0 : f * std::copysign(std::pow(std::abs(Z), 2 / alpha - 1), Z);
+    const Vec3 g = e[ia] * (gx / axes[ia]) + e[ib] * (gy / axes[ib]) + e[ic] * (gz / axes[ic]);
+    const Vec3 nn{normals.get(i, 0), normals.get(i, 1), normals.get(i, 2)};
+    EXPECT_NEAR(norm(nn), 1, 1e-6);
+    if (norm(g) > 0) EXPECT_GT(dot(nn, g / norm(g)), 0.999) << i;
+  }
+  for (std::size_t t = 0; t < out.polys.size(); ++t) {
+    const auto v = out.polys.cell(t);
+    const Vec3 q0 = out.points[size_t(v[0])], q1 = out.points[size_t(v[1])],
+               q2 = out.points[size_t(v[2])];
+    const Vec3 area = cross(q1 - q0, q2 - q0);
+    if (norm(area) > 1e-9) EXPECT_GT(dot(area, (q0 + q1 + q2) / 3.0 - p), 0) << t;
+  }
+}
+
+}  // namespace
+
+TEST(TensorGlyph, SuperquadricsOfLinearPlanarAndIsotropicTensors) {
+  const Vec3 a = Vec3{1, 1, 0} / std::sqrt(2.0), b{0, 0, 1};
+  const Vec3 e[3] = {a, b, cross(a, b)};
+  const Vec3 p{1, 2, 3};
+  TensorGlyphOptions o;
+  o.shape = TensorGlyphShape::Superquadric;
+  o.resolution = 16;
+  o.scale = 0.5;
+  {
+    // Linear (λ 3, −1, 0.5: cl = 4/9 ≥ cp = 2/9): symmetric about the largest axis,
+    // α = (1 − cp)^γ, β = (1 − cl)^γ; a rounded cylinder.
+    const PolyData pd = one_tensor(p, compose(a, b, {3, -1, 0.5}));
+    const auto [out, stats] = tensor_glyph(pd, o);
+    EXPECT_EQ(stats.glyphs, 1u);
+    const double cl = 4.0 / 9, cp = 2.0 / 9;
+    expect_superquadric(out, p, e, {1.5, 0.5, 0.25}, 0, std::pow(1 - cp, 3), std::pow(1 - cl, 3));
+  }
+  {
+    // Planar (λ 3, 2.5, −0.5: cl = 1/12 < cp = 2/3): symmetric about the smallest axis,
+    // α = (1 − cl)^γ, β = (1 − cp)^γ; a rounded disc. γ = 2 this time.
+    o.gamma = 2;
+    const PolyData pd = one_tensor(p, compose(a, b, {3, 2.5, -0.5}));
+    const auto [out, stats] = tensor_glyph(pd, o);
+    const double cl = 1.0 / 12, cp = 2.0 / 3;
+    expect_superquadric(out, p, e, {1.5, 1.25, 0.25}, 2, std::pow(1 - cl, 2), std::pow(1 - cp, 2));
+  }
+  {
+    // Isotropic: α = β = 1, the sphere, with as many points as the ellipsoid.
+    const PolyData pd = one_tensor(p, compose(a, b, {2, 2, 2}));
+    const auto sq = tensor_glyph(pd, o).output;
+    expect_superquadric(sq, p, e, {1, 1, 1}, 0, 1, 1);
+    o.shape = TensorGlyphShape::Ellipsoid;
+    const auto el = tensor_glyph(pd, o).output;
+    EXPECT_EQ(sq.points.size(), el.points.size());
+    EXPECT_EQ(sq.polys.size(), el.polys.size());
+  }
+  o.shape = TensorGlyphShape::Superquadric;
+  for (const double g : {0.0, -1.0, double(NAN), double(INFINITY)}) {
+    o.gamma = g;
+    expect_error([&] { (void)tensor_glyph(one_tensor(p, compose(a, b, {1, 1, 1})), o); },
+                 "gamma must be finite and > 0");
+  }
+}

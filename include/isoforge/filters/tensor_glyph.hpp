@@ -33,6 +33,13 @@ enum class TensorColor : std::uint8_t {
   Anisotropy,  ///< fractional anisotropy of the semi-axes |λ|: 0 (sphere) to 1 (line)
 };
 
+enum class TensorGlyphShape : std::uint8_t {
+  Ellipsoid,     ///< the unit sphere scaled along the eigenvectors
+  /// Kindlmann's superquadric glyph: a cylinder for a linear tensor, a disc for a planar one, a
+  /// sphere for an isotropic one, edges as sharp as `gamma` makes them; scaled like the ellipsoid.
+  Superquadric,
+};
+
 struct TensorGlyphOptions {
   /// Point array of 9 components (row-major 3×3) or 6 (symmetric, VTK's order XX YY ZZ XY YZ
   /// XZ); "" = the active tensors.
@@ -42,6 +49,8 @@ struct TensorGlyphOptions {
   /// as VTK's ClampScaling does.
   double max_size = 0;
   int resolution = 12;       ///< slices of the sphere source (≥ 3)
+  TensorGlyphShape shape = TensorGlyphShape::Ellipsoid;
+  double gamma = 3;          ///< superquadric edge sharpness (Kindlmann's γ; finite, > 0)
   TensorColor color = TensorColor::Eigenvalue;
   MaskOptions mask;          ///< which points get a glyph
   ProgressCallback progress{};
@@ -54,7 +63,8 @@ struct TensorGlyphStats {
 };
 
 /// An ellipsoid at each masked point p with tensor T = Σ λᵢ eᵢeᵢᵀ: each unit-sphere source
-/// point s becomes p + Σ scale |λᵢ| (s·xᵢ) eᵢ, normals transformed by the inverse transpose.
+/// point s becomes p + Σ scale |λᵢ| (s·xᵢ) eᵢ, normals transformed by the inverse transpose
+/// (a superquadric likewise, from the superquadric of the tensor's shape in place of the sphere).
 /// Output: one polydata of triangles, glyph g's points at [g·m, (g+1)·m), with "Normals",
 /// "InputPointIds", "TensorColor" (by `color`) and the input's point arrays.
 /// \throw Error if the tensor array is missing or has other than 6 or 9 components, an option
