@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Tensor glyphs against VTK 9.1's vtkTensorGlyph (python3-vtk9) in the same run: ellipsoids at
-# the 103 823 points of a Boussinesq stress field (tensor_glyph_time.cpp and
-# peers/vtk_tensor_glyph.py build the same field). Writes OUT/tensor_glyph.jsonl and a table.
+# the 103 823 points of a Boussinesq stress field (isoforge's point_load in
+# tensor_glyph_time.cpp, vtkPointLoad in peers/vtk_tensor_glyph.py: the same field).
+# Writes OUT/tensor_glyph.jsonl and a table.
 # Usage: tensor_glyph.sh BUILD OUT [REPEAT]   (BUILD with -DISOFORGE_BUILD_BENCH=ON)
 set -euo pipefail
 build=$1 out=$2 repeat=${3:-3}
