@@ -3,7 +3,7 @@
 
 Usage: check_figures.py ISOFORGE DATA_DIR OUT_DIR [--regenerate]
 
-Runs `isoforge figures --only 1.23a 1.24a 1.24b 1.31` into OUT_DIR and checks
+Runs `isoforge figures --only 1.4c 1.23a 1.24a 1.24b 1.31` into OUT_DIR and checks
 - every figure's datasets, .glb, figures.json and index.html exist and index.html names them;
 - each summary line says ok and carries the exact counts (1.24a's selected pixels and 1.24b's
   voxels are counted here independently from the chapter's formulas);
@@ -26,7 +26,7 @@ import sys
 import zlib
 
 BACKGROUND = (0x1E, 0x21, 0x26)
-FIGS = ["1.23a", "1.24a", "1.24b", "1.31"]
+FIGS = ["1.4c", "1.23a", "1.24a", "1.24b", "1.31"]
 REFERENCES = ["fig_1_23a", "fig_1_24b", "fig_1_31"]
 SMALL = (80, 60)
 TOLERANCE = 3.0  # mean absolute difference, 8-bit units, over the 80 x 60 x 3 channels
@@ -167,7 +167,7 @@ def main():
             fail(f"isoforge figures {' '.join(bad)}: exit {r.returncode}, '{r.stderr.strip()}'")
     r = subprocess.run([isoforge, "figures", "--list"], capture_output=True, text=True)
     listed = [l.split()[0] for l in r.stdout.splitlines() if l.strip()]
-    if r.returncode != 0 or len(listed) != 17 or listed[0] != "1.23a" or listed[-1] != "1.37":
+    if r.returncode != 0 or len(listed) != 20 or listed[0] != "1.4a" or listed[-1] != "1.37":
         fail(f"isoforge figures --list: {r.stdout}")
     have_browser = shutil.which("node") and os.access("/usr/bin/chromium", os.X_OK)
     cmd = [isoforge, "-q", "figures", "--out", out, "--data", data, "--only", *FIGS]
@@ -186,11 +186,13 @@ def main():
     # Exact counts, computed here from the chapter's formulas.
     want = {"1.24a": f"{ellipse_pixels()} of 1200 pixels selected",
             "1.24b": f"{ellipsoid_voxels()} of 8000 voxels, {6 * ellipsoid_voxels()} faces",
-            "1.23a": "1681 samples, 3 lines", "1.31": "polygons"}
+            "1.23a": "1681 samples, 3 lines", "1.31": "polygons",
+            "1.4c": "216 ellipsoids"}
     for fig, text in want.items():
         if fig in lines and text not in lines[fig]:
             fail(f"summary line of {fig} lacks '{text}': {lines[fig]}")
-    files = {"fig_1_23a": ["sampled_plane.vti", "contour_lines.vtp"],
+    files = {"fig_1_4c": ["point_load.vti", "ellipsoids.vtp"],
+             "fig_1_23a": ["sampled_plane.vti", "contour_lines.vtp"],
              "fig_1_24a": ["image.vti", "selected_pixels.vtu", "ellipse.vtp"],
              "fig_1_24b": ["selected_voxels.vtu", "shrunk_voxels.vtu"],
              "fig_1_31": ["cut_plane.vtp", "grid_k9.vts"]}
@@ -259,7 +261,7 @@ def main():
         script = os.path.join(HERE, "..", "..", "viewer", "test", "gallery_test.mjs")
         r = subprocess.run(["node", script, isoforge, out], capture_output=True, text=True)
         print(r.stdout, r.stderr)
-        if r.returncode != 0 or "gallery test passed: 4 pictures, 4 viewer links opened" not in r.stdout:
+        if r.returncode != 0 or f"gallery test passed: {len(FIGS)} pictures, {len(FIGS)} viewer links opened" not in r.stdout:
             fail("the gallery in the browser (viewer/test/gallery_test.mjs)")
     if failures:
         print(f"{len(failures)} check(s) failed")

@@ -8,7 +8,7 @@ import sys
 
 from check_figures import read_png, reduce, write_png
 
-STEMS = ["fig_1_25", "fig_1_31", "fig_1_32", "fig_1_37"]
+STEMS = ["fig_1_4a", "fig_1_4c", "fig_1_25", "fig_1_31", "fig_1_32", "fig_1_37"]
 
 
 def main():

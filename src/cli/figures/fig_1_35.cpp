@@ -12,33 +12,6 @@
 
 namespace isoforge::cli::figures {
 
-namespace {
-
-// The 12 edges of a structured grid (i, j or k varying, the other two at their extremes) as
-// polylines over the grid's points.
-PolyData outline(const StructuredGrid& sg) {
-  PolyData out;
-  out.points = sg.points;
-  const Index n[3] = {sg.dims[0], sg.dims[1], sg.dims[2]};
-  for (int axis = 0; axis < 3; ++axis) {
-    const int a = (axis + 1) % 3, b = (axis + 2) % 3;
-    for (int corner = 0; corner < 4; ++corner) {
-      Index ijk[3];
-      ijk[a] = corner & 1 ? n[a] - 1 : 0;
-      ijk[b] = corner & 2 ? n[b] - 1 : 0;
-      std::vector<Index> ids;
-      for (Index t = 0; t < n[axis]; ++t) {
-        ijk[axis] = t;
-        ids.push_back(sg.point_id(ijk[0], ijk[1], ijk[2]));
-      }
-      out.lines.add(ids);
-    }
-  }
-  return out;
-}
-
-}  // namespace
-
 Output fig_1_35(const Context& ctx) {
   const StructuredGrid sg = combustor(ctx);
   const Prober prober(sg);
@@ -81,7 +54,7 @@ Output fig_1_35(const Context& ctx) {
                           std::nullopt, {20, 20, 20, 255}});
     if (ctx.progress) (void)ctx.progress((k + 1) / 3.0);
   }
-  out.meshes.push_back({"combustor outline", outline(sg), "", Colormap::Rainbow, std::nullopt,
+  out.meshes.push_back({"combustor outline", grid_outline(sg), "", Colormap::Rainbow, std::nullopt,
                         {230, 230, 230, 255}});
   out.counts = fmt::format("3 x 2500 probes, {} contour lines", segments);
   out.check = fmt::format("found {} of 2500; contour values inside the data's range", found);

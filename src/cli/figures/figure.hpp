@@ -68,10 +68,23 @@ struct Figure {
 [[nodiscard]] std::string topology_text(const SurfaceTopology& t);
 /// The data file `name` of `ctx.data`. \throw Error naming it when it is missing.
 [[nodiscard]] std::filesystem::path data_file(const Context& ctx, std::string_view name);
+/// The 12 edges of a structured grid (i, j or k varying, the other two at their extremes) as
+/// polylines over the grid's points.
+[[nodiscard]] PolyData grid_outline(const StructuredGrid& sg);
+/// The 12 edges of an axis-aligned box as line segments.
+[[nodiscard]] PolyData box_outline(const Bounds& b);
+/// The smallest cosine between a streamline's steps (chords from one point to the next, taken
+/// along the flow) and the mean of the point array `vectors` at their ends, over the steps where
+/// that mean is at least 1% of the fastest speed (near stagnation the direction means little):
+/// 1 for lines exactly along the flow.
+[[nodiscard]] double worst_tangency(const PolyData& lines, const std::string& vectors);
 /// The combustor (data/combxyz.bin with combq.bin) as a structured grid.
 [[nodiscard]] StructuredGrid combustor(const Context& ctx);
 
 // The figures (one file each).
+Output fig_1_4a(const Context&);
+Output fig_1_4b(const Context&);
+Output fig_1_4c(const Context&);
 Output fig_1_23a(const Context&);
 Output fig_1_23b(const Context&);
 Output fig_1_23c(const Context&);
