@@ -384,12 +384,34 @@ double apply(Func2 f, double x, double y) {
 /// Tuples [first, first + n) of components [c0, c0 + w) of `a`, as doubles, w per tuple.
 void load_tuples(const DataArray& a, int c0, int w, std::size_t first, std::size_t n, double* out) {
   const auto comps = static_cast<std::size_t>(a.components());
+  const auto width = static_cast<std::size_t>(w);
   a.visit([&](const auto& values) {
     const auto* v = values.data() + first * comps + static_cast<std::size_t>(c0);
-    for (std::size_t i = 0; i < n; ++i) {
-      for (int k = 0; k < w; ++k) out[i * static_cast<std::size_t>(w) + static_cast<std::size_t>(k)] = static_cast<double>(v[i * comps + static_cast<std::size_t>(k)]);
+    if (width == comps) {  // whole tuples: one contiguous run (vectorised conversion)
+      for (std::size_t i = 0; i < n * comps; ++i) out[i] = static_cast<double>(v[i]);
+    } else if (width == 1) {
+      for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<double>(v[i * comps]);
+    } else {
+      for (std::size_t i = 0; i < n; ++i) {
+        for (std::size_t k = 0; k < width; ++k) out[i * width + k] = static_cast<double>(v[i * comps + k]);
+      }
     }
   });
+}
+
+/// r = a op b over n tuples of width w, b a scalar per tuple (`scalar_b`) or of width w: the
+/// loops spelt out per case so that each vectorises.
+template <class Op>
+void scale_tuples(double* r, const double* a, const double* b, std::size_t n, std::size_t w,
+                  bool scalar_b, Op op) {
+  if (!scalar_b || w == 1) {
+    for (std::size_t i = 0; i < n * w; ++i) r[i] = op(a[i], b[i]);
+  } else {
+    for (std::size_t i = 0; i < n; ++i) {
+      const double y = b[i];
+      for (std::size_t k = 0; k < w; ++k) r[w * i + k] = op(a[w * i + k], y);
+    }
+  }
 }
 
 /// Evaluates the nodes over tuples [first, first + n) into per-node buffers.
@@ -430,13 +452,20 @@ void evaluate_block(const std::vector<CalcNode>& nodes, DatasetRef input, std::s
         break;
       case CalcOp::Mul:
       case CalcOp::Div: {
-        const bool scalar_b = nodes[static_cast<std::size_t>(node.b)].width == 1;
-        const std::size_t w = static_cast<std::size_t>(node.width);
-        for (std::size_t i = 0; i < n; ++i) {
-          for (std::size_t k = 0; k < w; ++k) {
-            const double y = scalar_b ? b[i] : b[i * w + k];
-            r[i * w + k] = node.op == CalcOp::Mul ? a[i * w + k] * y : a[i * w + k] / y;
+        const CalcNode& right = nodes[static_cast<std::size_t>(node.b)];
+        const bool scalar_b = right.width == 1;
+        const auto w = static_cast<std::size_t>(node.width);
+        if (right.op == CalcOp::Const) {  // by a constant: no buffer to read
+          const double y = right.value;
+          if (node.op == CalcOp::Mul) {
+            for (std::size_t i = 0; i < m; ++i) r[i] = a[i] * y;
+          } else {
+            for (std::size_t i = 0; i < m; ++i) r[i] = a[i] / y;
           }
+        } else if (node.op == CalcOp::Mul) {
+          scale_tuples(r, a, b, n, w, scalar_b, [](double x, double y) { return x * y; });
+        } else {
+          scale_tuples(r, a, b, n, w, scalar_b, [](double x, double y) { return x / y; });
         }
         break;
       }
