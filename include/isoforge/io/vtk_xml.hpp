@@ -31,7 +31,8 @@ enum class VtkXmlEncoding {
   Appended,  ///< raw binary in one <AppendedData> block (smallest, fastest)
 };
 
-/// The compressor of binary blocks (each block of 32 KiB is compressed on its own, as VTK does).
+/// The compressor of binary blocks (each block of 256 KiB is compressed on its own, as VTK does
+/// with its 32 KiB blocks).
 enum class VtkXmlCompressor {
   Zlib,  ///< vtkZLibDataCompressor: opens in every VTK and ParaView
   Lz4,   ///< vtkLZ4DataCompressor: larger files, several times faster (VTK 8.2 and later)
