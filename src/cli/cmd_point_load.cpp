@@ -39,10 +39,9 @@ void add_point_load_command(CLI::App& app, Context& ctx) {
   cmd->add_flag("--no-effective-stress", args->no_effective,
                 "Leave out the scalar 'effective_stress' (von Mises)");
   cmd->footer(
-      "Writes the point arrays 'stress' (3x3, tension positive; active tensors), "
-      "'effective_stress'\n"
-      "(active scalars) and 'ValidPointMask' (0 only at the load point itself, where the stress\n"
-      "is infinite and is written as 0).\n"
+      "Writes the point arrays 'stress' (3x3, tension positive; active tensors),\n"
+      "'effective_stress' (von Mises; active scalars) and 'vtkValidPointMask' (0 only at the\n"
+      "load point itself, where the stress is infinite and is written as 0).\n"
       "Examples:\n"
       "  isoforge point-load -o load.vti\n"
       "  isoforge point-load --dims 6 --bounds -10 10 -10 10 -10 10 --load 100 -o load6.vti\n"
@@ -76,7 +75,7 @@ void add_point_load_command(CLI::App& app, Context& ctx) {
                  o.scalars.empty() ? std::string()
                                    : fmt::format("; effective stress up to {:.4g}",
                                                  stats.max_effective_stress),
-                 stats.singular ? "; the load point itself is a sample (ValidPointMask 0)" : "");
+                 stats.singular ? "; the load point itself is a sample (vtkValidPointMask 0)" : "");
     }
   });
 }

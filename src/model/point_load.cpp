@@ -53,8 +53,9 @@ Result<ImageData, PointLoadStats> point_load(const PointLoadOptions& o) {
                             o.poisson_ratio));
   }
   if (o.tensors.empty()) throw Error("point load: the tensor array needs a name");
-  if (o.tensors == o.scalars || o.tensors == "ValidPointMask" || o.scalars == "ValidPointMask") {
-    throw Error("point load: the tensor, scalar and ValidPointMask arrays need distinct names");
+  if (o.tensors == o.scalars || o.tensors == "vtkValidPointMask" ||
+      o.scalars == "vtkValidPointMask") {
+    throw Error("point load: the tensor, scalar and vtkValidPointMask arrays need distinct names");
   }
   for (int a = 0; a < 3; ++a) {
     if (o.dims[a] < 2) {
@@ -74,7 +75,7 @@ Result<ImageData, PointLoadStats> point_load(const PointLoadOptions& o) {
   DataArray tensors = DataArray::uninitialized(o.tensors, ScalarType::Float32, 9, n);
   DataArray scalars;
   if (!o.scalars.empty()) scalars = DataArray::uninitialized(o.scalars, ScalarType::Float32, 1, n);
-  DataArray valid = DataArray::uninitialized("ValidPointMask", ScalarType::UInt8, 1, n);
+  DataArray valid = DataArray::uninitialized("vtkValidPointMask", ScalarType::UInt8, 1, n);
   float* T = tensors.values<float>().data();
   float* S = o.scalars.empty() ? nullptr : scalars.values<float>().data();
   auto* V = valid.values<std::uint8_t>().data();

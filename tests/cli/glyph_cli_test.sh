@@ -130,7 +130,7 @@ expect_usage tensor_shape "--shape: .*not in" "$bin" tensor-glyph "$tmp/grad.vts
 # do the 24 others on the free surface, where the stress is plane).
 expect_ok load_grid "wrote .*: 125 points .*effective stress up to .*the load point itself is a sample" "$bin" point-load --dims 5 -o "$tmp/load.vti"
 expect_ok load_arrays "'stress' +Float32 x9 \[tensors\]" "$bin" info "$tmp/load.vti"
-expect_ok load_mask "'ValidPointMask' +UInt8 +x1 +\[0, 1\]" "$bin" info "$tmp/load.vti"
+expect_ok load_mask "'vtkValidPointMask' +UInt8 +x1 +\[0, 1\]" "$bin" info "$tmp/load.vti"
 expect_ok load_box "wrote .*: 336 points in [0-9.]+ s$" "$bin" point-load --dims 6 7 8 --bounds -10 10 -10 10 -20 0 --load 100 --poisson 0.5 --no-effective-stress -o "$tmp/load2.vtk"
 expect_ok load_box_dims "dimensions: 6 x 7 x 8" "$bin" info "$tmp/load2.vtk"
 expect_ok load_box_arrays "point data \(2 arrays\)" "$bin" info "$tmp/load2.vtk"

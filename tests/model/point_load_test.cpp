@@ -100,7 +100,7 @@ TEST(PointLoad, SampledGridWithTheSingularPoint) {
   EXPECT_EQ(stats.singular, 1u);
   const DataArray& t = img.point_data.get("stress");
   const DataArray& s = img.point_data.get("effective_stress");
-  const DataArray& v = img.point_data.get("ValidPointMask");
+  const DataArray& v = img.point_data.get("vtkValidPointMask");
   EXPECT_EQ(img.point_data.active(AttributeRole::Tensors), &t);
   EXPECT_EQ(img.point_data.active(AttributeRole::Scalars), &s);
   double max_vm = 0;

@@ -29,7 +29,7 @@ struct PointLoadOptions {
 
 struct PointLoadStats {
   /// Samples at the load point itself, where the stress is infinite: their tensor and scalar are
-  /// 0 and their "ValidPointMask" entry is 0 (every other sample's is 1). 0 or 1.
+  /// 0 and their "vtkValidPointMask" entry is 0 (every other sample's is 1). 0 or 1.
   std::size_t singular = 0;
   double max_effective_stress = 0;  ///< over the regular samples
 };
@@ -42,7 +42,7 @@ struct PointLoadStats {
                                                       double load, double poisson_ratio);
 
 /// The sampled field: ImageData with the tensors, the effective (von Mises) stress and
-/// "ValidPointMask" (UInt8). \throw Error on an empty or non-finite box, dims < 2, a load or
+/// "vtkValidPointMask" (UInt8; the probe's name for it). \throw Error on an empty or non-finite box, dims < 2, a load or
 /// Poisson ratio out of range, or a grid larger than memory.
 [[nodiscard]] Result<ImageData, PointLoadStats> point_load(const PointLoadOptions& options = {});
 
