@@ -476,6 +476,98 @@ class Tracer {
     return line;
   }
 
+  /// RK4 lines of several jobs at once (kLanes), their stage evaluations interleaved so that
+  /// the memory loads of different lines overlap. Each line's arithmetic is trace()'s, in the
+  /// same order, so the lines are bit-identical to it. `next(job, seed, v0, sign)` starts the
+  /// next job (false when there is none); `done(job, line)` takes each finished line.
+  template <class Next, class Done>
+  void trace_rk4_lanes(Next&& next, Done&& done) {
+    constexpr int kLanes = 4;
+    struct Lane {
+      bool busy = false, ok = false, last = false, tried = false;
+      std::size_t job = 0;
+      double sign = 1, h = 0, arc = 0, time = 0, hl = 0, dt = 0;
+      Vec3 x, k1, k2, k3, k4, xn, kn;
+      Line line;
+    };
+    std::array<Lane, kLanes> lanes;
+    const auto start = [&](Lane& l) {
+      Vec3 seed, v0;
+      l.busy = next(l.job, seed, v0, l.sign);
+      if (!l.busy) return;
+      l.line = Line{};
+      l.line.x.push_back(seed);
+      l.line.time.push_back(0);
+      l.x = seed;
+      l.k1 = v0;
+      l.h = c_.step;
+      l.arc = l.time = 0;
+    };
+    const auto end = [&](Lane& l, StreamTermination reason) {
+      l.line.reason = reason;
+      done(l.job, std::move(l.line));
+      start(l);
+    };
+    for (Lane& l : lanes) start(l);
+    for (;;) {
+      bool any = false;
+      for (Lane& l : lanes) {
+        l.ok = l.tried = false;
+        // A lane whose line ends here takes its next job at once.
+        while (l.busy) {
+          const double speed = norm(l.k1);
+          if (!(speed > c_.terminal_speed)) {
+            end(l, StreamTermination::Stagnation);
+            continue;
+          }
+          if (l.line.steps >= c_.max_steps) {
+            end(l, StreamTermination::OutOfSteps);
+            continue;
+          }
+          const double left = c_.max_length - l.arc;
+          l.last = left <= l.h;
+          l.hl = l.last ? left : l.h;
+          l.dt = l.hl / speed;
+          l.ok = l.tried = true;
+          any = true;
+          break;
+        }
+      }
+      if (!any) return;
+      for (Lane& l : lanes) {
+        if (l.ok) l.ok = eval(l.x + l.k1 * (0.5 * l.dt), l.sign, l.k2);
+      }
+      for (Lane& l : lanes) {
+        if (l.ok) l.ok = eval(l.x + l.k2 * (0.5 * l.dt), l.sign, l.k3);
+      }
+      for (Lane& l : lanes) {
+        if (l.ok) l.ok = eval(l.x + l.k3 * l.dt, l.sign, l.k4);
+      }
+      for (Lane& l : lanes) {
+        if (!l.ok) continue;
+        l.xn = l.x + (l.k1 + l.k2 * 2.0 + l.k3 * 2.0 + l.k4) * (l.dt / 6);
+        l.ok = eval(l.xn, l.sign, l.kn);
+      }
+      for (Lane& l : lanes) {
+        if (!l.tried) continue;
+        const double dt = l.dt;
+        if (!l.ok) {  // halve the step to end near the boundary
+          l.h = l.hl / 2;
+          if (l.h < c_.shrink_limit) end(l, StreamTermination::OutOfDomain);
+          continue;
+        }
+        l.arc += norm(l.xn - l.x);
+        l.time += l.sign * dt;
+        l.x = l.xn;
+        l.k1 = l.kn;
+        l.line.x.push_back(l.x);
+        l.line.time.push_back(l.time);
+        ++l.line.steps;
+        if (l.last) end(l, StreamTermination::OutOfLength);
+      }
+    }
+  }
+
   typename Field::Cursor& cursor() { return cursor_; }
 
  private:
@@ -646,6 +738,48 @@ StreamlineResult trace_all(DatasetRef input, const Field& field, const DataArray
             line.normals[3 * i + 2] = static_cast<float>(turned.z);
           }
         };
+        const auto store = [&](std::size_t job, Line&& traced) {
+          Line& line = lines[job];
+          line = std::move(traced);
+          const std::size_t total = traced_points += line.x.size();
+          if (static_cast<double>(total) * point_bytes > memory) {
+            require_memory(static_cast<double>(total) * point_bytes,
+                           fmt::format("streamlines: {} line points (so far; lower max_steps "
+                                       "or the number of seeds)", total));
+          }
+          if (line.x.size() >= 2) finish(line);
+        };
+        bool lanes = c.integrator == StreamIntegrator::RK4;
+        if constexpr (std::is_same_v<Field, ImageField>) {
+          lanes = lanes && field.solid();
+        } else {
+          lanes = false;
+        }
+        if (lanes) {
+          // Jobs (seed, direction) in order; a seed outside gives none.
+          std::size_t s = s0, d = 0;
+          Vec3 v;
+          tracer.trace_rk4_lanes(
+              [&](std::size_t& job, Vec3& seed, Vec3& v0, double& sign) {
+                for (;;) {
+                  if (s >= s1) return false;
+                  if (d == 0) {
+                    if (!tracer.eval(point(seeds, static_cast<Index>(s)), 1.0, v)) {
+                      outside[s++] = 1;
+                      continue;
+                    }
+                  }
+                  seed = point(seeds, static_cast<Index>(s));
+                  job = s * per_seed + d;
+                  sign = signs[d];
+                  v0 = v * sign;
+                  if (++d == per_seed) d = 0, ++s;
+                  return true;
+                }
+              },
+              store);
+          return;
+        }
         for (std::size_t s = s0; s < s1; ++s) {
           const Vec3 seed = point(seeds, static_cast<Index>(s));
           Vec3 v;
@@ -654,15 +788,7 @@ StreamlineResult trace_all(DatasetRef input, const Field& field, const DataArray
             continue;
           }
           for (std::size_t d = 0; d < per_seed; ++d) {
-            Line& line = lines[s * per_seed + d];
-            line = tracer.trace(seed, v * signs[d], signs[d]);
-            const std::size_t total = traced_points += line.x.size();
-            if (static_cast<double>(total) * point_bytes > memory) {
-              require_memory(static_cast<double>(total) * point_bytes,
-                             fmt::format("streamlines: {} line points (so far; lower max_steps "
-                                         "or the number of seeds)", total));
-            }
-            if (line.x.size() >= 2) finish(line);
+            store(s * per_seed + d, tracer.trace(seed, v * signs[d], signs[d]));
           }
         }
       },
