@@ -31,14 +31,8 @@ Output fig_1_4a(const Context& ctx) {
   to.sides = 8;
   const auto [tubes, ts] = tube(lines, to);
   const double worst = worst_tangency(lines, "vectors");
-  const auto range = office.point_data.get("scalars").range();
-  Output out;
-  out.datasets.emplace_back("streamlines", lines);
-  out.datasets.emplace_back("tubes", tubes);
-  out.meshes.push_back({"streamlines", tubes, "scalars", Colormap::Rainbow,
-                        std::array{range.first, range.second}});
-  out.meshes.push_back({"office outline", grid_outline(office), "", Colormap::Rainbow,
-                        std::nullopt, {60, 60, 60, 255}});
+  // Coloured by the office's scalar over its range on the lines.
+  Output out = stream_output(lines, tubes, "streamlines", "scalars", office, "office outline");
   const auto& r = stats.by_reason;
   out.counts = fmt::format("{} lines, {} points", stats.lines, stats.points);
   out.check = fmt::format(

@@ -46,14 +46,7 @@ Output fig_1_4b(const Context& ctx) {
     }
   }
   const double worst = worst_tangency(lines, "Velocity");
-  const auto range = lines.point_data.get("Speed").range();
-  Output out;
-  out.datasets.emplace_back("streamlines", lines);
-  out.datasets.emplace_back("tubes", tubes);
-  out.meshes.push_back({"stream tubes", tubes, "Speed", Colormap::Rainbow,
-                        std::array{range.first, range.second}});
-  out.meshes.push_back({"combustor outline", grid_outline(sg), "", Colormap::Rainbow,
-                        std::nullopt, {60, 60, 60, 255}});
+  Output out = stream_output(lines, tubes, "stream tubes", "Speed", sg, "combustor outline");
   out.counts = fmt::format("{} lines, {} points, {} tubes", stats.lines, stats.points, ts.tubes);
   out.check = fmt::format(
       "{} of 25 seeds inside, {} line points outside the grid, radius {:.3g} .. {:.3g}; steps "

@@ -209,6 +209,20 @@ double worst_tangency(const PolyData& lines, const std::string& vectors) {
   return worst;
 }
 
+Output stream_output(const PolyData& lines, const PolyData& tubes, const std::string& tubes_name,
+                     const std::string& color_by, const StructuredGrid& grid,
+                     const std::string& outline_name) {
+  const auto range = lines.point_data.get(color_by).range();
+  Output out;
+  out.datasets.emplace_back("streamlines", lines);
+  out.datasets.emplace_back("tubes", tubes);
+  out.meshes.push_back({tubes_name, tubes, color_by, Colormap::Rainbow,
+                        std::array{range.first, range.second}});
+  out.meshes.push_back({outline_name, grid_outline(grid), "", Colormap::Rainbow, std::nullopt,
+                        {60, 60, 60, 255}});
+  return out;
+}
+
 StructuredGrid combustor(const Context& ctx) {
   ReadOptions ro;
   ro.plot3d_q = data_file(ctx, "combq.bin").string();

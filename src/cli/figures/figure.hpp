@@ -78,6 +78,11 @@ struct Figure {
 /// that mean is at least 1% of the fastest speed (near stagnation the direction means little):
 /// 1 for lines exactly along the flow.
 [[nodiscard]] double worst_tangency(const PolyData& lines, const std::string& vectors);
+/// The output of a streamline figure: the lines and their tubes as datasets, the tubes coloured
+/// by `color_by` over its range in `lines`, and the grid's outline in dark grey.
+[[nodiscard]] Output stream_output(const PolyData& lines, const PolyData& tubes,
+                                   const std::string& tubes_name, const std::string& color_by,
+                                   const StructuredGrid& grid, const std::string& outline_name);
 /// The combustor (data/combxyz.bin with combq.bin) as a structured grid.
 [[nodiscard]] StructuredGrid combustor(const Context& ctx);
 
