@@ -50,14 +50,7 @@ void add_point_load_command(CLI::App& app, Context& ctx) {
     (void)output_format(args->out, {FileFormat::VtkImageData, FileFormat::VtkLegacy}, ".vti .vtk");
     PointLoadOptions o;
     o.dims = parse_dims(args->dims, "--dims");
-    if (!args->bounds.empty()) o.bounds = parse_bounds(args->bounds, "--bounds");
-    for (int a = 0; a < 3; ++a) {
-      if (!(o.bounds.max[a] > o.bounds.min[a])) {
-        throw UsageError(fmt::format("--bounds: the box must have a positive extent along {} "
-                                     "(got {} .. {})",
-                                     "xyz"[a], o.bounds.min[a], o.bounds.max[a]));
-      }
-    }
+    if (!args->bounds.empty()) o.bounds = parse_bounds(args->bounds, "--bounds", true);
     o.load = args->load;
     o.poisson_ratio = args->poisson;
     if (args->no_effective) o.scalars.clear();

@@ -342,7 +342,7 @@ std::filesystem::path find_viewer_dir(std::string& looked_in) {
   return {};
 }
 
-Bounds parse_bounds(const std::vector<double>& b, const char* option) {
+Bounds parse_bounds(const std::vector<double>& b, const char* option, bool solid) {
   if (b.size() != 6)
     throw UsageError(std::string(option) + ": needs 6 numbers: xmin xmax ymin ymax zmin zmax");
   Bounds out;
@@ -357,6 +357,10 @@ Bounds parse_bounds(const std::vector<double>& b, const char* option) {
     if (out.min[a] > out.max[a]) {
       throw UsageError(fmt::format("{}: {} {:g} .. {:g}: min must not exceed max", option, kAxis[a],
                                    out.min[a], out.max[a]));
+    }
+    if (solid && out.min[a] == out.max[a]) {
+      throw UsageError(fmt::format("{}: {} {:g} .. {:g}: the box must have a positive extent",
+                                   option, kAxis[a], out.min[a], out.max[a]));
     }
   }
   return out;

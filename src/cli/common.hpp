@@ -141,8 +141,9 @@ Index integer_at(const std::vector<std::string>& v, std::size_t index, const cha
 Vec3 vec_at(const std::vector<std::string>& v, std::size_t first, const char* option,
             const char* what);
 
-/// "--bounds xmin xmax ymin ymax zmin zmax" → Bounds. \throw UsageError naming `option`.
-Bounds parse_bounds(const std::vector<double>& values, const char* option);
+/// "--bounds xmin xmax ymin ymax zmin zmax" → Bounds: finite, min ≤ max (min < max along every
+/// axis with `solid`, for a box that must have a volume). \throw UsageError naming `option`.
+Bounds parse_bounds(const std::vector<double>& values, const char* option, bool solid = false);
 /// "--dims N" or "--dims NX NY NZ" → Dims. \throw UsageError naming `option`.
 Dims parse_dims(const std::vector<Index>& values, const char* option);
 

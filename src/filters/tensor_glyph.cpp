@@ -35,6 +35,7 @@ struct Superquadric {
   int sym = 0;              ///< the eigen-axis the source's x axis goes to
   double alpha = 1, beta = 1;
 
+  Superquadric() = default;  // the sphere
   Superquadric(const double axis[3], double gamma) {
     int order[3] = {0, 1, 2};
     std::sort(order, order + 3, [&](int a, int b) { return axis[a] > axis[b]; });
@@ -206,7 +207,7 @@ Result<PolyData, TensorGlyphStats> tensor_glyph(DatasetRef input, const TensorGl
             value = den > 0 ? std::sqrt(1.5 * num / den) : 0;
           }
           const bool super = o.shape == TensorGlyphShape::Superquadric;
-          const Superquadric sq(axis, o.gamma);
+          const Superquadric sq = super ? Superquadric(axis, o.gamma) : Superquadric();
           for (std::size_t j = 0; j < m; ++j) {
             const std::size_t at = k * m + j;
             const Vec3 s = sphere.points[j] * 2.0;  // the unit sphere

@@ -139,7 +139,7 @@ expect_usage load_poisson "--poisson: .*" "$bin" point-load --poisson 0.6 -o "$t
 expect_usage load_negative "--load: .*" "$bin" point-load --load -1 -o "$tmp/x.vti"
 expect_usage load_inf "--load: .*" "$bin" point-load --load inf -o "$tmp/x.vti"
 expect_usage load_dims "--dims: .*" "$bin" point-load --dims 1 -o "$tmp/x.vti"
-expect_usage load_flat "--bounds: the box must have a positive extent along z" "$bin" point-load --bounds -1 1 -1 1 0 0 -o "$tmp/x.vti"
+expect_usage load_flat "--bounds: z 0 .. 0: the box must have a positive extent" "$bin" point-load --bounds -1 1 -1 1 0 0 -o "$tmp/x.vti"
 expect_usage load_format "vtp" "$bin" point-load -o "$tmp/x.vtp"
 [ -e "$tmp/x.vti" ] && fail "a refused point-load wrote its output"
 
