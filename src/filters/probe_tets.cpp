@@ -7,9 +7,11 @@
 
 #include "probe_tets.hpp"
 
+#include "isoforge/core/parallel.hpp"
+
 #include <algorithm>
-#include <atomic>
 #include <cmath>
+#include <mutex>
 
 namespace isoforge::probe_detail {
 
@@ -28,36 +30,98 @@ bool TetWalker::applicable(const UnstructuredGrid& ug) {
                      [](CellType t) { return t == CellType::Tetra; });
 }
 
-inline Vec3 TetWalker::pt(Index id) const {
-  if (pf_) {
-    const float* q = pf_ + 3 * id;
-    return {q[0], q[1], q[2]};
-  }
-  const double* q = pd_ + 3 * id;
-  return {q[0], q[1], q[2]};
-}
-
 TetWalker::TetWalker(const UnstructuredGrid& ug, std::span<const std::uint8_t> cell_ok,
                      double tolerance)
-    : conn_(ug.cells.connectivity().data()), cell_ok_(cell_ok), tol_(tolerance) {
+    : cell_ok_(cell_ok), tol_(tolerance) {
   if (ug.points.type() == ScalarType::Float32) {
     pf_ = ug.points.floats().data();
   } else {
     pd_ = ug.points.array().values<double>().data();
   }
+  const Index* conn = ug.cells.connectivity().data();
   const std::size_t nc = ug.types.size(), np = ug.num_points();
+  tets_.resize(nc);
+  double max_diagonal = 0;  // of the cells' boxes
+  std::mutex max_mutex;
+  parallel_for_range(nc, 4096, [&](std::size_t c0, std::size_t c1) {
+    double m = 0;
+    for (std::size_t c = c0; c < c1; ++c) {
+      Bounds box;
+      for (std::size_t k = 0; k < 4; ++k) {
+        tets_[c].v[k] = std::uint32_t(conn[4 * c + k]);
+        tets_[c].n[k] = -1;
+        box.extend(pt(tets_[c].v[k]));
+      }
+      m = std::max(m, box.diagonal());
+    }
+    const std::lock_guard lock(max_mutex);
+    max_diagonal = std::max(max_diagonal, m);
+  });
   // Cells of each point, in increasing cell id (counting sort).
   point_start_.assign(np + 1, 0);
-  for (std::size_t i = 0; i < 4 * nc; ++i) ++point_start_[std::size_t(conn_[i]) + 1];
+  for (std::size_t i = 0; i < 4 * nc; ++i) ++point_start_[std::size_t(conn[i]) + 1];
   for (std::size_t i = 0; i < np; ++i) point_start_[i + 1] += point_start_[i];
   point_cells_.resize(4 * nc);
-  neighbours_.resize(4 * nc, 0);
-  std::vector<std::uint32_t> fill(point_start_.begin(), point_start_.end() - 1);
-  for (std::size_t c = 0; c < nc; ++c) {
-    for (int k = 0; k < 4; ++k) point_cells_[fill[std::size_t(conn_[4 * c + std::size_t(k)])]++] = std::uint32_t(c);
+  {
+    std::vector<std::uint32_t> fill(point_start_.begin(), point_start_.end() - 1);
+    for (std::size_t c = 0; c < nc; ++c) {
+      for (std::size_t k = 0; k < 4; ++k) point_cells_[fill[std::size_t(conn[4 * c + k])]++] = std::uint32_t(c);
+    }
   }
+  // Face neighbours: each face is matched at its smallest point, among the faces of that point's
+  // cells whose smallest point it is (sorted by their other two points). Every (cell, face) slot
+  // is written by one point only, so points can be taken in parallel.
+  parallel_for_range(np, 1024, [&](std::size_t p0, std::size_t p1) {
+    struct Face {
+      std::uint64_t key;  // the other two points, smaller first
+      std::uint32_t cell;
+      std::uint32_t f;
+    };
+    std::vector<Face> faces;
+    for (std::size_t a = p0; a < p1; ++a) {
+      faces.clear();
+      for (std::uint32_t e = point_start_[a]; e < point_start_[a + 1]; ++e) {
+        const std::uint32_t c = point_cells_[e];
+        const std::uint32_t* v = tets_[c].v;
+        for (std::uint32_t f = 0; f < 4; ++f) {
+          if (v[f] == a) continue;  // the face opposite a does not hold a
+          // The face's two other points; a must be the smallest (a repeated id: no face).
+          std::uint32_t o[2];
+          int n = 0;
+          for (std::uint32_t k = 1; k < 4; ++k) {
+            const std::uint32_t q = v[(f + k) % 4];
+            if (q != a && n < 2) o[n++] = q;
+          }
+          if (n < 2 || o[0] < a || o[1] < a) continue;
+          const std::uint32_t o1 = o[0], o2 = o[1];
+          faces.push_back({(std::uint64_t(std::min(o1, o2)) << 32) | std::max(o1, o2), c, f});
+        }
+      }
+      std::sort(faces.begin(), faces.end(), [](const Face& l, const Face& r) {
+        return l.key < r.key || (l.key == r.key && l.cell < r.cell);
+      });
+      for (std::size_t i = 0; i < faces.size();) {
+        std::size_t j = i + 1;
+        while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+        if (j - i == 2) {
+          tets_[faces[i].cell].n[faces[i].f] = std::int32_t(faces[i + 1].cell);
+          tets_[faces[i + 1].cell].n[faces[i + 1].f] = std::int32_t(faces[i].cell);
+        } else if (j - i > 2) {
+          for (std::size_t k = i; k < j; ++k) tets_[faces[k].cell].n[faces[k].f] = -2;
+        }
+        i = j;
+      }
+    }
+  });
   // Seeds: bins of about 4 centroids each over the mesh's bounds.
   const Bounds b = ug.bounds();
+  // A cell holds points with barycentric coordinates down to −tol_: p = Σ l_i v_i with the
+  // negative l_i summing to at most 3 tol_ puts p at most 3 tol_ × the cell's box extent beyond
+  // its box; 4 tol_ × the largest box diagonal bounds every point any cell can hold.
+  bounds_ = b;
+  const double grow = 4 * std::max(tol_, 0.0) * max_diagonal + 1e-300;
+  bounds_.min -= Vec3{grow, grow, grow};
+  bounds_.max += Vec3{grow, grow, grow};
   double ext[3], vol = 1;
   for (int a = 0; a < 3; ++a) {
     ext[a] = std::max(b.max[a] - b.min[a], 1e-30);
@@ -74,8 +138,8 @@ TetWalker::TetWalker(const UnstructuredGrid& ug, std::span<const std::uint8_t> c
   bin_seed_.assign(total, -1);
   for (std::size_t c = nc; c-- > 0;) {  // downward: the smallest id wins
     if (!cell_ok_.empty() && !cell_ok_[c]) continue;
-    const Vec3 centre =
-        (pt(conn_[4 * c]) + pt(conn_[4 * c + 1]) + pt(conn_[4 * c + 2]) + pt(conn_[4 * c + 3])) * 0.25;
+    const std::uint32_t* v = tets_[c].v;
+    const Vec3 centre = (pt(v[0]) + pt(v[1]) + pt(v[2]) + pt(v[3])) * 0.25;
     Index i[3];
     for (int a = 0; a < 3; ++a) {
       i[a] = std::clamp(Index((centre[a] - bin_lo_[a]) * bin_inv_[a]), Index{0}, bins_[std::size_t(a)] - 1);
@@ -112,41 +176,16 @@ Index TetWalker::seed(const Vec3& p) const {
   return bin_seed_[std::size_t(i[0] + bins_[0] * (i[1] + bins_[1] * i[2]))];
 }
 
-Index TetWalker::neighbour(Index cell, int f) const {
-  std::atomic_ref<std::int32_t> memo(neighbours_[4 * std::size_t(cell) + std::size_t(f)]);
-  const std::int32_t known = memo.load(std::memory_order_relaxed);
-  if (known != 0) return known - 1;
-  const Index* v = conn_ + 4 * cell;
-  Index a = v[(f + 1) % 4], b = v[(f + 2) % 4], c = v[(f + 3) % 4];
-  // Scan the cells of the face's point with the fewest.
-  const auto degree = [&](Index q) {
-    return point_start_[std::size_t(q) + 1] - point_start_[std::size_t(q)];
-  };
-  if (degree(b) < degree(a)) std::swap(a, b);
-  if (degree(c) < degree(a)) std::swap(a, c);
-  Index found = -1;
-  for (std::uint32_t e = point_start_[std::size_t(a)]; e < point_start_[std::size_t(a) + 1]; ++e) {
-    const Index n = Index(point_cells_[e]);
-    if (n == cell) continue;
-    const Index* u = conn_ + 4 * n;
-    const bool has_b = u[0] == b || u[1] == b || u[2] == b || u[3] == b;
-    const bool has_c = u[0] == c || u[1] == c || u[2] == c || u[3] == c;
-    if (has_b && has_c) {
-      if (found >= 0) {
-        found = -2;
-        break;
-      }
-      found = n;
-    }
-  }
-  memo.store(std::int32_t(found + 1), std::memory_order_relaxed);
-  return found;
+bool TetWalker::in_bounds(const Vec3& p) const {
+  return p.x >= bounds_.min.x && p.x <= bounds_.max.x && p.y >= bounds_.min.y &&
+         p.y <= bounds_.max.y && p.z >= bounds_.min.z && p.z <= bounds_.max.z;
 }
 
 bool TetWalker::walk(const Vec3& p, Index& cell, std::array<double, 4>& w) const {
   Index prev = -1;
   for (int step = 0; step < kMaxSteps; ++step) {
-    const Index* v = conn_ + 4 * cell;
+    const Tet& tet = tets_[std::size_t(cell)];
+    const std::uint32_t* v = tet.v;
     const Vec3 p0 = pt(v[0]);
     const Vec3 e1 = pt(v[1]) - p0, e2 = pt(v[2]) - p0, e3 = pt(v[3]) - p0, d = p - p0;
     const Vec3 c23 = cross(e2, e3);
@@ -168,28 +207,27 @@ bool TetWalker::walk(const Vec3& p, Index& cell, std::array<double, 4>& w) const
     }
     // Across the face opposite the most negative coordinate, or the next negative one when
     // that face is on the boundary (or leads back): the other cell holding the face's points.
-    Index next = neighbour(cell, worst);
+    Index next = tet.n[worst];
     if (next < -1 || next == prev) next = -1;
     if (next < 0) {
       int order[4] = {0, 1, 2, 3};  // faces by increasing barycentric coordinate
       std::sort(order, order + 4,
                 [&](int x, int y) { return l[x] < l[y] || (l[x] == l[y] && x < y); });
       for (int f = 0; f < 4 && next < 0 && l[order[f]] < -tol_; ++f) {
-        const Index n = neighbour(cell, order[f]);
+        const Index n = tet.n[order[f]];
         if (n >= 0) {
           if (n != prev) next = n;
           continue;
         }
         if (n == -1) continue;
         // Several cells share this face (an invalid mesh): the first other than prev.
-        const Index* u0 = v;
-        const Index a = u0[(order[f] + 1) % 4], b = u0[(order[f] + 2) % 4],
-                    c = u0[(order[f] + 3) % 4];
+        const std::uint32_t a = v[(order[f] + 1) % 4], b = v[(order[f] + 2) % 4],
+                            c = v[(order[f] + 3) % 4];
         for (std::uint32_t e = point_start_[std::size_t(a)]; e < point_start_[std::size_t(a) + 1];
              ++e) {
           const Index m = Index(point_cells_[e]);
           if (m == cell || m == prev) continue;
-          const Index* u = conn_ + 4 * m;
+          const std::uint32_t* u = tets_[std::size_t(m)].v;
           const bool has_b = u[0] == b || u[1] == b || u[2] == b || u[3] == b;
           const bool has_c = u[0] == c || u[1] == c || u[2] == c || u[3] == c;
           if (has_b && has_c) {

@@ -8,12 +8,14 @@
 #include <iterator>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <type_traits>
 #include <vector>
 
 #include <fmt/format.h>
+#include <tbb/task_arena.h>
 
 #include "isoforge/core/cell.hpp"
 #include "isoforge/core/cell_type.hpp"
@@ -199,25 +201,27 @@ class GridField {
 };
 
 /// A mesh of tetrahedra: the prober's walk from the previous query's tetrahedron across the
-/// face opposite the most negative barycentric coordinate, then the cell locator.
+/// face opposite the most negative barycentric coordinate, then the cell locator — built at the
+/// first walk that fails inside the mesh's bounds (a point outside them is outside every cell).
 class TetField {
  public:
   struct Cursor {
     Index cell = -1;
   };
   TetField(const UnstructuredGrid& mesh, double cell_length)
-      : mesh_(mesh), walker_(mesh, {}, kPcoordTolerance), locator_(mesh, locator_options(cell_length)) {}
+      : mesh_(mesh), walker_(mesh, {}, kPcoordTolerance), cell_length_(cell_length) {}
   bool find(const Vec3& p, Cursor& cursor, StreamHit& hit) const {
     std::array<double, 4> w{};
     Index cell = cursor.cell >= 0 ? cursor.cell : walker_.seed(p);
     if (cell < 0 || !walker_.walk(p, cell, w)) {
-      const CellHit h = locator_.find_cell(p);
+      if (!walker_.in_bounds(p)) return false;
+      const CellHit h = locator().find_cell(p);
       if (!h.found()) return false;
       cell = h.cell;
       for (std::size_t k = 0; k < 4; ++k) w[k] = h.weights[k];
     }
     cursor.cell = cell;
-    const auto ids = mesh_.cells.cell(static_cast<std::size_t>(cell));
+    const std::uint32_t* ids = walker_.points_of(cell);  // in cache after the walk
     hit.general = false;
     hit.n = 4;
     hit.cell = cell;
@@ -226,17 +230,31 @@ class TetField {
     for (std::size_t k = 0; k < 4; ++k) hit.fixed[k] = {static_cast<std::size_t>(ids[k]), w[k]};
     return true;
   }
+  /// The gradients of the field's components in the hit's tetrahedron (constant there).
+  template <class T>
+  bool gradient(const StreamHit& hit, const T* values, std::array<Vec3, 3>& grad) const {
+    return walker_.gradient(hit.cell, values, grad);
+  }
 
  private:
-  static CellLocatorOptions locator_options(double cell_length) {
-    CellLocatorOptions o;
-    o.tolerance = kPcoordTolerance;
-    o.distance_tolerance = 1e-6 * cell_length;
-    return o;
+  const CellLocator& locator() const {
+    // Isolated: while building, this thread must not pick up another seed's task that would
+    // wait here for the locator it is building.
+    std::call_once(locator_once_, [&] {
+      tbb::this_task_arena::isolate([&] {
+        CellLocatorOptions o;
+        o.tolerance = kPcoordTolerance;
+        o.distance_tolerance = 1e-6 * cell_length_;
+        locator_.emplace(mesh_, o);
+      });
+    });
+    return *locator_;
   }
   const UnstructuredGrid& mesh_;
   probe_detail::TetWalker walker_;
-  CellLocator locator_;
+  double cell_length_;
+  mutable std::once_flag locator_once_;
+  mutable std::optional<CellLocator> locator_;
 };
 
 /// Any other dataset: the cell of the previous query first, then the cell locator.
@@ -318,6 +336,9 @@ class VectorValues {
     if (f_) return {f_[3 * i], f_[3 * i + 1], f_[3 * i + 2]};
     return {d_[3 * i], d_[3 * i + 1], d_[3 * i + 2]};
   }
+  /// The values as float or double triples (one of the two is null).
+  [[nodiscard]] const float* floats() const { return f_; }
+  [[nodiscard]] const double* doubles() const { return d_; }
   [[nodiscard]] Vec3 interpolate(std::span<const StreamTerm> stencil) const {
     Vec3 v{};
     for (const StreamTerm& t : stencil) v += at(t.first) * t.second;
@@ -702,6 +723,14 @@ StreamlineResult trace_all(DatasetRef input, const Field& field, const DataArray
             if constexpr (std::is_same_v<Field, ImageField>) {
               if (field.solid()) {
                 field.voxel_gradient(hit, values, grad);
+                store_vorticity(v, i);
+                continue;
+              }
+            }
+            if constexpr (std::is_same_v<Field, TetField>) {
+              const bool linear = values.floats() ? field.gradient(hit, values.floats(), grad)
+                                                  : field.gradient(hit, values.doubles(), grad);
+              if (linear) {
                 store_vorticity(v, i);
                 continue;
               }

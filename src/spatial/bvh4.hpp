@@ -41,6 +41,7 @@
 #include <utility>
 #include <vector>
 
+#include "isoforge/core/buffer.hpp"
 #include "isoforge/core/error.hpp"
 #include "isoforge/core/vec.hpp"
 
@@ -108,7 +109,7 @@ class Bvh4 {
     }
     partition(0, n);
     cent_ = {};
-    nodes_.resize(count_nodes(n));
+    nodes_.resize(count_nodes(n), Node4{});
     build(0, n, 0);
     order_ = {};
   }
@@ -416,9 +417,10 @@ class Bvh4 {
 
   const Items& items_;
   double tol_ = 0;
-  std::vector<Node4> nodes_;
-  std::vector<u32> order_;  // item ids in tree order (during the build)
-  std::vector<Vec3> cent_;
+  // Buffer: large trees are first touched in huge pages (core/buffer.hpp).
+  Buffer<Node4> nodes_;
+  Buffer<u32> order_;  // item ids in tree order (during the build)
+  Buffer<Vec3> cent_;
 };
 
 }  // namespace isoforge::spatial_detail

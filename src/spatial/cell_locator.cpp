@@ -7,9 +7,11 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <mutex>
 #include <vector>
 
 #include "bvh4.hpp"
+#include "isoforge/core/parallel.hpp"
 
 namespace isoforge {
 
@@ -22,8 +24,8 @@ using spatial_detail::u32;
 struct CellItems {
   DatasetRef ds;
   double tolerance = 0;
-  std::vector<Bounds> boxes;  // grown by the tolerances
-  std::vector<CellType> types;
+  Buffer<Bounds> boxes;  // grown by the tolerances
+  Buffer<CellType> types;
 
   [[nodiscard]] u32 size() const { return static_cast<u32>(boxes.size()); }
   [[nodiscard]] Bounds bounds(u32 id) const { return boxes[id]; }
@@ -96,23 +98,35 @@ CellLocator::CellLocator(DatasetRef dataset, const CellLocatorOptions& options)
   CellItems& items = impl_->items;
   items.boxes.resize(nc);
   items.types.resize(nc);
-  std::vector<Index> ids;
-  double max_abs = 0;
-  for (std::size_t c = 0; c < nc; ++c) {
-    const CellType type = cell_type(dataset, static_cast<Index>(c));
-    items.types[c] = type;
-    cell_point_ids(dataset, static_cast<Index>(c), ids);
-    Bounds b;
-    for (Index id : ids) b.extend(point(dataset, id));
-    if (b.empty()) b.extend(all.empty() ? Vec3{} : all.center());  // an empty cell is never hit
-    // A parametric tolerance reaches about tolerance x the cell's size beyond it.
-    const double grow = std::max(options.tolerance * b.diagonal(), impl_->distance_tolerance);
-    b.min -= Vec3{grow, grow, grow};
-    b.max += Vec3{grow, grow, grow};
-    max_abs = std::max({max_abs, std::abs(b.min.x), std::abs(b.min.y), std::abs(b.min.z),
-                        std::abs(b.max.x), std::abs(b.max.y), std::abs(b.max.z)});
-    items.boxes[c] = b;
-  }
+  // Each cell's box, grown by the tolerances; in parallel, explicit cells read directly.
+  const auto* ug = dataset.get_if<UnstructuredGrid>();
+  double max_abs = 0;  // of the boxes' coordinates (a maximum: the same for any slicing)
+  std::mutex max_mutex;
+  parallel_for_range(nc, 4096, [&](std::size_t c0, std::size_t c1) {
+    std::vector<Index> ids;
+    double m = 0;
+    for (std::size_t c = c0; c < c1; ++c) {
+      Bounds b;
+      if (ug) {
+        items.types[c] = ug->types[c];
+        for (const Index id : ug->cells.cell(c)) b.extend(ug->points[static_cast<std::size_t>(id)]);
+      } else {
+        items.types[c] = cell_type(dataset, static_cast<Index>(c));
+        cell_point_ids(dataset, static_cast<Index>(c), ids);
+        for (Index id : ids) b.extend(point(dataset, id));
+      }
+      if (b.empty()) b.extend(all.empty() ? Vec3{} : all.center());  // an empty cell is never hit
+      // A parametric tolerance reaches about tolerance x the cell's size beyond it.
+      const double grow = std::max(options.tolerance * b.diagonal(), impl_->distance_tolerance);
+      b.min -= Vec3{grow, grow, grow};
+      b.max += Vec3{grow, grow, grow};
+      m = std::max({m, std::abs(b.min.x), std::abs(b.min.y), std::abs(b.min.z),
+                    std::abs(b.max.x), std::abs(b.max.y), std::abs(b.max.z)});
+      items.boxes[c] = b;
+    }
+    const std::lock_guard lock(max_mutex);
+    max_abs = std::max(max_abs, m);
+  });
   impl_->tree = std::make_unique<spatial_detail::Bvh4<CellItems>>(
       items, spatial_detail::bvh_tolerance(max_abs, all.diagonal()));
 }

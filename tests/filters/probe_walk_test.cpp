@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "filters/probe_grid.hpp"
+#include "filters/probe_tets.hpp"
 #include "isoforge/core/cell.hpp"
 #include "isoforge/filters/probe.hpp"
 
@@ -55,6 +56,22 @@ StructuredGrid twisted_grid(Index n, bool holes) {
   return g;
 }
 
+/// The n³-point twisted grid's cubes split into six tetrahedra each (a conforming mesh), with
+/// the linear field "f".
+UnstructuredGrid twisted_tetrahedra(Index n) {
+  const StructuredGrid g = twisted_grid(n, false);
+  UnstructuredGrid ug;
+  ug.points = g.points;
+  const int paths[6][2] = {{1, 3}, {1, 5}, {2, 3}, {2, 6}, {4, 5}, {4, 6}};
+  for (Index k = 0; k + 1 < n; ++k)
+    for (Index j = 0; j + 1 < n; ++j)
+      for (Index i = 0; i + 1 < n; ++i) {
+        auto c = [&](int q) { return g.point_id(i + (q & 1), j + ((q >> 1) & 1), k + (q >> 2)); };
+        for (const auto& p : paths) ug.add_cell(CellType::Tetra, {c(0), c(p[0]), c(p[1]), c(7)});
+      }
+  ug.point_data.add(DataArray(g.point_data.get("f")), AttributeRole::Scalars);
+  return ug;
+}
 /// Whether cell `c` of the grid (a non-blanked hexahedron) contains p within the tolerance.
 bool cell_contains(const StructuredGrid& g, Index c, const Vec3& p) {
   const Index cx = g.dims[0] - 1, cy = g.dims[1] - 1;
@@ -176,17 +193,7 @@ TEST(ProbeWalk, OutputIdenticalForOneAndTwoThreadsWithHoles) {
 TEST(ProbeWalk, RememberedTetraNeighboursChangeNothing) {
   // A tetra mesh probed twice by one prober (the second time every face neighbour the walks
   // need is remembered) and by a fresh one: identical outputs, all points inside found.
-  const StructuredGrid g = twisted_grid(6, false);
-  UnstructuredGrid ug;
-  ug.points = g.points;
-  const int paths[6][2] = {{1, 3}, {1, 5}, {2, 3}, {2, 6}, {4, 5}, {4, 6}};
-  for (Index k = 0; k < 5; ++k)
-    for (Index j = 0; j < 5; ++j)
-      for (Index i = 0; i < 5; ++i) {
-        auto c = [&](int q) { return g.point_id(i + (q & 1), j + ((q >> 1) & 1), k + (q >> 2)); };
-        for (const auto& p : paths) ug.add_cell(CellType::Tetra, {c(0), c(p[0]), c(p[1]), c(7)});
-      }
-  ug.point_data.add(DataArray(g.point_data.get("f")), AttributeRole::Scalars);
+  const UnstructuredGrid ug = twisted_tetrahedra(6);
   const ImageData vol = probe_volume(ug.bounds(), {41, 37, 29});
   ProbeOptions o;
   o.nil_value = -7;
@@ -204,4 +211,61 @@ TEST(ProbeWalk, RememberedTetraNeighboursChangeNothing) {
   }
   EXPECT_EQ(checked, first.stats.found);
   EXPECT_GT(checked, vol.num_points() / 4);
+}
+
+TEST(ProbeWalk, TetraWalksReachEveryInsidePointFromAnyStart) {
+  // The face neighbours matched when the walker is built: a walk from any tetrahedron reaches
+  // the one holding p (the twisted mesh is not convex, so a walk may also stop at the boundary:
+  // then the exact locator must find p outside or the walk have met a concave part). With every
+  // tetrahedron twice (each face then has two or four cells) walks still arrive, by scanning.
+  const UnstructuredGrid ug = twisted_tetrahedra(6);
+  const UnstructuredGrid doubled = [&] {
+    UnstructuredGrid d = ug;
+    for (std::size_t c = 0; c < ug.cells.size(); ++c) {
+      const auto v = ug.cells.cell(c);
+      d.add_cell(CellType::Tetra, std::vector<Index>(v.begin(), v.end()));
+    }
+    return d;
+  }();
+  const Index nc = Index(ug.cells.size());
+  for (const UnstructuredGrid* mesh : {&ug, &doubled}) {
+    const probe_detail::TetWalker walker(*mesh, {}, 1e-9);
+    std::size_t arrived = 0, tried = 0;
+    for (Index q = 0; q < 400; ++q) {
+      // Points at cell centroids (certainly inside), walked to from far-away starts.
+      const Index target = (q * 7919) % nc;
+      const auto v = ug.cells.cell(std::size_t(target));
+      Vec3 p{};
+      for (const Index id : v) p += ug.points[std::size_t(id)] * 0.25;
+      Index cell = (q * 104729 + 17) % Index(mesh->cells.size());
+      std::array<double, 4> w{};
+      ++tried;
+      if (!walker.walk(p, cell, w)) continue;
+      ++arrived;
+      // The weights reproduce p from the reached cell's points.
+      const auto u = mesh->cells.cell(std::size_t(cell));
+      Vec3 back{};
+      for (std::size_t k = 0; k < 4; ++k) back += mesh->points[std::size_t(u[k])] * w[k];
+      EXPECT_LT(norm(back - p), 1e-9);
+      for (const double x : w) EXPECT_GE(x, -1e-9);
+      EXPECT_EQ(cell % nc, target);  // the centroid lies in its own tetrahedron only
+      // A linear field's gradient, exact in any tetrahedron: (2, −3, 0.5) for every component.
+      std::vector<double> f3;
+      for (std::size_t i = 0; i < mesh->points.size(); ++i) {
+        const double fi = mesh->point_data.get("f").get(i);
+        f3.insert(f3.end(), {fi, fi, fi});
+      }
+      std::array<Vec3, 3> grad{};
+      ASSERT_TRUE(walker.gradient(cell, f3.data(), grad));
+      for (const Vec3& g : grad) EXPECT_LT(norm(g - Vec3{2, -3, 0.5}), 1e-9);
+    }
+    // The mildly twisted mesh is nearly convex: almost every walk arrives.
+    EXPECT_GE(arrived, tried * 9 / 10);
+    // Bounds: the mesh's own, grown by a tolerance far below a cell.
+    const Bounds b = mesh->bounds();
+    EXPECT_TRUE(walker.in_bounds(b.min));
+    EXPECT_TRUE(walker.in_bounds(b.max));
+    EXPECT_FALSE(walker.in_bounds(b.max + Vec3{1e-3, 0, 0}));
+    EXPECT_FALSE(walker.in_bounds(b.min - Vec3{0, 0, 1e-3}));
+  }
 }

@@ -72,6 +72,21 @@ double rotation_error(StreamIntegrator integrator, double step) {
   return norm(at(out, last) - exact);
 }
 
+// The voxels split into six tetrahedra each around their main diagonal (a conforming mesh).
+UnstructuredGrid split_into_tetrahedra(const UnstructuredGrid& voxels) {
+  UnstructuredGrid tets;
+  tets.points = voxels.points;
+  tets.point_data = voxels.point_data;
+  for (std::size_t c = 0; c < voxels.cells.size(); ++c) {
+    const auto v = voxels.cells.cell(c);  // voxel order: corner (a, b, c) at a + 2b + 4c
+    static constexpr int kPaths[6][2] = {{1, 2}, {1, 4}, {2, 1}, {2, 4}, {4, 1}, {4, 2}};
+    for (const auto& p : kPaths) {
+      tets.add_cell(CellType::Tetra, {v[0], v[std::size_t(p[0])],
+                                      v[std::size_t(p[0] | p[1])], v[7]});
+    }
+  }
+  return tets;
+}
 }  // namespace
 
 TEST(Streamlines, UniformFlowGivesStraightLinesToTheBoundary) {
@@ -234,18 +249,7 @@ TEST(Streamlines, SameLinesOnEveryDatasetType) {
   for (std::size_t i = 0; i < img.num_points(); ++i) grid.points.push_back(img.point(Index(i)));
   grid.point_data = img.point_data;
   const UnstructuredGrid voxels = to_unstructured(img);
-  // The voxels split into six tetrahedra each around their main diagonal (a conforming mesh).
-  UnstructuredGrid tets;
-  tets.points = voxels.points;
-  tets.point_data = voxels.point_data;
-  for (std::size_t c = 0; c < voxels.cells.size(); ++c) {
-    const auto v = voxels.cells.cell(c);  // voxel order: corner (a, b, c) at a + 2b + 4c
-    static constexpr int kPaths[6][2] = {{1, 2}, {1, 4}, {2, 1}, {2, 4}, {4, 1}, {4, 2}};
-    for (const auto& p : kPaths) {
-      tets.add_cell(CellType::Tetra, {v[0], v[std::size_t(p[0])],
-                                      v[std::size_t(p[0] | p[1])], v[7]});
-    }
-  }
+  const UnstructuredGrid tets = split_into_tetrahedra(voxels);
   const PolyData seeds = seed_points({{0.4, 0.1, -0.3}, {-0.2, -0.5, 0.1}});
   StreamlineOptions o;
   o.integrator = StreamIntegrator::RK4;
@@ -263,6 +267,63 @@ TEST(Streamlines, SameLinesOnEveryDatasetType) {
     for (std::size_t i = 0; i < r.output.points.size(); ++i) {
       EXPECT_LT(norm(r.output.points[i] - reference.output.points[i]), 1e-5);
     }
+    const DataArray& w = r.output.point_data.get("Vorticity");
+    for (std::size_t i = 0; i < r.output.points.size(); ++i) EXPECT_NEAR(w.get(i, 2), 2, 1e-4);
+  }
+}
+
+TEST(Streamlines, TetrahedraAroundANotchAndThroughInvalidFaces) {
+  // An L-shaped domain (one quadrant of the box cut out): lines around the z axis leave it
+  // through the notch's faces, inside the domain's bounds, where the tetrahedra's walk hands over
+  // to the exact locator. The voxels (the generic cell path) and their tetrahedra give the same
+  // lines; every tetrahedron twice (each face then has two or four cells, the walk scans for
+  // neighbours) changes nothing.
+  const ImageData img = field_image({9, 9, 5}, {-1, -1, -0.5}, {1, 1, 0.5}, [](const Vec3& p) {
+    return Vec3{-p.y, p.x, 0.2};
+  });
+  const UnstructuredGrid all = to_unstructured(img);
+  UnstructuredGrid voxels;
+  voxels.points = all.points;
+  voxels.point_data = all.point_data;
+  for (std::size_t c = 0; c < all.cells.size(); ++c) {
+    const auto v = all.cells.cell(c);
+    const Vec3 centre = (all.points[std::size_t(v[0])] + all.points[std::size_t(v[7])]) * 0.5;
+    if (centre.x > 0 && centre.y > 0) continue;  // the notch
+    voxels.add_cell(CellType::Voxel, std::vector<Index>(v.begin(), v.end()));
+  }
+  const UnstructuredGrid tets = split_into_tetrahedra(voxels);
+  UnstructuredGrid doubled = tets;  // every tetrahedron twice: no face has one neighbour
+  for (std::size_t c = 0; c < tets.cells.size(); ++c) {
+    const auto v = tets.cells.cell(c);
+    doubled.add_cell(CellType::Tetra, std::vector<Index>(v.begin(), v.end()));
+  }
+  const PolyData seeds = seed_points({{0.4, -0.3, -0.3}, {-0.5, -0.2, 0.1}, {-0.3, 0.6, 0.2}});
+  StreamlineOptions o;
+  o.integrator = StreamIntegrator::RK4;
+  o.max_length = 6;
+  const auto reference = streamlines(voxels, seeds, o);
+  ASSERT_EQ(reference.stats.lines, 6u);
+  std::size_t at_notch = 0;  // line ends on the notch's faces x = 0 or y = 0
+  const DataArray& reasons = reference.output.cell_data.get("ReasonForTermination");
+  for (std::size_t l = 0; l < reference.output.lines.size(); ++l) {
+    const Vec3 end = at(reference.output, line_ids(reference.output, l).back());
+    if (reasons.get(l) == double(StreamTermination::OutOfDomain) && end.x > -1e-3 &&
+        end.y > -1e-3) {
+      ++at_notch;
+    }
+  }
+  EXPECT_GE(at_notch, 2u);
+  for (const UnstructuredGrid* mesh : {&tets, static_cast<const UnstructuredGrid*>(&doubled)}) {
+    // Steps are in mean cell lengths (the bounds' diagonal / ∛cells): the same world step.
+    StreamlineOptions so = o;
+    so.step *= std::cbrt(double(mesh->cells.size()) / double(voxels.cells.size()));
+    const auto r = streamlines(*mesh, seeds, so);
+    ASSERT_EQ(r.stats.lines, 6u);
+    ASSERT_EQ(r.output.points.size(), reference.output.points.size());
+    for (std::size_t i = 0; i < r.output.points.size(); ++i) {
+      EXPECT_LT(norm(r.output.points[i] - reference.output.points[i]), 1e-5);
+    }
+    EXPECT_TRUE(r.output.cell_data.get("ReasonForTermination") == reasons);
     const DataArray& w = r.output.point_data.get("Vorticity");
     for (std::size_t i = 0; i < r.output.points.size(); ++i) EXPECT_NEAR(w.get(i, 2), 2, 1e-4);
   }
