@@ -816,8 +816,14 @@ StreamlineResult trace_all(DatasetRef input, const Field& field, const DataArray
             outside[s] = 1;
             continue;
           }
+          // Each direction is traced, and then located again point by point, from the seed's
+          // cell: a walk from where the last line ended would cross the whole line first.
+          const typename Field::Cursor at_seed = tracer.cursor();
           for (std::size_t d = 0; d < per_seed; ++d) {
-            store(s * per_seed + d, tracer.trace(seed, v * signs[d], signs[d]));
+            tracer.cursor() = at_seed;
+            Line line = tracer.trace(seed, v * signs[d], signs[d]);
+            tracer.cursor() = at_seed;
+            store(s * per_seed + d, std::move(line));
           }
         }
       },

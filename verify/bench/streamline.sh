@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Streamlines against VTK 9.1's vtkStreamTracer (python3-vtk9) in the same run: the ABC flow on
 # an N³ image, SEEDS seeds, RK4 and RK45, both directions (streamline_time.cpp and
-# peers/vtk_streamline.py build the same field and seeds); then RK4 with 2000 seeds on a warped
+# peers/vtk_streamline.py build the same field and seeds); then RK4 with SEEDS seeds on a warped
 # 100³ curvilinear grid and 511 104 tetrahedra carrying the same flow. Prints JSON lines and writes
 # OUT/streamline.md with the ratios (VTK / isoforge), both sides with 1 and with 2 threads
 # (VTK's vtkSMPTools on TBB).
@@ -10,10 +10,10 @@ set -euo pipefail
 build=$1 out=$2 n=${3:-256} seeds=${4:-10000} repeat=${5:-3}
 here=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$out"
-"$build/verify/bench/streamline_time" --n "$n" --seeds "$seeds" --repeat "$repeat" --write "$out" | tee "$out/streamline.jsonl"
+"$build/verify/bench/streamline_time" --n "$n" --seeds "$seeds" --repeat "$repeat" --write "$out" --file-seeds "$seeds" | tee "$out/streamline.jsonl"
 for t in 1 2; do
   /usr/bin/python3 "$here/peers/vtk_streamline.py" "$n" "$seeds" "$repeat" "$t" | tee -a "$out/streamline.jsonl"
-  /usr/bin/python3 "$here/peers/vtk_streamline.py" files "$out" "$repeat" "$t" | tee -a "$out/streamline.jsonl"
+  /usr/bin/python3 "$here/peers/vtk_streamline.py" files "$out" "$repeat" "$t" "$seeds" | tee -a "$out/streamline.jsonl"
 done
 /usr/bin/python3 - "$out/streamline.jsonl" > "$out/streamline.md" <<'PY'
 import json, sys

@@ -3,10 +3,10 @@
 // directions, 500 steps at most; the peer (peers/vtk_streamline.py) builds the same field and
 // seeds with numpy. With --write DIR, also the same flow (scaled to the unit cube) on the probe
 // benchmark's warped 100³ grid and 44³-cube tetrahedral mesh (511 104 tetrahedra), written to
-// DIR for the peer, 2000 seeds, RK4. One JSON line per case and thread count: the minimum of
+// DIR for the peer, 10 000 seeds (--file-seeds), RK4. One JSON line per case and thread count: the minimum of
 // --repeat runs.
 //
-//   streamline_time [--n N] [--seeds S] [--repeat R] [--write DIR]
+//   streamline_time [--n N] [--seeds S] [--repeat R] [--write DIR [--file-seeds K]]
 
 #include <fmt/core.h>
 #include <tbb/global_control.h>
@@ -85,26 +85,28 @@ int main(int argc, char** argv) {
   Index n = 256;
   std::size_t nseeds = 10000;
   int repeat = 3;
+  std::size_t file_seeds = 10000;
   std::string dir;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--n") && i + 1 < argc) n = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--seeds") && i + 1 < argc) nseeds = std::size_t(std::atol(argv[++i]));
     else if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = std::max(1, std::atoi(argv[++i]));
     else if (!std::strcmp(argv[i], "--write") && i + 1 < argc) dir = argv[++i];
+    else if (!std::strcmp(argv[i], "--file-seeds") && i + 1 < argc) file_seeds = std::size_t(std::atol(argv[++i]));
     else {
-      fmt::print(stderr, "usage: streamline_time [--n N] [--seeds S] [--repeat R] [--write DIR]\n");
+      fmt::print(stderr, "usage: streamline_time [--n N] [--seeds S] [--repeat R] [--write DIR [--file-seeds K]]\n");
       return 2;
     }
   }
   if (!dir.empty()) {
-    // Curvilinear grid and tetrahedra, RK4, 2000 seeds in the unit cube.
+    // Curvilinear grid and tetrahedra, RK4, seeds in the unit cube.
     StructuredGrid grid = bench::warped_grid(100);
     add_abc(grid);
     UnstructuredGrid tets = bench::tet_mesh(44);
     add_abc(tets);
     write(grid, dir + "/stream_grid.vts");
     write(tets, dir + "/stream_tets.vtu");
-    const PolyData unit_seeds = seeds(2000, 1.0);
+    const PolyData unit_seeds = seeds(file_seeds, 1.0);
     // VTK's step unit is each cell's bounding-box diagonal: a tetrahedron of the cube split has
     // the cube's, while the mean cell length of 6 tetrahedra per cube is the cube's / cbrt(6).
     // The same world step on both sides: 0.5 cbrt(6) of ours on the tetrahedra.

@@ -5,9 +5,11 @@ ABC flow over an N^3 image (float vectors), the same seeds as streamline_time.cp
 
   vtk_streamline.py [N [SEEDS [REPEAT [THREADS]]]]   one JSON line per case (minimum of
                                                      REPEAT); THREADS for vtkSMPTools (TBB)
-  vtk_streamline.py files DIR [REPEAT [THREADS]]     RK4 on DIR/stream_grid.vts and
+  vtk_streamline.py files DIR [REPEAT [THREADS [SEEDS]]]
+                                                     RK4 on DIR/stream_grid.vts and
                                                      DIR/stream_tets.vtu (written by
-                                                     streamline_time --write), 2000 seeds
+                                                     streamline_time --write), SEEDS seeds
+                                                     (10000)
 """
 import json
 import math
@@ -68,8 +70,8 @@ def tracer(field, source, name):
     return t
 
 
-def files(d, repeat, threads):
-    source = seeds(2000, 1.0)
+def files(d, repeat, threads, count):
+    source = seeds(count, 1.0)
     for case, name in (("rk4/curvilinear100", "stream_grid.vts"), ("rk4/tets44", "stream_tets.vtu")):
         r = vtk.vtkXMLStructuredGridReader() if name.endswith(".vts") else vtk.vtkXMLUnstructuredGridReader()
         r.SetFileName(f"{d}/{name}")
@@ -93,7 +95,8 @@ def main():
         repeat = int(sys.argv[3]) if len(sys.argv) > 3 else 3
         if len(sys.argv) > 4:
             vtk.vtkSMPTools.Initialize(int(sys.argv[4]))
-        files(sys.argv[2], repeat, vtk.vtkSMPTools.GetEstimatedNumberOfThreads())
+        count = int(sys.argv[5]) if len(sys.argv) > 5 else 10000
+        files(sys.argv[2], repeat, vtk.vtkSMPTools.GetEstimatedNumberOfThreads(), count)
         return
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 256
     s = int(sys.argv[2]) if len(sys.argv) > 2 else 10000
