@@ -7,11 +7,14 @@
 
 #include "probe_tets.hpp"
 
-#include "isoforge/core/parallel.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <mutex>
+
+#include <fmt/format.h>
+
+#include "isoforge/core/memory.hpp"
+#include "isoforge/core/parallel.hpp"
 
 namespace isoforge::probe_detail {
 
@@ -40,6 +43,9 @@ TetWalker::TetWalker(const UnstructuredGrid& ug, std::span<const std::uint8_t> c
   }
   const Index* conn = ug.cells.connectivity().data();
   const std::size_t nc = ug.types.size(), np = ug.num_points();
+  // A 32-byte record and 4 point-to-cell entries per cell, a CSR start per point.
+  require_memory(double(nc) * 48 + double(np) * 4,
+                 fmt::format("locating points in {} tetrahedra", nc));
   tets_.resize(nc);
   double max_diagonal = 0;  // of the cells' boxes
   std::mutex max_mutex;
