@@ -81,7 +81,7 @@ class ImageField {
     }
   }
 
-  /// Whether the image is 3D (every axis has cells): `velocity` and `voxel_gradient` apply.
+  /// Whether the image is 3D (every axis has cells): `velocity` and `sample` apply.
   [[nodiscard]] bool solid() const { return solid_; }
 
   /// The trilinear interpolation of `values` at p (a 3D image), without building a stencil:
@@ -106,25 +106,53 @@ class ImageField {
     return true;
   }
 
-  /// The gradients of the 3 components of `values` (grad[c] of component c) at a hit of a 3D
-  /// image: the trilinear map's derivatives, in closed form.
+  /// At p in a 3D image, from one load of the voxel's corners: the trilinear interpolation of
+  /// `values` (as `velocity`), the hit with its stencil in VTK's order (as `find`), and with
+  /// `grad` the gradients of the 3 components (grad[c] of component c: the trilinear map's
+  /// derivatives, in closed form). False outside.
   template <class Values>
-  void voxel_gradient(const StreamHit& hit, const Values& values, std::array<Vec3, 3>& grad) const {
-    const double r = hit.pcoords.x, s = hit.pcoords.y, t = hit.pcoords.z;
-    Vec3 dr{0, 0, 0}, ds{0, 0, 0}, dt{0, 0, 0};
+  bool sample(const Vec3& p, const Values& values, Vec3& v, StreamHit& hit,
+              std::array<Vec3, 3>* grad) const {
+    double f[3];
+    std::size_t base = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double u = (p[a] - image_.origin[a]) * inverse_spacing_[a];
+      if (!(u >= -kPcoordTolerance && u <= cells_[a] + kPcoordTolerance)) return false;
+      const double i = std::clamp(std::floor(u), 0.0, cells_[a] - 1);
+      f[a] = std::clamp(u - i, 0.0, 1.0);
+      base += static_cast<std::size_t>(i) * point_stride_[static_cast<std::size_t>(a)];
+    }
+    const double gx[2] = {1 - f[0], f[0]}, gy[2] = {1 - f[1], f[1]}, gz[2] = {1 - f[2], f[2]};
+    Vec3 corner[8];
+    Vec3 sum{0, 0, 0};
     for (std::size_t c = 0; c < 8; ++c) {
-      const Vec3 u = values.at(hit.fixed[c].first);
-      const double wr = (c & 1) ? r : 1 - r, ws = (c & 2) ? s : 1 - s, wt = (c & 4) ? t : 1 - t;
-      const double sr = (c & 1) ? 1 : -1, ss = (c & 2) ? 1 : -1, st = (c & 4) ? 1 : -1;
-      dr += u * (sr * ws * wt);
-      ds += u * (wr * ss * wt);
-      dt += u * (wr * ws * st);
+      corner[c] = values.at(base + corner_[c]);
+      const double w = gx[c & 1] * gy[(c >> 1) & 1] * gz[c >> 2];
+      sum += corner[c] * w;
+      hit.fixed[c] = {base + corner_[c], w};
     }
-    for (int k = 0; k < 3; ++k) {
-      grad[static_cast<std::size_t>(k)] = {dr[k] * inverse_spacing_[0], ds[k] * inverse_spacing_[1],
-                                           dt[k] * inverse_spacing_[2]};
+    v = sum;
+    hit.general = false;
+    hit.n = 8;
+    hit.sub_id = 0;
+    hit.pcoords = {f[0], f[1], f[2]};
+    if (grad) {
+      Vec3 dr{0, 0, 0}, ds{0, 0, 0}, dt{0, 0, 0};
+      for (std::size_t c = 0; c < 8; ++c) {
+        const double sr = (c & 1) ? 1 : -1, ss = (c & 2) ? 1 : -1, st = (c & 4) ? 1 : -1;
+        dr += corner[c] * (sr * gy[(c >> 1) & 1] * gz[c >> 2]);
+        ds += corner[c] * (gx[c & 1] * ss * gz[c >> 2]);
+        dt += corner[c] * (gx[c & 1] * gy[(c >> 1) & 1] * st);
+      }
+      for (int k = 0; k < 3; ++k) {
+        (*grad)[static_cast<std::size_t>(k)] = {dr[k] * inverse_spacing_[0],
+                                                 ds[k] * inverse_spacing_[1],
+                                                 dt[k] * inverse_spacing_[2]};
+      }
     }
+    return true;
   }
+
   bool find(const Vec3& p, Cursor& /*cursor*/, StreamHit& hit) const {
     hit.general = false;
     hit.n = 1;
@@ -714,19 +742,22 @@ StreamlineResult trace_all(DatasetRef input, const Field& field, const DataArray
             line.angular[i] = speed > 0 ? static_cast<float>(0.5 * dot(w, v) / speed) : 0.0f;
           };
           for (std::size_t i = 0; i < n; ++i) {
+            if constexpr (std::is_same_v<Field, ImageField>) {
+              if (field.solid()) {  // one load of the voxel for the velocity and the gradient
+                Vec3 v;
+                if (!field.sample(line.x[i], values, v, hit, o.vorticity ? &grad : nullptr)) continue;
+                direction[i] = unit_or_zero(v);
+                carry.combine(i, hit.stencil());
+                if (o.vorticity) store_vorticity(v, i);
+                continue;
+              }
+            }
             if (!field.find(line.x[i], tracer.cursor(), hit)) continue;  // found when traced
             const auto stencil = hit.stencil();
             const Vec3 v = values.interpolate(stencil);
             direction[i] = unit_or_zero(v);
             carry.combine(i, stencil);
             if (!o.vorticity) continue;
-            if constexpr (std::is_same_v<Field, ImageField>) {
-              if (field.solid()) {
-                field.voxel_gradient(hit, values, grad);
-                store_vorticity(v, i);
-                continue;
-              }
-            }
             if constexpr (std::is_same_v<Field, TetField>) {
               const bool linear = values.floats() ? field.gradient(hit, values.floats(), grad)
                                                   : field.gradient(hit, values.doubles(), grad);
