@@ -22,6 +22,7 @@
 #include "isoforge/core/interpolate.hpp"
 #include "isoforge/core/memory.hpp"
 #include "isoforge/core/parallel.hpp"
+#include "isoforge/core/prefetch.hpp"
 #include "isoforge/spatial/cell_locator.hpp"
 #include "point_fields.hpp"
 #include "probe_grid.hpp"
@@ -104,6 +105,22 @@ class ImageField {
     }
     v = sum;
     return true;
+  }
+
+  /// Prefetches the corners of the voxel holding p (a 3D image; nothing outside).
+  template <class Values>
+  void prefetch_voxel(const Vec3& p, const Values& values) const {
+    std::size_t base = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double u = (p[a] - image_.origin[a]) * inverse_spacing_[a];
+      if (!(u >= 0 && u <= cells_[a])) return;
+      const double i = std::min(std::floor(u), cells_[a] - 1);
+      base += static_cast<std::size_t>(i) * point_stride_[static_cast<std::size_t>(a)];
+    }
+    for (std::size_t c = 0; c < 8; c += 2) {
+      prefetch(values.address(base + corner_[c]));
+      prefetch(values.address(base + corner_[c + 1]) );
+    }
   }
 
   /// At p in a 3D image, from one load of the voxel's corners: the trilinear interpolation of
@@ -364,6 +381,10 @@ class VectorValues {
     if (f_) return {f_[3 * i], f_[3 * i + 1], f_[3 * i + 2]};
     return {d_[3 * i], d_[3 * i + 1], d_[3 * i + 2]};
   }
+  /// Where value i is stored (for prefetching).
+  [[nodiscard]] const void* address(std::size_t i) const {
+    return f_ ? static_cast<const void*>(f_ + 3 * i) : static_cast<const void*>(d_ + 3 * i);
+  }
   /// The values as float or double triples (one of the two is null).
   [[nodiscard]] const float* floats() const { return f_; }
   [[nodiscard]] const double* doubles() const { return d_; }
@@ -416,6 +437,11 @@ constexpr double kB1 = 35.0 / 384, kB3 = 500.0 / 1113, kB4 = 125.0 / 192, kB5 = 
                  kB6 = 11.0 / 84;
 constexpr double kE1 = 71.0 / 57600, kE3 = -71.0 / 16695, kE4 = 71.0 / 1920,
                  kE5 = -17253.0 / 339200, kE6 = 22.0 / 525, kE7 = -1.0 / 40;
+
+/// How far ahead (in steps) a line on image data prefetches its voxel: measured on the 256³
+/// benchmark field, RK4, 4 lanes, one thread: none 1.24–1.33 s, 1 step 0.91 s, 2–3 steps
+/// 0.88–0.93 s, 4 steps 0.89–0.90 s.
+constexpr double kPrefetchSteps = 2.5;
 
 template <class Field>
 class Tracer {
@@ -510,6 +536,7 @@ class Tracer {
       time += sign * dt;
       x = xn;
       k1 = kn;
+      prefetch_ahead(x, k1, dt);
       line.x.push_back(x);
       line.time.push_back(time);
       ++line.steps;
@@ -609,6 +636,7 @@ class Tracer {
         l.time += l.sign * dt;
         l.x = l.xn;
         l.k1 = l.kn;
+        prefetch_ahead(l.x, l.k1, dt);
         l.line.x.push_back(l.x);
         l.line.time.push_back(l.time);
         ++l.line.steps;
@@ -620,6 +648,15 @@ class Tracer {
   typename Field::Cursor& cursor() { return cursor_; }
 
  private:
+  /// On a 3D image, the voxel about kPrefetchSteps steps ahead of x (along k1, which is sign ×
+  /// the velocity, over the last step's time dt) is asked into the cache, so that its corners
+  /// have arrived when the line gets there: the evaluations of a line in a large field wait on
+  /// memory whenever the line enters a new voxel.
+  void prefetch_ahead(const Vec3& x, const Vec3& k1, double dt) const {
+    if constexpr (std::is_same_v<Field, ImageField>) {
+      if (field_.solid()) field_.prefetch_voxel(x + k1 * (dt * kPrefetchSteps), values_);
+    }
+  }
   const Field& field_;
   const VectorValues& values_;
   const Config& c_;
