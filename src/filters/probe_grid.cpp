@@ -13,6 +13,7 @@
 
 #include "isoforge/core/cell.hpp"
 #include "isoforge/core/parallel.hpp"
+#include "isoforge/core/prefetch.hpp"
 
 namespace isoforge::probe_detail {
 
@@ -484,6 +485,37 @@ GridLocator& GridLocator::operator=(GridLocator&&) noexcept = default;
 std::array<std::size_t, 8> GridLocator::offsets() const {
   const auto sj = std::size_t(impl_->nx), sk = std::size_t(impl_->nx * impl_->ny);
   return {0, 1, sj, sj + 1, sk, sk + 1, sk + sj, sk + sj + 1};
+}
+
+void GridLocator::prefetch(const Vec3& p, const GridCursor& cursor, const std::byte* values,
+                           std::size_t tuple_bytes) const {
+  if (!cursor.valid || !cursor.predict) return;
+  const Impl& m = *impl_;
+  const Vec3 d = p - cursor.last;
+  const std::array<double, 9>& J = cursor.jinv;
+  const double pc[3] = {cursor.pcoords.x + J[0] * d.x + J[1] * d.y + J[2] * d.z,
+                        cursor.pcoords.y + J[3] * d.x + J[4] * d.y + J[5] * d.z,
+                        cursor.pcoords.z + J[6] * d.x + J[7] * d.y + J[8] * d.z};
+  const Index limit[3] = {m.cx - 1, m.cy - 1, m.cz - 1};
+  Index ijk[3];
+  for (int a = 0; a < 3; ++a) {
+    const double step = std::floor(pc[a]);
+    if (!(std::abs(step) < 4)) return;  // far (or not finite): no useful guess
+    ijk[a] = std::clamp(cursor.cell[std::size_t(a)] + Index(step), Index{0}, limit[a]);
+  }
+  const std::size_t base = std::size_t(m.point_id(ijk[0], ijk[1], ijk[2])),
+                    sj = std::size_t(m.nx), sk = std::size_t(m.nx * m.ny);
+  const std::size_t point_bytes = m.pf ? 3 * sizeof(float) : 3 * sizeof(double);
+  const auto* points = m.pf ? reinterpret_cast<const std::byte*>(m.pf)
+                            : reinterpret_cast<const std::byte*>(m.pd);
+  for (const std::size_t row : {base, base + sj, base + sk, base + sk + sj}) {
+    isoforge::prefetch(points + row * point_bytes);
+    isoforge::prefetch(points + (row + 1) * point_bytes + point_bytes - 1);
+    if (values) {
+      isoforge::prefetch(values + row * tuple_bytes);
+      isoforge::prefetch(values + (row + 1) * tuple_bytes + tuple_bytes - 1);
+    }
+  }
 }
 
 bool GridLocator::find(const Vec3& p, GridCursor& cursor, GridHit& hit) const {

@@ -48,6 +48,11 @@ class GridLocator {
   /// The smallest-id non-blanked cell containing p (exact), or the cell a walk from `cursor`
   /// reaches first (equally containing p). False when no cell contains p. Updates `cursor`.
   bool find(const Vec3& p, GridCursor& cursor, GridHit& hit) const;
+  /// Prefetches the corners (points, and `values` tuples of `tuple_bytes` each when not null) of
+  /// the cell predicted to hold p from the cursor's last find (its inverse Jacobian): a hint for
+  /// a query to come, no search; nothing when the cursor has no prediction.
+  void prefetch(const Vec3& p, const GridCursor& cursor, const std::byte* values,
+                std::size_t tuple_bytes) const;
   /// The point ids of a cell's corners relative to its corner (0, 0, 0), corner (a, b, c) at
   /// a + 2b + 4c.
   [[nodiscard]] std::array<std::size_t, 8> offsets() const;

@@ -221,6 +221,12 @@ class GridField {
   using Cursor = probe_detail::GridCursor;
   explicit GridField(const StructuredGrid& grid)
       : locator_(grid, {}, kPcoordTolerance), offsets_(locator_.offsets()) {}
+  /// Prefetches the cell predicted to hold p (see GridLocator::prefetch).
+  template <class Values>
+  void prefetch_cell(const Vec3& p, const Cursor& cursor, const Values& values) const {
+    locator_.prefetch(p, cursor, static_cast<const std::byte*>(values.address(0)),
+                      values.tuple_bytes());
+  }
   bool find(const Vec3& p, Cursor& cursor, StreamHit& hit) const {
     probe_detail::GridHit g;
     if (!locator_.find(p, cursor, g)) return false;
@@ -385,6 +391,8 @@ class VectorValues {
   [[nodiscard]] const void* address(std::size_t i) const {
     return f_ ? static_cast<const void*>(f_ + 3 * i) : static_cast<const void*>(d_ + 3 * i);
   }
+  /// The bytes of one value (a float or double triple).
+  [[nodiscard]] std::size_t tuple_bytes() const { return f_ ? 3 * sizeof(float) : 3 * sizeof(double); }
   /// The values as float or double triples (one of the two is null).
   [[nodiscard]] const float* floats() const { return f_; }
   [[nodiscard]] const double* doubles() const { return d_; }
@@ -655,6 +663,8 @@ class Tracer {
   void prefetch_ahead(const Vec3& x, const Vec3& k1, double dt) const {
     if constexpr (std::is_same_v<Field, ImageField>) {
       if (field_.solid()) field_.prefetch_voxel(x + k1 * (dt * kPrefetchSteps), values_);
+    } else if constexpr (std::is_same_v<Field, GridField>) {
+      field_.prefetch_cell(x + k1 * (dt * kPrefetchSteps), cursor_, values_);
     }
   }
   const Field& field_;
