@@ -117,10 +117,7 @@ class ImageField {
       const double i = std::min(std::floor(u), cells_[a] - 1);
       base += static_cast<std::size_t>(i) * point_stride_[static_cast<std::size_t>(a)];
     }
-    for (std::size_t c = 0; c < 8; c += 2) {
-      prefetch(values.address(base + corner_[c]));
-      prefetch(values.address(base + corner_[c + 1]) );
-    }
+    for (std::size_t c = 0; c < 8; ++c) prefetch(values.address(base + corner_[c]));
   }
 
   /// At p in a 3D image, from one load of the voxel's corners: the trilinear interpolation of
