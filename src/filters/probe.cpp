@@ -618,12 +618,12 @@ ProbeResult Prober::probe(DatasetRef probe_ds) const {
                     h.terms.emplace_back(std::size_t(cell_ids[std::size_t(k)]), tw[std::size_t(k)]);
                   }
                 }
-              } else {
+              } else if (tets->in_bounds(p)) {
                 mask[i] = kPending;
                 h.missed(i, BlockHits::kPending);
                 ++waiting;
                 continue;
-              }
+              }  // else outside the mesh's bounds: in no cell, no locator needed
             } else {
               hit_ok = m.from_locator(p, cell, h.terms, ids);
             }
