@@ -91,13 +91,7 @@ class ImageField {
   bool velocity(const Vec3& p, const Values& values, Vec3& v) const {
     double f[3];
     std::size_t base = 0;
-    for (int a = 0; a < 3; ++a) {
-      const double u = (p[a] - image_.origin[a]) * inverse_spacing_[a];
-      if (!(u >= -kPcoordTolerance && u <= cells_[a] + kPcoordTolerance)) return false;
-      const double i = std::clamp(std::floor(u), 0.0, cells_[a] - 1);
-      f[a] = std::clamp(u - i, 0.0, 1.0);
-      base += static_cast<std::size_t>(i) * point_stride_[static_cast<std::size_t>(a)];
-    }
+    if (!voxel_of(p, base, f)) return false;
     const double gx[2] = {1 - f[0], f[0]}, gy[2] = {1 - f[1], f[1]}, gz[2] = {1 - f[2], f[2]};
     Vec3 sum{0, 0, 0};
     for (std::size_t c = 0; c < 8; ++c) {
@@ -110,13 +104,9 @@ class ImageField {
   /// Prefetches the corners of the voxel holding p (a 3D image; nothing outside).
   template <class Values>
   void prefetch_voxel(const Vec3& p, const Values& values) const {
+    double f[3];
     std::size_t base = 0;
-    for (int a = 0; a < 3; ++a) {
-      const double u = (p[a] - image_.origin[a]) * inverse_spacing_[a];
-      if (!(u >= 0 && u <= cells_[a])) return;
-      const double i = std::min(std::floor(u), cells_[a] - 1);
-      base += static_cast<std::size_t>(i) * point_stride_[static_cast<std::size_t>(a)];
-    }
+    if (!voxel_of(p, base, f)) return;
     for (std::size_t c = 0; c < 8; ++c) prefetch(values.address(base + corner_[c]));
   }
 
@@ -129,13 +119,7 @@ class ImageField {
               std::array<Vec3, 3>* grad) const {
     double f[3];
     std::size_t base = 0;
-    for (int a = 0; a < 3; ++a) {
-      const double u = (p[a] - image_.origin[a]) * inverse_spacing_[a];
-      if (!(u >= -kPcoordTolerance && u <= cells_[a] + kPcoordTolerance)) return false;
-      const double i = std::clamp(std::floor(u), 0.0, cells_[a] - 1);
-      f[a] = std::clamp(u - i, 0.0, 1.0);
-      base += static_cast<std::size_t>(i) * point_stride_[static_cast<std::size_t>(a)];
-    }
+    if (!voxel_of(p, base, f)) return false;
     const double gx[2] = {1 - f[0], f[0]}, gy[2] = {1 - f[1], f[1]}, gz[2] = {1 - f[2], f[2]};
     Vec3 corner[8];
     Vec3 sum{0, 0, 0};
@@ -203,6 +187,18 @@ class ImageField {
   }
 
  private:
+  /// The voxel of a 3D image holding p (its corner's point id `base`) and p's fractions in it,
+  /// by multiplication with the inverse spacing; false outside (beyond the parametric slack).
+  bool voxel_of(const Vec3& p, std::size_t& base, double (&f)[3]) const {
+    for (int a = 0; a < 3; ++a) {
+      const double u = (p[a] - image_.origin[a]) * inverse_spacing_[a];
+      if (!(u >= -kPcoordTolerance && u <= cells_[a] + kPcoordTolerance)) return false;
+      const double i = std::clamp(std::floor(u), 0.0, cells_[a] - 1);
+      f[a] = std::clamp(u - i, 0.0, 1.0);
+      base += static_cast<std::size_t>(i) * point_stride_[static_cast<std::size_t>(a)];
+    }
+    return true;
+  }
   const ImageData& image_;
   std::array<std::size_t, 3> point_stride_{};
   std::array<std::size_t, 8> corner_{};
