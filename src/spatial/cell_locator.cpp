@@ -98,8 +98,7 @@ CellLocator::CellLocator(DatasetRef dataset, const CellLocatorOptions& options)
   CellItems& items = impl_->items;
   items.boxes.resize(nc);
   items.types.resize(nc);
-  // Each cell's box, grown by the tolerances; in parallel, explicit cells read directly.
-  const auto* ug = dataset.get_if<UnstructuredGrid>();
+  // Each cell's box, grown by the tolerances, in parallel.
   double max_abs = 0;  // of the boxes' coordinates (a maximum: the same for any slicing)
   std::mutex max_mutex;
   parallel_for_range(nc, 4096, [&](std::size_t c0, std::size_t c1) {
@@ -107,14 +106,9 @@ CellLocator::CellLocator(DatasetRef dataset, const CellLocatorOptions& options)
     double m = 0;
     for (std::size_t c = c0; c < c1; ++c) {
       Bounds b;
-      if (ug) {
-        items.types[c] = ug->types[c];
-        for (const Index id : ug->cells.cell(c)) b.extend(ug->points[static_cast<std::size_t>(id)]);
-      } else {
-        items.types[c] = cell_type(dataset, static_cast<Index>(c));
-        cell_point_ids(dataset, static_cast<Index>(c), ids);
-        for (Index id : ids) b.extend(point(dataset, id));
-      }
+      items.types[c] = cell_type(dataset, static_cast<Index>(c));
+      cell_point_ids(dataset, static_cast<Index>(c), ids);
+      for (Index id : ids) b.extend(point(dataset, id));
       if (b.empty()) b.extend(all.empty() ? Vec3{} : all.center());  // an empty cell is never hit
       // A parametric tolerance reaches about tolerance x the cell's size beyond it.
       const double grow = std::max(options.tolerance * b.diagonal(), impl_->distance_tolerance);
