@@ -512,7 +512,6 @@ ProbeResult Prober::probe(DatasetRef probe_ds) const {
 
   const ImageData* image = m.input.get_if<ImageData>();
   const probe_detail::TetWalker* tets = m.tets ? &*m.tets : nullptr;
-  const UnstructuredGrid* tet_mesh = m.input.get_if<UnstructuredGrid>();
   constexpr std::uint8_t kPending = 2;  // a tetra walk failed: the locator decides (second pass)
   std::atomic<std::size_t> found{0}, pending{0};
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
@@ -612,7 +611,7 @@ ProbeResult Prober::probe(DatasetRef probe_ds) const {
                   row_tet = cell;
                   row_saved = true;
                 }
-                const auto cell_ids = tet_mesh->cells.cell(std::size_t(cell));
+                const std::uint32_t* cell_ids = tets->points_of(cell);  // in cache after the walk
                 for (int k = 0; k < 4; ++k) {
                   if (tw[std::size_t(k)] != 0) {
                     h.terms.emplace_back(std::size_t(cell_ids[std::size_t(k)]), tw[std::size_t(k)]);

@@ -100,8 +100,7 @@ TetWalker::TetWalker(const UnstructuredGrid& ug, std::span<const std::uint8_t> c
             if (q != a && n < 2) o[n++] = q;
           }
           if (n < 2 || o[0] < a || o[1] < a) continue;
-          const std::uint32_t o1 = o[0], o2 = o[1];
-          faces.push_back({(std::uint64_t(std::min(o1, o2)) << 32) | std::max(o1, o2), c, f});
+          faces.push_back({(std::uint64_t(std::min(o[0], o[1])) << 32) | std::max(o[0], o[1]), c, f});
         }
       }
       std::sort(faces.begin(), faces.end(), [](const Face& l, const Face& r) {
