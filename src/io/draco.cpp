@@ -1211,8 +1211,8 @@ PolyData read_draco(std::span<const std::byte> data, std::string_view name) {
 
 PolyData read_draco(const std::filesystem::path& path, const ProgressCallback& progress) {
   return io_detail::read_with_progress(
-      path, progress, [&](std::span<const std::byte> bytes, io_detail::Progress*, std::uint64_t) {
-        return read_draco(bytes, path.string());
+      path, progress, [&](const io_detail::FileSource& src, io_detail::Progress*, std::uint64_t) {
+        return read_draco(src.bytes, path.string());
       });
 }
 

@@ -83,29 +83,6 @@ std::string_view format_name(FileFormat format) {
 
 namespace io_detail {
 
-std::vector<std::byte> read_file(const std::filesystem::path& path, Progress& progress) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    throw Error(path.string() + ": is a directory, not a file");
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path.string() + ": cannot open: " + std::strerror(errno));
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  if (size < 0) throw Error(path.string() + ": cannot determine the file size");
-  in.seekg(0, std::ios::beg);
-  std::vector<std::byte> bytes(static_cast<std::size_t>(size));
-  constexpr std::size_t kBlock = std::size_t{8} << 20;  // progress between blocks
-  for (std::size_t at = 0; at < bytes.size(); at += kBlock) {
-    const std::size_t n = std::min(kBlock, bytes.size() - at);
-    if (!in.read(reinterpret_cast<char*>(bytes.data() + at), static_cast<std::streamsize>(n))) {
-      throw Error(path.string() + ": read failed");
-    }
-    progress.add(n);
-  }
-  return bytes;
-}
-
 std::uint64_t file_size_or_zero(const std::filesystem::path& path) {
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
@@ -115,8 +92,8 @@ std::uint64_t file_size_or_zero(const std::filesystem::path& path) {
 }  // namespace io_detail
 
 std::vector<std::byte> read_file_bytes(const std::filesystem::path& path) {
-  io_detail::Progress none;
-  return io_detail::read_file(path, none);
+  const io_detail::MappedFile file(path);
+  return {file.bytes().begin(), file.bytes().end()};
 }
 
 Dataset read(const std::filesystem::path& path, const ReadOptions& options) {

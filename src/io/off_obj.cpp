@@ -292,8 +292,8 @@ PolyData read_off(std::span<const std::byte> data, std::string_view name) {
 
 PolyData read_off(const std::filesystem::path& path, const ProgressCallback& progress) {
   return io_detail::read_with_progress(
-      path, progress, [&](std::span<const std::byte> bytes, io_detail::Progress* p,
-                          std::uint64_t base) { return OffReader(bytes, path.string(), p, base).read(); });
+      path, progress, [&](const io_detail::FileSource& src, io_detail::Progress* p,
+                          std::uint64_t base) { return OffReader(src.bytes, path.string(), p, base).read(); });
 }
 
 void write_off(const PolyData& mesh, const std::filesystem::path& path) {

@@ -212,10 +212,10 @@ DataArray make_array(const std::string& name, int comps, const std::vector<doubl
   return DataArray::from_vector(name, comps, v);
 }
 
-void read_q(StructuredGrid& grid, std::span<const std::byte> q, const std::string& q_name,
+void read_q(StructuredGrid& grid, const io_detail::FileSource& q, const std::string& q_name,
             const Layout& gl, const std::string& grid_name, const Plot3dOptions& options,
             io_detail::Progress* progress, std::uint64_t progress_base) {
-  const Layout l = detect_q(q, q_name, gl, grid_name, options.byte_order);
+  const Layout l = detect_q(q.bytes, q_name, gl, grid_name, options.byte_order);
   Scanner sc(q, q_name);
   sc.track(progress, progress_base);
   sc.seek(l.header_bytes);
@@ -282,13 +282,13 @@ DataArray valid_cells(const Dims& dims, std::span<const std::int32_t> iblank) {
 }
 
 // Parses the grid (reporting `progress_base` + its bytes consumed) and then the solution.
-StructuredGrid read_plot3d_impl(std::span<const std::byte> xyz, std::string_view xyz_name,
-                                std::span<const std::byte> q, std::string_view q_name,
+StructuredGrid read_plot3d_impl(const io_detail::FileSource& xyz, std::string_view xyz_name,
+                                const io_detail::FileSource& q, std::string_view q_name,
                                 const Plot3dOptions& options, io_detail::Progress* progress,
                                 std::uint64_t progress_base) {
   const std::string name(xyz_name);
   if (!std::isfinite(options.gamma)) throw Error(name + ": PLOT3D gamma is not finite");
-  const Layout l = detect_grid(xyz, name, options.byte_order);
+  const Layout l = detect_grid(xyz.bytes, name, options.byte_order);
   Scanner sc(xyz, name);
   sc.track(progress, progress_base);
   sc.seek(l.header_bytes);
@@ -326,9 +326,9 @@ StructuredGrid read_plot3d_impl(std::span<const std::byte> xyz, std::string_view
     grid.cell_data.add(valid_cells(l.dims, ib));
     grid.point_data.add(DataArray::from_vector("IBlank", 1, std::move(ib)));
   }
-  if (!q.empty() || !q_name.empty()) {
+  if (!q.bytes.empty() || !q_name.empty()) {
     read_q(grid, q, std::string(q_name), l, name, options, progress,
-           progress_base + xyz.size());
+           progress_base + xyz.bytes.size());
   }
   grid.validate();
   return grid;
@@ -347,15 +347,15 @@ StructuredGrid read_plot3d(std::span<const std::byte> xyz, std::string_view xyz_
 
 StructuredGrid read_plot3d(const std::filesystem::path& xyz_path,
                            const std::filesystem::path& q_path, const Plot3dOptions& options) {
-  // Loading both files is the first half of the work, parsing them the second.
-  const std::uint64_t size = io_detail::file_size_or_zero(xyz_path) +
-                             (q_path.empty() ? 0 : io_detail::file_size_or_zero(q_path));
-  io_detail::Progress progress(options.progress, 2 * size, "reading");
-  const auto xyz = io_detail::read_file(xyz_path, progress);
-  std::vector<std::byte> q;
-  if (!q_path.empty()) q = io_detail::read_file(q_path, progress);
-  StructuredGrid grid = read_plot3d_impl(xyz, xyz_path.string(), q, q_path.string(), options,
-                                         &progress, xyz.size() + q.size());
+  // Both files mapped (io/detail/file_source.hpp); parsing them is the work.
+  const io_detail::MappedFile xyz(xyz_path);
+  std::optional<io_detail::MappedFile> q;
+  if (!q_path.empty()) q.emplace(q_path);
+  const io_detail::FileSource q_source = q ? io_detail::FileSource(*q) : io_detail::FileSource();
+  io_detail::Progress progress(options.progress, xyz.bytes().size() + q_source.bytes.size(),
+                               "reading");
+  StructuredGrid grid = read_plot3d_impl(io_detail::FileSource(xyz), xyz_path.string(), q_source,
+                                         q_path.string(), options, &progress, 0);
   progress.finish();
   return grid;
 }

@@ -8,6 +8,7 @@
 // properties, polys and triangulated strips, cell arrays as face properties.
 
 #include <algorithm>
+#include <atomic>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -19,6 +20,7 @@
 #include <vector>
 
 #include "detail/scanner.hpp"
+#include "isoforge/core/parallel.hpp"
 #include "isoforge/io/atomic_file.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/ply.hpp"
@@ -78,7 +80,7 @@ enum class PlyFormat { Ascii, Little, Big };
 
 class PlyReader {
  public:
-  PlyReader(std::span<const std::byte> data, std::string_view name,
+  PlyReader(io_detail::FileSource data, std::string_view name,
             io_detail::Progress* progress = nullptr, std::uint64_t progress_base = 0)
       : sc_(data, std::string(name)) {
     sc_.track(progress, progress_base);
@@ -339,6 +341,8 @@ class PlyReader {
       vertex_arrays_.emplace_back(p.name, p.is_list ? ScalarType::UInt8 : p.type, 1,
                                   p.is_list ? 0 : n);
     }
+    num_vertices_ = n;
+    if (read_fixed_records(e, vertex_arrays_)) return;
     for (std::size_t i = 0; i < n; ++i) {
       sc_.tick();  // progress, once a record
       for (std::size_t k = 0; k < e.props.size(); ++k) {
@@ -349,7 +353,157 @@ class PlyReader {
         }
       }
     }
-    num_vertices_ = n;
+  }
+
+  /// Binary records of scalar properties only (fixed size): every property's column decoded in
+  /// parallel straight from the file into `arrays` (sized). False (nothing read) for ASCII, lists
+  /// or a body too short — the per-value path then reads or reports it.
+  bool read_fixed_records(const PlyElement& e, std::vector<DataArray>& arrays) {
+    if (format_ == PlyFormat::Ascii) return false;
+    std::vector<std::size_t> offset;
+    std::size_t rec = 0;
+    for (const auto& p : e.props) {
+      if (p.is_list) return false;
+      offset.push_back(rec);
+      rec += scalar_size(p.type);
+    }
+    const auto n = static_cast<std::size_t>(e.count);
+    if (rec == 0 || n > sc_.remaining() / rec) return false;
+    decode_columns(e.props, offset, rec, 0, n, arrays, -1);
+    sc_.skip(n * rec, "element records");
+    return true;
+  }
+
+  /// Decodes records [0, n) of `rec` bytes from the scanner's position into rows
+  /// [row0, row0 + n) of `arrays[k]` for every scalar property k (at byte `offset[k]` of a
+  /// record; list properties are skipped), in parallel.
+  void decode_columns(const std::vector<PlyProperty>& props, const std::vector<std::size_t>& offset,
+                      std::size_t rec, std::size_t row0, std::size_t n,
+                      std::vector<DataArray>& arrays, int skip_prop) {
+    const std::byte* base = sc_.data().data() + sc_.offset();
+    const bool swap = endian_ != io_detail::kHostEndian;
+    parallel_for_range(n, 1 << 14, [&](std::size_t b, std::size_t end) {
+      for (std::size_t k = 0; k < props.size(); ++k) {
+        if (props[k].is_list || static_cast<int>(k) == skip_prop) continue;
+        arrays[k].visit([&](auto& vec) {
+          using T = typename std::decay_t<decltype(vec)>::value_type;
+          const std::byte* p = base + offset[k];
+          for (std::size_t i = b; i < end; ++i) vec[row0 + i] = load<T>(p + i * rec, swap);
+        });
+      }
+    });
+  }
+
+  template <class T>
+  static T load(const std::byte* p, bool swap) {
+    T v;
+    std::memcpy(&v, p, sizeof(T));
+    return swap ? io_detail::byteswap_value(v) : v;
+  }
+
+  /// Binary faces whose one list is the index list and whose every face has the first face's
+  /// vertex count (a triangle or quad mesh): the counts are checked at the fixed record size,
+  /// then all records decoded in parallel. False (nothing read) otherwise.
+  bool read_fixed_faces(const PlyElement& e, int idx, std::uint64_t nverts) {
+    if (format_ == PlyFormat::Ascii || e.count == 0) return false;
+    const PlyProperty& ip = e.props[static_cast<std::size_t>(idx)];
+    if (is_floating(ip.count_type)) return false;
+    std::size_t before = 0, fixed = 0;  // bytes before the list; bytes of the scalars
+    for (std::size_t k = 0; k < e.props.size(); ++k) {
+      if (static_cast<int>(k) == idx) continue;
+      if (e.props[k].is_list) return false;
+      if (static_cast<int>(k) < idx) before += scalar_size(e.props[k].type);
+      fixed += scalar_size(e.props[k].type);
+    }
+    const std::size_t cs = scalar_size(ip.count_type), is = scalar_size(ip.type);
+    const auto n = static_cast<std::size_t>(e.count);
+    if (before + cs > sc_.remaining()) return false;
+    const std::byte* base = sc_.data().data() + sc_.offset();
+    const bool swap = endian_ != io_detail::kHostEndian;
+    const auto count_at = [&](const std::byte* p) -> std::int64_t {
+      return visit_scalar_type(ip.count_type, [&](auto tag) -> std::int64_t {
+        using C = decltype(tag);
+        if constexpr (std::is_integral_v<C>) return static_cast<std::int64_t>(load<C>(p, swap));
+        return -1;
+      });
+    };
+    const std::int64_t c0 = count_at(base + before);
+    if (c0 < 3 || c0 > 64) return false;
+    const std::size_t c = static_cast<std::size_t>(c0);
+    const std::size_t rec = fixed + cs + c * is;
+    if (n > sc_.remaining() / rec) return false;
+    // Every count equal to the first: else the variable-size path.
+    std::atomic<bool> uniform{true};
+    visit_scalar_type(ip.count_type, [&](auto ctag) {
+      using C = decltype(ctag);
+      if constexpr (std::is_integral_v<C>) {
+        const C want = static_cast<C>(c0);
+        parallel_for_range(n, 1 << 16, [&](std::size_t b, std::size_t end) {
+          bool ok = true;
+          for (std::size_t f = b; f < end; ++f) ok &= load<C>(base + f * rec + before, swap) == want;
+          if (!ok) uniform.store(false, std::memory_order_relaxed);
+        });
+      }
+    });
+    if (!uniform.load()) return false;
+    auto& conn = polys_.connectivity();
+    auto& offsets = polys_.offsets();
+    conn.resize(n * c);
+    offsets.resize(n + 1);
+    std::atomic<std::size_t> bad{n};  // the first face with an index out of range
+    const std::byte* list = base + before + cs;
+    bool integral = true;
+    visit_scalar_type(ip.type, [&](auto itag) {
+      using I = decltype(itag);
+      if constexpr (!std::is_integral_v<I>) {
+        integral = false;
+      } else {
+        parallel_for_range(n, 1 << 14, [&](std::size_t b, std::size_t end) {
+          std::size_t first_bad = n;
+          for (std::size_t f = b; f < end; ++f) {
+            const std::byte* p = list + f * rec;
+            bool ok = true;
+            for (std::size_t j = 0; j < c; ++j) {
+              const auto v = static_cast<std::int64_t>(load<I>(p + j * is, swap));
+              ok &= v >= 0 && static_cast<std::uint64_t>(v) < nverts;
+              conn[f * c + j] = static_cast<Index>(v);
+            }
+            offsets[f + 1] = static_cast<Index>((f + 1) * c);
+            if (!ok && first_bad == n) first_bad = f;
+          }
+          std::size_t cur = bad.load();
+          while (first_bad < cur && !bad.compare_exchange_weak(cur, first_bad)) {
+          }
+        });
+      }
+    });
+    if (!integral) {
+      conn.clear();
+      offsets.assign(1, 0);
+      return false;
+    }
+    offsets[0] = 0;
+    if (bad.load() < n) {
+      const std::size_t f = bad.load();
+      for (std::size_t j = 0; j < c; ++j) {
+        const Index v = conn[f * c + j];
+        if (v < 0 || static_cast<std::uint64_t>(v) >= nverts) {
+          sc_.seek(sc_.offset() + f * rec);
+          fail("face " + std::to_string(f) + ": vertex index " + std::to_string(v) +
+               " is out of range (" + std::to_string(nverts) + " vertices)");
+        }
+      }
+    }
+    // The scalar properties: at their byte in the record (after the list for those behind it).
+    std::vector<std::size_t> offset(e.props.size(), 0);
+    std::size_t at = 0;
+    for (std::size_t k = 0; k < e.props.size(); ++k) {
+      offset[k] = at;
+      at += static_cast<int>(k) == idx ? cs + c * is : scalar_size(e.props[k].type);
+    }
+    decode_columns(e.props, offset, rec, 0, n, face_arrays_, idx);
+    sc_.skip(n * rec, "face records");
+    return true;
   }
 
   void read_faces(const PlyElement& e) {
@@ -374,9 +528,13 @@ class PlyReader {
       face_arrays_.emplace_back(p.name, p.is_list ? ScalarType::UInt8 : p.type, 1,
                                 p.is_list ? 0 : n);
     }
+    face_index_prop_ = idx;
+    if (read_fixed_faces(e, idx, nverts)) return;
     auto& offsets = polys_.offsets();
     auto& conn = polys_.connectivity();
     offsets.reserve(n + 1);
+    // Most meshes are triangles: room for three indices a face, grown only past that.
+    conn.reserve(std::min<std::size_t>(3 * n, sc_.remaining()));
     for (std::size_t f = 0; f < n; ++f) {
       sc_.tick();  // progress, once a record
       for (std::size_t k = 0; k < e.props.size(); ++k) {
@@ -403,7 +561,6 @@ class PlyReader {
         }
       }
     }
-    face_index_prop_ = idx;
   }
 
   // Index of the scalar vertex property `name`, or -1.
@@ -622,8 +779,8 @@ PolyData read_ply(std::span<const std::byte> data, std::string_view name) {
 
 PolyData read_ply(const std::filesystem::path& path, const ProgressCallback& progress) {
   return io_detail::read_with_progress(
-      path, progress, [&](std::span<const std::byte> bytes, io_detail::Progress* p,
-                          std::uint64_t base) { return PlyReader(bytes, path.string(), p, base).read(); });
+      path, progress, [&](const io_detail::FileSource& src, io_detail::Progress* p,
+                          std::uint64_t base) { return PlyReader(src, path.string(), p, base).read(); });
 }
 
 void write_ply(const PolyData& mesh, const std::filesystem::path& path,

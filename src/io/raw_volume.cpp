@@ -114,7 +114,7 @@ struct DataSpec {
   std::string header;  // header file name (for messages)
   fs::path base_dir;   // for relative data file names
   FileList files;      // empty: attached to the header
-  std::span<const std::byte> attached;
+  io_detail::FileSource attached;  // the header file's bytes (and file)
   std::size_t attached_offset = 0;  // where the attached data starts in the header bytes
   std::int64_t byte_skip = 0;       // -1: data is at the end of the (decoded) file
   std::int64_t line_skip = 0;
@@ -149,24 +149,6 @@ std::uint64_t data_file_size(const DataSpec& spec, const std::string& file) {
   const auto size = fs::file_size(p, ec);
   if (ec) throw Error(data_label(spec, file) + ": cannot determine its size: " + ec.message());
   return size;
-}
-
-/// Reads the first `n` bytes of a data file (already checked to be that long), in blocks added to
-/// `progress`.
-std::vector<std::byte> read_prefix(const DataSpec& spec, const std::string& file, std::uint64_t n,
-                                   io_detail::Progress& progress) {
-  std::ifstream in(resolve(spec, file), std::ios::binary);
-  if (!in) throw Error(data_label(spec, file) + ": cannot open");
-  std::vector<std::byte> bytes(static_cast<std::size_t>(n));
-  constexpr std::size_t kBlock = std::size_t{8} << 20;
-  for (std::size_t at = 0; at < bytes.size(); at += kBlock) {
-    const std::size_t m = std::min(kBlock, bytes.size() - at);
-    if (!in.read(reinterpret_cast<char*>(bytes.data() + at), static_cast<std::streamsize>(m))) {
-      throw Error(data_label(spec, file) + ": read failed (the file is shorter than it claims)");
-    }
-    progress.add(m);
-  }
-  return bytes;
 }
 
 /// Inflates a zlib or gzip stream into exactly `out.size()` bytes.
@@ -224,9 +206,11 @@ std::size_t skip_lines(std::span<const std::byte> bytes, std::size_t start, std:
   return pos;
 }
 
-/// Decodes one file's bytes (starting at `start`) into `out`.
-void decode_piece(const DataSpec& spec, std::span<const std::byte> bytes, std::size_t start,
+/// Decodes one file's bytes (starting at `start`) into `out`: raw data copied from the file
+/// (io_detail::FileSource::copy, no pass over the mapping), compressed data inflated in place.
+void decode_piece(const DataSpec& spec, const io_detail::FileSource& src, std::size_t start,
                   std::span<std::byte> out, const std::string& label) {
+  const std::span<const std::byte> bytes = src.bytes;
   std::size_t pos = skip_lines(bytes, start, spec.line_skip, label);
   const std::uint64_t avail = bytes.size() - pos;
   if (!spec.compressed) {
@@ -246,7 +230,7 @@ void decode_piece(const DataSpec& spec, std::span<const std::byte> bytes, std::s
       }
       pos += static_cast<std::size_t>(skip);
     }
-    if (!out.empty()) std::memcpy(out.data(), bytes.data() + pos, out.size());
+    src.copy(bytes.data() + pos, out.data(), out.size());
     return;
   }
   const auto skip = static_cast<std::uint64_t>(spec.byte_skip);  // -1 rejected for compressed
@@ -257,9 +241,13 @@ void decode_piece(const DataSpec& spec, std::span<const std::byte> bytes, std::s
                 std::to_string(out.size()) + " bytes (plus byte skip " + std::to_string(skip) +
                 ") the header describes");
   }
-  std::vector<std::byte> tmp(static_cast<std::size_t>(total));
-  inflate_into(bytes.subspan(pos), tmp, label);
-  if (!out.empty()) std::memcpy(out.data(), tmp.data() + skip, out.size());
+  if (skip == 0) {
+    inflate_into(bytes.subspan(pos), out, label);
+  } else {
+    std::vector<std::byte> tmp(static_cast<std::size_t>(total));
+    inflate_into(bytes.subspan(pos), tmp, label);
+    if (!out.empty()) std::memcpy(out.data(), tmp.data() + skip, out.size());
+  }
 }
 
 /// Loads and converts all samples described by `spec`.
@@ -271,30 +259,34 @@ DataArray load_samples(const DataSpec& spec) {
     throw Error(spec.header + ": " + std::to_string(spec.tuples) + " samples of " +
                 std::to_string(elem) + " bytes overflow the addressable size");
   }
-  std::vector<std::byte> raw;
+  DataArray a;  // allocated once the data is known to be there, and decoded into
+  const auto samples = [&] {
+    return std::span<std::byte>(a.bytes(), static_cast<std::size_t>(total));
+  };
   static const ProgressCallback kNone;
   const ProgressCallback& callback = spec.progress ? *spec.progress : kNone;
   io_detail::Progress progress;
   if (spec.files.empty()) {
     // Attached data: check that it can be there before allocating.
-    const std::uint64_t avail = spec.attached.size() - spec.attached_offset;
+    const std::uint64_t avail = spec.attached.bytes.size() - spec.attached_offset;
     if (!spec.compressed) {
       const std::uint64_t skip =
           spec.byte_skip > 0 ? static_cast<std::uint64_t>(spec.byte_skip) : 0;
       if (skip > avail || avail - skip < total) {
-        throw Error(at_byte(spec.header, spec.attached.size(),
+        throw Error(at_byte(spec.header, spec.attached.bytes.size(),
                             "truncated: attached data needs " + std::to_string(total) +
                                 " bytes after byte " + std::to_string(spec.attached_offset + skip) +
-                                ", the file has " + std::to_string(spec.attached.size())));
+                                ", the file has " + std::to_string(spec.attached.bytes.size())));
       }
     } else if (total / 1032 > avail + 64) {
       throw Error(spec.header + ": attached data: " + std::to_string(avail) +
                   " compressed bytes cannot hold the " + std::to_string(total) +
                   " bytes the header describes");
     }
-    raw.resize(static_cast<std::size_t>(total));
+    a = DataArray::uninitialized("Scalars", spec.type, spec.components, spec.tuples);
     progress = io_detail::Progress(callback, 2 * total, "reading", spec.progress_from);
-    decode_piece(spec, spec.attached, spec.attached_offset, raw, spec.header + ": attached data");
+    decode_piece(spec, spec.attached, spec.attached_offset, samples(),
+                 spec.header + ": attached data");
     progress.add(total);
   } else {
     const std::uint64_t nfiles = spec.files.size();
@@ -324,34 +316,28 @@ DataArray load_samples(const DataSpec& spec) {
       }
       sizes.push_back(size);
     }
-    raw.resize(static_cast<std::size_t>(total));
-    const bool whole = spec.compressed || spec.line_skip > 0 || spec.byte_skip < 0;
-    std::uint64_t reads = 0;  // bytes read from the files
-    for (std::size_t i = 0; i < spec.files.size(); ++i) {
-      reads += whole ? sizes[i] : static_cast<std::uint64_t>(spec.byte_skip) + per_file;
-    }
-    // Work: the files read, each piece decoded, and the samples copied at the end.
-    progress = io_detail::Progress(callback, reads + 2 * total, "reading", spec.progress_from);
+    a = DataArray::uninitialized("Scalars", spec.type, spec.components, spec.tuples);
+    // Work: each file's piece decoded into its place, then the samples' byte order.
+    progress = io_detail::Progress(callback, 2 * total, "reading", spec.progress_from);
     for (std::size_t i = 0; i < spec.files.size(); ++i) {
       const std::string f = spec.files.name(i);
-      const std::uint64_t n =
-          whole ? sizes[i] : static_cast<std::uint64_t>(spec.byte_skip) + per_file;
-      const auto bytes = read_prefix(spec, f, n, progress);
-      decode_piece(spec, bytes, 0,
-                   std::span<std::byte>(raw).subspan(static_cast<std::size_t>(i * per_file),
-                                                     static_cast<std::size_t>(per_file)),
+      const io_detail::MappedFile file(resolve(spec, f));
+      if (file.bytes().size() != sizes[i]) {
+        throw Error(data_label(spec, f) + ": changed size while being read");
+      }
+      decode_piece(spec, io_detail::FileSource(file), 0,
+                   samples().subspan(static_cast<std::size_t>(i * per_file),
+                                     static_cast<std::size_t>(per_file)),
                    data_label(spec, f));
       progress.add(per_file);
     }
   }
-  DataArray a("Scalars", spec.type, spec.components, spec.tuples);
   const std::size_t elem_size = scalar_size(spec.type);
   constexpr std::size_t kBlock = std::size_t{4} << 20;  // a multiple of every element size
   for (std::size_t at = 0; at < static_cast<std::size_t>(total); at += kBlock) {
     const std::size_t n = std::min(kBlock, static_cast<std::size_t>(total) - at);
-    std::memcpy(a.bytes() + at, raw.data() + at, n);
     if (spec.endian != io_detail::kHostEndian) {
-      io_detail::swap_bytes_inplace(a.bytes() + at, n / elem_size, elem_size);
+      io_detail::swap_elements(a.bytes() + at, n / elem_size, elem_size);
     }
     progress.add(n);
   }
@@ -601,7 +587,7 @@ bool nrrd_known_ignored(const std::string& f) {
   return std::any_of(std::begin(names), std::end(names), [&](const char* n) { return f == n; });
 }
 
-ImageData read_nrrd_impl(std::span<const std::byte> data, const std::string& name,
+ImageData read_nrrd_impl(const io_detail::FileSource& data, const std::string& name,
                          const fs::path& base_dir,
                          const ProgressCallback* progress = nullptr, double progress_from = 0) {
   Scanner sc(data, name);
@@ -861,7 +847,7 @@ std::optional<bool> met_bool(std::string_view v) {
   return std::nullopt;
 }
 
-ImageData read_metaimage_impl(std::span<const std::byte> data, const std::string& name,
+ImageData read_metaimage_impl(const io_detail::FileSource& data, const std::string& name,
                               const fs::path& base_dir,
                               const ProgressCallback* progress = nullptr, double progress_from = 0) {
   Scanner sc(data, name);
@@ -1102,8 +1088,9 @@ ImageData read_raw_volume(const std::filesystem::path& path, const ProgressCallb
   const std::uint64_t size = io_detail::file_size_or_zero(path);
   const double header_share = size >= io_detail::Progress::kStep ? 0.5 : 0.0;
   io_detail::Progress progress(callback, size, "reading", 0, header_share);
-  const auto bytes = io_detail::read_file(path, progress);
-  return impl(std::span<const std::byte>(bytes), path.string(), path.parent_path(),
+  const io_detail::MappedFile file(path);
+  progress.add(file.bytes().size());
+  return impl(io_detail::FileSource(file), path.string(), path.parent_path(),
               callback ? &callback : nullptr, header_share);
 }
 

@@ -218,7 +218,7 @@ struct CellSection {
 
 class LegacyReader {
  public:
-  LegacyReader(std::span<const std::byte> data, std::string_view name,
+  LegacyReader(io_detail::FileSource data, std::string_view name,
                io_detail::Progress* progress = nullptr, std::uint64_t progress_base = 0)
       : s_(data, std::string(name)) {
     s_.track(progress, progress_base);
@@ -350,9 +350,11 @@ class LegacyReader {
   /// Reads `count` values stored as T: in BINARY files after the rest of the keyword line,
   /// big-endian; in ASCII files as whitespace-separated numbers. Checks the count against the
   /// bytes left before allocating.
-  template <class T>
-  std::vector<T> read_numbers(std::size_t count, const std::string& what) {
-    std::vector<T> v;
+  /// `Vec`: std::vector<T>, or Buffer<T> for an array's values (not zero-filled first: the
+  /// binary copy lands in memory no one has touched).
+  template <class T, class Vec = std::vector<T>>
+  Vec read_numbers(std::size_t count, const std::string& what) {
+    Vec v;
     if (binary_) {
       s_.skip_line();
       data_offset_ = s_.offset();
@@ -442,14 +444,14 @@ class LegacyReader {
     } else {
       a = visit_scalar_type(lt->file, [&](auto tag) {
         using T = decltype(tag);
-        std::vector<T> v = read_numbers<T>(count, what);
+        Buffer<T> v = read_numbers<T, Buffer<T>>(count, what);
         if constexpr (std::is_same_v<T, std::int32_t>) {
           if (lt->memory == ScalarType::Int64) {  // vtkIdType: int in the file
-            return DataArray::from_vector(std::move(name), components,
-                                          std::vector<std::int64_t>(v.begin(), v.end()));
+            return DataArray::from_buffer(std::move(name), components,
+                                          Buffer<std::int64_t>(v.begin(), v.end()));
           }
         }
-        return DataArray::from_vector(std::move(name), components, std::move(v));
+        return DataArray::from_buffer(std::move(name), components, std::move(v));
       });
     }
     skip_metadata();
@@ -1318,7 +1320,7 @@ class LegacyWriter {
 
 namespace {
 
-Dataset read_legacy(std::span<const std::byte> data, std::string_view name,
+Dataset read_legacy(const io_detail::FileSource& data, std::string_view name,
                     io_detail::Progress* progress, std::uint64_t progress_base) {
   try {
     return LegacyReader(data, name, progress, progress_base).read();
@@ -1335,8 +1337,8 @@ Dataset read_legacy(std::span<const std::byte> data, std::string_view name,
 
 Dataset read_vtk_legacy(const std::filesystem::path& path, const ProgressCallback& progress) {
   return io_detail::read_with_progress(
-      path, progress, [&](std::span<const std::byte> bytes, io_detail::Progress* p,
-                          std::uint64_t base) { return read_legacy(bytes, path.string(), p, base); });
+      path, progress, [&](const io_detail::FileSource& src, io_detail::Progress* p,
+                          std::uint64_t base) { return read_legacy(src, path.string(), p, base); });
 }
 
 Dataset read_vtk_legacy(std::span<const std::byte> data, std::string_view name) {

@@ -58,8 +58,9 @@ constexpr std::uint64_t kZlibMaxRatio = 1032;
 /// Uncompressed bytes per compressed block: 256 KiB, 8 times VTK's default, chosen from the
 /// measured size curve (docs/algorithms/vtk_xml_io.md, "The block size"); readers take any.
 constexpr std::size_t kWriteBlockSize = std::size_t{1} << 18;
-/// Blocks decompressed between two progress reports (when progress is asked for).
-constexpr std::size_t kProgressBlocks = 128;
+/// Decompressed bytes between two progress reports (when progress is asked for): whole blocks,
+/// at least two per thread of a 2-core machine.
+constexpr std::size_t kProgressBytes = std::size_t{4} << 20;
 
 const char* codec_label(BlockCodec c) {
   return c == BlockCodec::Zlib ? "zlib" : c == BlockCodec::Lz4 ? "LZ4" : "LZMA";
@@ -249,9 +250,12 @@ class Base64Encoder {
 /// blocks as separate streams) is handled like one continuous stream.
 class ByteSource {
  public:
-  static ByteSource raw(std::span<const std::byte> data, std::uint64_t file_offset) {
+  /// `file`: where `data` lies (its copies then come from the file; null: in memory).
+  static ByteSource raw(std::span<const std::byte> data, std::uint64_t file_offset,
+                        const io_detail::FileSource* file) {
     ByteSource s;
     s.raw_ = data;
+    s.file_ = file;
     s.base_ = file_offset;
     return s;
   }
@@ -273,7 +277,11 @@ class ByteSource {
   void read(std::byte* dst, std::size_t n, const XmlWhere& w, std::string_view what) {
     if (!b64_) {
       if (n > raw_.size() - pos_) truncated(w, n, what);
-      if (n > 0) std::memcpy(dst, raw_.data() + pos_, n);
+      if (file_) {
+        file_->copy(raw_.data() + pos_, dst, n);
+      } else if (n > 0) {
+        std::memcpy(dst, raw_.data() + pos_, n);
+      }
       pos_ += n;
       return;
     }
@@ -370,6 +378,7 @@ class ByteSource {
 
   bool b64_ = false;
   std::span<const std::byte> raw_;
+  const io_detail::FileSource* file_ = nullptr;
   std::string_view text_;
   std::size_t pos_ = 0;
   std::uint64_t base_ = 0;
@@ -457,12 +466,12 @@ void copy_box(const DataArray& src, const std::array<std::size_t, 3>& sub, DataA
 
 class Reader {
  public:
-  Reader(std::span<const std::byte> data, std::string_view name,
+  Reader(io_detail::FileSource source, std::string_view name,
          io_detail::Progress* progress = nullptr, std::uint64_t progress_base = 0)
-      : data_(data), name_(name), progress_(progress), progress_base_(progress_base) {
+      : source_(source), data_(source.bytes), name_(name), progress_(progress), progress_base_(progress_base) {
     // Every decoded byte must come from somewhere: a legitimate file never decodes to more
     // than zlib's maximum expansion of the whole file.
-    budget_ = static_cast<std::uint64_t>(data.size()) * (kZlibMaxRatio + 8) + (1u << 20);
+    budget_ = static_cast<std::uint64_t>(data_.size()) * (kZlibMaxRatio + 8) + (1u << 20);
   }
 
   Dataset read();
@@ -531,6 +540,7 @@ class Reader {
   PolyData read_poly(pugi::xml_node ds, const XmlWhere& w);
   UnstructuredGrid read_unstructured(pugi::xml_node ds, const XmlWhere& w);
 
+  io_detail::FileSource source_;  // data_ and the file it is mapped from (if any)
   std::span<const std::byte> data_;
   std::string name_;
   io_detail::Progress* progress_ = nullptr;
@@ -694,7 +704,9 @@ void Reader::read_payload(ByteSource& src, const XmlWhere& w, std::optional<std:
     cout += u;
   }
   // Without progress one parallel loop; with it, slices with a report after each.
-  const std::size_t slice = progress_ ? kProgressBlocks : std::max<std::size_t>(jobs.size(), 1);
+  const std::size_t slice =
+      progress_ ? std::max<std::size_t>(kProgressBytes / std::max<std::uint64_t>(block, 1), 4)
+                : std::max<std::size_t>(jobs.size(), 1);
   for (std::size_t b0 = 0; b0 < jobs.size(); b0 += slice) {
     const std::size_t b1 = std::min(jobs.size(), b0 + slice);
     const io_detail::BlockFailure f =
@@ -719,7 +731,7 @@ std::vector<std::byte> Reader::decode_block(const io_detail::VtkXmlBlockFormat& 
       format.base64
           ? ByteSource::base64(
                 std::string_view(reinterpret_cast<const char*>(data_.data()), data_.size()), 0)
-          : ByteSource::raw(data_, 0);
+          : ByteSource::raw(data_, 0, &source_);
   std::vector<std::byte> out;
   read_payload(src, root_where("DataArray"), expected, unit, [&](std::uint64_t n) {
     out.resize(static_cast<std::size_t>(n));
@@ -884,7 +896,7 @@ std::optional<DataArray> Reader::read_array(pugi::xml_node el, const XmlWhere& w
                                   appended_.size() - static_cast<std::size_t>(off));
       src = ByteSource::base64(text, dw.byte);
     } else {
-      src = ByteSource::raw(appended_.subspan(static_cast<std::size_t>(off)), dw.byte);
+      src = ByteSource::raw(appended_.subspan(static_cast<std::size_t>(off)), dw.byte, &source_);
     }
   } else {
     w.fail("format='" + printable(*format) + "' is not ascii, binary or appended");
@@ -1931,7 +1943,7 @@ class Writer {
 
 namespace {
 
-Dataset read_xml(std::span<const std::byte> data, std::string_view name,
+Dataset read_xml(const io_detail::FileSource& data, std::string_view name,
                  io_detail::Progress* progress, std::uint64_t progress_base) {
   try {
     Reader r(data, name, progress, progress_base);
@@ -1954,8 +1966,8 @@ Dataset read_vtk_xml(std::span<const std::byte> data, std::string_view name) {
 Dataset read_vtk_xml(const std::filesystem::path& path, const ProgressCallback& progress) {
   return io_detail::read_with_progress(
       path, progress,
-      [&](std::span<const std::byte> bytes, io_detail::Progress* p, std::uint64_t base) {
-        return read_xml(bytes, path.string(), p, base);
+      [&](const io_detail::FileSource& src, io_detail::Progress* p, std::uint64_t base) {
+        return read_xml(src, path.string(), p, base);
       });
 }
 

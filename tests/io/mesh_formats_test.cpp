@@ -17,7 +17,10 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
+
+#include <sys/stat.h>
 
 #include "isoforge/io/io.hpp"
 
@@ -888,4 +891,112 @@ TEST(Obj, InvalidMeshIsAnErrorAndKeepsTheOldFile) {
   }
   EXPECT_EQ(slurp(dir / "m.obj"), before);
   EXPECT_EQ(entries(dir), 1u);
+}
+
+namespace {
+
+/// A binary (or ASCII) PLY of an n x n grid of quads, one of them split into two triangles when
+/// `mixed`; a uchar face property before the index list and a float one after it.
+std::string grid_ply(int n, bool mixed, const char* format, bool big) {
+  const bool ascii = std::string(format) == "ascii";
+  const int nv = (n + 1) * (n + 1);
+  const int nf = n * n + (mixed ? 1 : 0);
+  std::string s = std::string("ply\nformat ") + format + " 1.0\nelement vertex " +
+                  std::to_string(nv) +
+                  "\nproperty float x\nproperty float y\nproperty float z\nproperty short t\n"
+                  "element face " + std::to_string(nf) +
+                  "\nproperty uchar flag\nproperty list uchar uint vertex_indices\n"
+                  "property float area\nend_header\n";
+  auto put = [&](auto v) {
+    if (ascii) {
+      s += std::to_string(+v) + ' ';
+      return;
+    }
+    char b[sizeof(v)];
+    std::memcpy(b, &v, sizeof(v));
+    if (big) std::reverse(b, b + sizeof(v));
+    s.append(b, sizeof(v));
+  };
+  for (int j = 0; j <= n; ++j) {
+    for (int i = 0; i <= n; ++i) {
+      put(static_cast<float>(i));
+      put(static_cast<float>(j));
+      put(0.5f * static_cast<float>(i * j));
+      put(static_cast<std::int16_t>(i - j));
+      if (ascii) s += '\n';
+    }
+  }
+  int f = 0;
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i, ++f) {
+      const auto v0 = static_cast<std::uint32_t>(j * (n + 1) + i);
+      const std::uint32_t q[4] = {v0, v0 + 1, v0 + 1 + static_cast<std::uint32_t>(n + 1),
+                                  v0 + static_cast<std::uint32_t>(n + 1)};
+      put(static_cast<std::uint8_t>(f % 7));
+      if (mixed && f == n * n / 2) {  // split into two triangles
+        put(std::uint8_t{3});
+        for (int k : {0, 1, 2}) put(q[k]);
+        put(0.5f);
+        if (ascii) s += '\n';
+        put(static_cast<std::uint8_t>(100));
+        put(std::uint8_t{3});
+        for (int k : {0, 2, 3}) put(q[k]);
+        put(0.5f);
+      } else {
+        put(std::uint8_t{4});
+        for (std::uint32_t x : q) put(x);
+        put(1.0f + static_cast<float>(f));
+      }
+      if (ascii) s += '\n';
+    }
+  }
+  return s;
+}
+
+}  // namespace
+
+// Binary faces of one size take a parallel path, faces of mixed sizes the per-value one: both
+// read exactly what the ASCII file (always per value) holds, in both byte orders.
+TEST(Ply, BinaryQuadsAndMixedFacesReadAsTheirAsciiTwin) {
+  for (bool mixed : {false, true}) {
+    const PolyData want = read_ply(bytes_of(grid_ply(40, mixed, "ascii", false)), "a.ply");
+    ASSERT_EQ(want.polys.size(), 1600u + (mixed ? 1 : 0));
+    EXPECT_EQ(want.polys.cell_size(0), 4u);
+    for (bool big : {false, true}) {
+      const char* format = big ? "binary_big_endian" : "binary_little_endian";
+      const PolyData got = read_ply(bytes_of(grid_ply(40, mixed, format, big)), "b.ply");
+      EXPECT_EQ(got.points, want.points) << format << " mixed " << mixed;
+      EXPECT_EQ(got.polys.offsets(), want.polys.offsets()) << format;
+      EXPECT_EQ(got.polys.connectivity(), want.polys.connectivity()) << format;
+      EXPECT_EQ(got.point_data, want.point_data) << format;
+      EXPECT_EQ(got.cell_data, want.cell_data) << format;
+      EXPECT_EQ(got.cell_data.get("area").get(1599), mixed ? 1599.0 : 1600.0);  // (f + 1)
+    }
+  }
+}
+
+TEST(Ply, BinaryQuadWithAnIndexOutOfRangeIsNamed) {
+  std::string s = grid_ply(4, false, "binary_little_endian", false);
+  // Face 5's third index (record: flag, count, 4 x uint32, area = 22 bytes) becomes 25.
+  const std::size_t faces = s.size() - 16 * 22;
+  const std::uint32_t bad = 25;
+  std::memcpy(&s[faces + 5 * 22 + 2 + 2 * 4], &bad, 4);
+  expect_error([](const auto& b) { return read_ply(b, "bad.ply"); }, s,
+               {"bad.ply", "face 5", "vertex index 25", "out of range (25 vertices)"});
+}
+
+// A file that cannot be mapped (a pipe) is read all the same.
+TEST(Ply, ReadsFromAPipe) {
+  const fs::path dir = scratch("pipe");
+  const fs::path fifo = dir / "in.ply";
+  fs::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string text = grid_ply(30, true, "binary_little_endian", false);
+  std::thread writer([&] {
+    std::ofstream out(fifo, std::ios::binary);
+    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+  });
+  const PolyData got = read_ply(fifo);
+  writer.join();
+  EXPECT_EQ(got, read_ply(bytes_of(text), "same.ply"));
 }

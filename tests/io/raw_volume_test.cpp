@@ -663,3 +663,28 @@ TEST(MetaImageBad, MutatedHeadersOnlyThrowError) {
                       z),
              3000);
 }
+
+// Large enough that the samples are copied from the files with pread (64 KiB or more), at an
+// odd offset, and swapped: attached (.nrrd) and detached (.nhdr + several files) give the values.
+TEST(Nrrd, LargeBigEndianSamplesFromTheFilesAtOddOffsets) {
+  const fs::path dir = scratch("nrrd_large");
+  std::vector<float> v(64 * 64 * 40);
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] = static_cast<float>(i) * 0.25f - 7.0f;
+  const std::string head =
+      "NRRD0004\ntype: float\ndimension: 3\nsizes: 64 64 40\nendian: big\nencoding: raw\n";
+  write_file(dir / "a.nrrd", head + "byte skip: 3\n\nabc" + raw_values(v, true));
+  const std::size_t slice = 64 * 64;  // one file a slice, each after a 5-byte header
+  for (std::size_t k = 0; k < 40; ++k) {
+    const auto b = v.begin() + static_cast<std::ptrdiff_t>(k * slice);
+    write_file(dir / ("s" + std::to_string(k) + ".raw"),
+               "12345" + raw_values(std::vector<float>(b, b + static_cast<std::ptrdiff_t>(slice)), true));
+  }
+  write_file(dir / "d.nhdr", head + "byte skip: 5\ndata file: s%d.raw 0 39 1\n");
+  for (const char* f : {"a.nrrd", "d.nhdr"}) {
+    const ImageData img = read_nrrd(dir / f);
+    const DataArray& s = *img.point_data.scalars();
+    ASSERT_EQ(s.size(), v.size()) << f;
+    const auto got = s.values<float>();
+    EXPECT_TRUE(std::equal(got.begin(), got.end(), v.begin())) << f;
+  }
+}

@@ -13,6 +13,7 @@
 
 #include "isoforge/core/dataset.hpp"
 #include "isoforge/core/progress.hpp"
+#include "file_source.hpp"
 
 namespace isoforge::io_detail {
 
@@ -80,11 +81,6 @@ class Progress {
   double last_ = -1;
 };
 
-/// Reads a whole file into memory, in blocks, adding each block's bytes to `progress`.
-/// \throw Error naming the path if it cannot be read.
-[[nodiscard]] std::vector<std::byte> read_file(const std::filesystem::path& path,
-                                               Progress& progress);
-
 /// The size of a file (0 if it cannot be told; reading it then reports the error).
 [[nodiscard]] std::uint64_t file_size_or_zero(const std::filesystem::path& path);
 
@@ -120,16 +116,15 @@ inline void write_blocks(std::ostream& out, const char* data, std::size_t n, Pro
   }
 }
 
-/// Reads the file `path` with progress: loading its bytes is the first half of the work,
-/// `parse(bytes, progress, base)` the second (it reports `base` + the bytes it has consumed,
-/// e.g. through `Scanner::track`); then reports the end.
+/// Reads the file `path` with progress: the file is mapped (file_source.hpp), and
+/// `parse(source, progress, base)` reports `base` + the bytes it has consumed (e.g. through
+/// `Scanner::track`), which is all the work; then reports the end.
 template <class Parse>
 auto read_with_progress(const std::filesystem::path& path, const ProgressCallback& callback,
                         Parse&& parse) {
-  const std::uint64_t size = file_size_or_zero(path);
-  Progress progress(callback, 2 * size, "reading");
-  const std::vector<std::byte> bytes = read_file(path, progress);
-  auto result = parse(std::span<const std::byte>(bytes), &progress, size);
+  const MappedFile file(path);
+  Progress progress(callback, file.bytes().size(), "reading");
+  auto result = parse(FileSource(file), &progress, std::uint64_t{0});
   progress.finish();
   return result;
 }

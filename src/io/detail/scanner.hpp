@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "isoforge/core/error.hpp"
+#include "file_source.hpp"
 #include "progress.hpp"
 
 namespace isoforge::io_detail {
@@ -105,8 +106,10 @@ inline void append_number(std::string& out, T v) {
 
 class Scanner {
  public:
-  Scanner(std::span<const std::byte> data, std::string name)
-      : data_(data), name_(std::move(name)) {}
+  /// `source`: the bytes (and the file they are mapped from, whose arrays read_array copies
+  /// with pread; file_source.hpp).
+  Scanner(FileSource source, std::string name)
+      : source_(source), data_(source.bytes), name_(std::move(name)) {}
 
   [[nodiscard]] const std::string& name() const { return name_; }
   [[nodiscard]] std::size_t offset() const { return pos_; }
@@ -123,6 +126,16 @@ class Scanner {
   /// Reports the current offset to the tracked progress (one comparison when nothing is due).
   void tick() {
     if (progress_) progress_->set(progress_base_ + pos_);
+    if (pos_ >= release_at_) release_behind();
+  }
+  /// Drops the mapped pages of the file before the current position from memory
+  /// (FileSource::release; tick() does it every kReleaseStep bytes): a reader never goes back
+  /// to them, except through views it holds, which read the same bytes again if used.
+  void release_behind() {
+    if (!source_.file || pos_ <= released_) return;
+    source_.release(data_.data() + released_, data_.data() + pos_);
+    released_ = pos_;
+    release_at_ = pos_ + kReleaseStep;
   }
   void seek(std::size_t offset) {
     if (offset > data_.size()) fail_at_byte(offset, "seek past end of file");
@@ -273,24 +286,20 @@ class Scanner {
     if (endian != kHostEndian) v = byteswap_value(v);
     return v;
   }
-  /// Reads `count` values of T into `out` (resized), converting to host order.
-  template <class T>
-  void read_array(std::size_t count, Endian endian, std::vector<T>& out, std::string_view what) {
+  /// Reads `count` values of T into `out` (a std::vector or Buffer of T, resized), converting to
+  /// host order.
+  template <class Vec>
+  void read_array(std::size_t count, Endian endian, Vec& out, std::string_view what) {
+    using T = typename Vec::value_type;
     if (count > remaining() / sizeof(T)) {
       fail_byte("truncated: " + std::string(what) + " needs " + std::to_string(count) + " values of " +
                 std::to_string(sizeof(T)) + " bytes but only " + std::to_string(remaining()) +
                 " bytes remain");
     }
     out.resize(count);
-    // In blocks of about Progress::kStep bytes, so that progress advances through big arrays.
-    constexpr std::size_t kBlock = std::max<std::size_t>(1, Progress::kStep / sizeof(T));
-    for (std::size_t i = 0; i < count; i += kBlock) {
-      const std::size_t n = std::min(kBlock, count - i);
-      std::memcpy(out.data() + i, data_.data() + pos_, n * sizeof(T));
-      pos_ += n * sizeof(T);
-      to_host(std::span<T>(out.data() + i, n), endian);
-      tick();
-    }
+    copy_elements(source_, data_.data() + pos_, reinterpret_cast<std::byte*>(out.data()), count,
+                  sizeof(T), endian != kHostEndian, progress_, progress_base_ + pos_);
+    pos_ += count * sizeof(T);
   }
   /// Raw bytes, without conversion.
   [[nodiscard]] std::span<const std::byte> read_bytes(std::size_t n, std::string_view what) {
@@ -311,6 +320,11 @@ class Scanner {
     return {reinterpret_cast<const char*>(data_.data()) + b, e - b};
   }
 
+  static constexpr std::size_t kReleaseStep = std::size_t{8} << 20;
+
+  FileSource source_;
+  std::size_t released_ = 0;                  // the pages before this are released
+  std::size_t release_at_ = kReleaseStep;     // tick() releases when pos_ reaches this
   std::span<const std::byte> data_;
   std::string name_;
   std::size_t pos_ = 0;
