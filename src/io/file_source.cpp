@@ -11,6 +11,7 @@
 
 #include "detail/progress.hpp"
 #include "isoforge/core/error.hpp"
+#include "isoforge/core/parallel.hpp"
 
 namespace isoforge::io_detail {
 
@@ -18,6 +19,13 @@ namespace {
 
 /// Below this a copy from the mapping is cheaper than a system call.
 constexpr std::size_t kPreadMin = std::size_t{64} << 10;
+/// Copies from this size on are split into reads of kParallelPiece on all threads: most of the
+/// time of a big read is the kernel zeroing the fresh pages of the array (measured: 70% of
+/// reading a 512 MB raw volume), which happens in the thread that first writes them.
+constexpr std::size_t kParallelMin = std::size_t{8} << 20;
+constexpr std::size_t kParallelPiece = std::size_t{2} << 20;
+/// copy_elements works in slices of this (progress between them).
+constexpr std::size_t kSliceBytes = std::size_t{64} << 20;
 
 std::string errno_text() { return std::strerror(errno); }
 
@@ -111,7 +119,15 @@ void FileSource::release(const std::byte* from, const std::byte* to) const {
 
 void FileSource::copy(const std::byte* from, std::byte* dst, std::size_t n) const {
   if (n == 0) return;
-  if (file && n >= kPreadMin) {
+  if (file && n >= kParallelMin) {
+    const auto offset = static_cast<std::uint64_t>(from - bytes.data());
+    parallel_for_range((n + kParallelPiece - 1) / kParallelPiece, 1,
+                       [&](std::size_t b, std::size_t e) {
+                         const std::size_t lo = b * kParallelPiece;
+                         const std::size_t hi = std::min(n, e * kParallelPiece);
+                         file->copy(offset + lo, dst + lo, hi - lo);
+                       });
+  } else if (file && n >= kPreadMin) {
     file->copy(static_cast<std::uint64_t>(from - bytes.data()), dst, n);
   } else {
     std::memcpy(dst, from, n);
@@ -150,12 +166,19 @@ void swap_elements(std::byte* data, std::size_t count, std::size_t elem_size) {
 void copy_elements(const FileSource& src, const std::byte* from, std::byte* dst,
                    std::size_t count, std::size_t elem_size, bool swap, Progress* progress,
                    std::uint64_t progress_base) {
-  // Slices of 1 MiB: the swap finds them in cache, and progress advances through big arrays.
-  const std::size_t per = std::max<std::size_t>(1, (std::size_t{1} << 20) / elem_size);
+  // In slices, with progress after each; the copy and the swap each on all threads.
+  const std::size_t per = std::max<std::size_t>(1, kSliceBytes / elem_size);
   for (std::size_t i = 0; i < count; i += per) {
     const std::size_t m = std::min(per, count - i);
-    src.copy(from + i * elem_size, dst + i * elem_size, m * elem_size);
-    if (swap && elem_size > 1) swap_elements(dst + i * elem_size, m, elem_size);
+    std::byte* out = dst + i * elem_size;
+    src.copy(from + i * elem_size, out, m * elem_size);
+    if (swap && elem_size > 1) {
+      const std::size_t piece = std::max<std::size_t>(1, kParallelPiece / elem_size);
+      parallel_for_range((m + piece - 1) / piece, 1, [&](std::size_t b, std::size_t e) {
+        const std::size_t lo = b * piece, hi = std::min(m, e * piece);
+        swap_elements(out + lo * elem_size, hi - lo, elem_size);
+      });
+    }
     if (progress) progress->set(progress_base + (i + m) * elem_size);
   }
 }

@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <future>
 #include <limits>
 #include <new>
 #include <optional>
@@ -273,6 +274,8 @@ class ByteSource {
     return static_cast<std::uint64_t>(buf_len_ - buf_pos_) + ((text_.size() - pos_) / 4 + 1) * 3;
   }
   [[nodiscard]] std::uint64_t file_pos() const { return base_ + pos_; }
+  /// Whether the bytes come straight from the input (not decoded from base64).
+  [[nodiscard]] bool is_raw() const { return !b64_; }
 
   void read(std::byte* dst, std::size_t n, const XmlWhere& w, std::string_view what) {
     if (!b64_) {
@@ -629,8 +632,10 @@ void Reader::read_payload(ByteSource& src, const XmlWhere& w, std::optional<std:
     }
     charge(n, w);
     std::byte* dst = alloc(n);
-    for (std::uint64_t at = 0; at < n; at += io_detail::Progress::kStep) {  // progress between
-      const auto m = static_cast<std::size_t>(std::min(io_detail::Progress::kStep, n - at));
+    // Sixteen pieces with progress between them (each big one read on all threads).
+    const std::uint64_t step = std::max<std::uint64_t>(io_detail::Progress::kStep, n / 16);
+    for (std::uint64_t at = 0; at < n; at += step) {
+      const auto m = static_cast<std::size_t>(std::min(step, n - at));
       src.read(dst + at, m, w, "the array data");
       tick(src.file_pos());
     }
@@ -710,7 +715,8 @@ void Reader::read_payload(ByteSource& src, const XmlWhere& w, std::optional<std:
   for (std::size_t b0 = 0; b0 < jobs.size(); b0 += slice) {
     const std::size_t b1 = std::min(jobs.size(), b0 + slice);
     const io_detail::BlockFailure f =
-        io_detail::decompress_blocks(codec, std::span(jobs).subspan(b0, b1 - b0));
+        io_detail::decompress_blocks(codec, std::span(jobs).subspan(b0, b1 - b0),
+                                     src.is_raw() ? &source_ : nullptr);
     if (f.index < b1 - b0) {
       const std::size_t b = b0 + f.index;
       w.fail_at(at[b], std::string(codec_label(codec)) + " error in compressed block " + num(b) +
@@ -1645,7 +1651,14 @@ class Writer {
   // encoded); then the XML and the payloads are written out, the payloads straight from the
   // arrays or from their compressed blocks.
   void write(DatasetRef ds, std::ostream& os) {
-    progress_ = io_detail::Progress(callback_, io_detail::payload_values(ds), "writing", 0, 0.9);
+    // Compressed appended data goes to a seekable stream (a file) as it is compressed, slice by
+    // slice: the XML holds a fixed-width place for each offset and each array a place for its
+    // block sizes, both filled in afterwards. Else the blocks are kept until the XML is done.
+    const std::streampos base = os.tellp();
+    streaming_ = compress_ && enc_ == VtkXmlEncoding::Appended && base != std::streampos(-1) &&
+                 kHostEndian == Endian::Little;
+    progress_ = io_detail::Progress(callback_, io_detail::payload_values(ds), "writing", 0,
+                                    streaming_ ? 1.0 : 0.9);
     x_ = "<?xml version=\"1.0\"?>\n<VTKFile type=\"";
     const char* type =
         ds.visit(Overloaded{[](const ImageData&) { return "ImageData"; },
@@ -1664,6 +1677,10 @@ class Writer {
     constexpr std::string_view kAppended = "  <AppendedData encoding=\"raw\">\n   _";
     constexpr std::string_view kAppendedEnd = "\n  </AppendedData>\n";
     const bool appended = enc_ == VtkXmlEncoding::Appended;
+    if (streaming_) {
+      write_streaming(os, base, kAppended, kAppendedEnd);
+      return;
+    }
     const std::size_t size =
         x_.size() + (appended ? kAppended.size() + app_size_ + kAppendedEnd.size() : 0);
     io_detail::Progress out(callback_, size, "writing", progress_.to(), 1);
@@ -1916,6 +1933,13 @@ class Writer {
         break;
       }
       case VtkXmlEncoding::Appended: {
+        if (streaming_) {
+          x_ += " format=\"appended\" offset=\"";
+          deferred_.push_back({a, x_.size()});
+          x_.append(kOffsetField, ' ');  // the offset, its closing quote and padding, later
+          x_ += "/>\n";
+          return;
+        }
         x_ += " format=\"appended\" offset=\"" + num(app_size_) + "\"/>\n";
         Payload p = payload(a);
         app_size_ += p.header.size() + p.size;
@@ -1927,7 +1951,100 @@ class Writer {
     x_ += "</DataArray>\n";
   }
 
+  /// Characters kept for an offset in the XML: up to 20 digits, the quote, spaces (which XML
+  /// allows before the tag's end).
+  static constexpr std::size_t kOffsetField = 21;
+
+  /// Writes the XML with the offsets left blank, then each deferred array: its header words (the
+  /// block sizes as zeros), its blocks compressed slice by slice and written at once, then its
+  /// header again with the sizes; then the offsets into the XML and the end of the document.
+  /// Memory: one slice of compressed blocks, whatever the dataset's size.
+  void write_streaming(std::ostream& os, std::streampos base, std::string_view appended,
+                       std::string_view appended_end) {
+    x_ += appended;
+    os.write(x_.data(), static_cast<std::streamsize>(x_.size()));
+    progress_.add(0);  // the start
+    std::vector<std::uint64_t> offsets;
+    std::uint64_t at = 0;  // bytes of the appended data so far
+    std::string header;
+    for (const Deferred& d : deferred_) {
+      offsets.push_back(at);
+      const ArrayView& a = d.array;
+      const std::size_t n = a.size_bytes();
+      const std::size_t es = scalar_size(a.type);
+      const std::size_t nblocks = (n + kWriteBlockSize - 1) / kWriteBlockSize;
+      const auto put_word = [&header](std::uint64_t v) {
+        unsigned char b[8];
+        for (int i = 0; i < 8; ++i) b[i] = static_cast<unsigned char>(v >> (8 * i));
+        header.append(reinterpret_cast<const char*>(b), 8);
+      };
+      std::vector<std::uint64_t> sizes;
+      sizes.reserve(nblocks);
+      const auto make_header = [&] {
+        header.clear();
+        put_word(nblocks);
+        put_word(kWriteBlockSize);
+        put_word(n % kWriteBlockSize);
+        for (std::size_t b = 0; b < nblocks; ++b) put_word(b < sizes.size() ? sizes[b] : 0);
+      };
+      make_header();
+      const std::streampos header_at = os.tellp();
+      os.write(header.data(), static_cast<std::streamsize>(header.size()));
+      std::uint64_t data_bytes = 0;
+      std::size_t reported = 0;
+      // Each slice is written by another thread while the next one is compressed.
+      io_detail::CompressedBlocks writing;
+      std::future<void> written;
+      for (std::size_t s = 0; s < n; s += kStreamSlice) {
+        const std::size_t m = std::min(kStreamSlice, n - s);
+        io_detail::CompressedBlocks c = io_detail::compress_blocks(
+            codec_, level_, a.bytes + s, m, kWriteBlockSize, [&](std::size_t done) {
+              progress_.add((s + done - reported) / es);
+              reported = s + done;
+            });
+        sizes.insert(sizes.end(), c.sizes.begin(), c.sizes.end());
+        data_bytes += c.bytes;
+        if (written.valid()) written.get();
+        writing = std::move(c);
+        written = std::async(std::launch::async, [&os, &writing] {
+          os.write(reinterpret_cast<const char*>(writing.data.get()),
+                   static_cast<std::streamsize>(writing.bytes));
+        });
+      }
+      if (written.valid()) written.get();
+      if (!os) throw Error("VTK XML writer: writing the compressed data failed");
+      const std::streampos end = os.tellp();
+      make_header();
+      os.seekp(header_at);
+      os.write(header.data(), static_cast<std::streamsize>(header.size()));
+      os.seekp(end);
+      at += header.size() + data_bytes;
+    }
+    x_.assign(appended_end);
+    x_ += "</VTKFile>\n";
+    os.write(x_.data(), static_cast<std::streamsize>(x_.size()));
+    const std::streampos end = os.tellp();
+    for (std::size_t i = 0; i < deferred_.size(); ++i) {
+      std::string field = num(offsets[i]) + '"';
+      field.resize(kOffsetField, ' ');
+      os.seekp(base + static_cast<std::streamoff>(deferred_[i].field));
+      os.write(field.data(), static_cast<std::streamsize>(field.size()));
+    }
+    os.seekp(end);
+    progress_.finish();
+  }
+
+  /// Input bytes compressed between two writes when streaming (whole blocks).
+  static constexpr std::size_t kStreamSlice = 16 * kWriteBlockSize;  // 4 MiB
+
+  struct Deferred {
+    ArrayView array;
+    std::size_t field;  // where its offset goes in the XML
+  };
+
   VtkXmlEncoding enc_;
+  bool streaming_ = false;
+  std::vector<Deferred> deferred_;
   bool compress_;
   BlockCodec codec_;
   int level_;

@@ -7,6 +7,7 @@
 // docs/algorithms/vtk_xml_io.md).
 
 #include "detail/vtk_xml_codecs.hpp"
+#include "detail/file_source.hpp"
 
 #include <libdeflate.h>
 #include <lz4.h>
@@ -149,7 +150,8 @@ std::uint64_t block_codec_max_ratio(BlockCodec codec) {
   return 1032;
 }
 
-BlockFailure decompress_blocks(BlockCodec codec, std::span<const BlockJob> jobs) {
+BlockFailure decompress_blocks(BlockCodec codec, std::span<const BlockJob> jobs,
+                               const FileSource* file) {
   std::mutex mutex;
   BlockFailure first{jobs.size(), {}};
   parallel_for_range(jobs.size(), kBlocksPerTask, [&](std::size_t begin, std::size_t end) {
@@ -162,8 +164,15 @@ BlockFailure decompress_blocks(BlockCodec codec, std::span<const BlockJob> jobs)
         return;
       }
     }
+    std::vector<std::byte> scratch;
     for (std::size_t i = begin; i < end; ++i) {
-      std::string why = decompress_one(codec, jobs[i], d.get());
+      BlockJob job = jobs[i];
+      if (file && file->file) {
+        scratch.resize(job.in_size);
+        file->copy(job.in, scratch.data(), job.in_size);
+        job.in = scratch.data();
+      }
+      std::string why = decompress_one(codec, job, d.get());
       if (!why.empty()) {
         const std::lock_guard<std::mutex> lock(mutex);
         if (i < first.index) first = {i, std::move(why)};

@@ -56,15 +56,16 @@ struct FileSource {
   explicit FileSource(const MappedFile& f) : bytes(f.bytes()), file(&f) {}
 
   /// Copies `n` bytes starting at `from` (a pointer into `bytes`) to `dst`: from the file when
-  /// there is one and the copy is large (the mapped pages stay untouched), else memcpy.
+  /// there is one and the copy is large (the mapped pages stay untouched; big copies in pieces
+  /// on all threads), else memcpy.
   void copy(const std::byte* from, std::byte* dst, std::size_t n) const;
   /// MappedFile::release of the bytes [from, to) (pointers into `bytes`); nothing in memory.
   void release(const std::byte* from, const std::byte* to) const;
 };
 
 /// Copies `count` elements of `elem_size` bytes from `from` (inside `src.bytes`) to `dst`,
-/// swapping each element's bytes when `swap`, in slices that stay in cache between the copy and
-/// the swap; `progress` (may be null) is set to `progress_base` + the bytes copied after each.
+/// swapping each element's bytes when `swap`, in slices of 64 MiB (each copied and swapped on
+/// all threads); `progress` (may be null) is set to `progress_base` + the bytes copied after each.
 void copy_elements(const FileSource& src, const std::byte* from, std::byte* dst,
                    std::size_t count, std::size_t elem_size, bool swap, Progress* progress,
                    std::uint64_t progress_base = 0);

@@ -14,6 +14,8 @@
 
 namespace isoforge::io_detail {
 
+struct FileSource;
+
 enum class BlockCodec {
   Zlib,  ///< zlib stream (RFC 1950) per block
   Lz4,   ///< raw LZ4 block per block (no frame)
@@ -42,8 +44,11 @@ struct BlockFailure {
 };
 
 /// Decompresses `jobs` in parallel (TBB). Returns the failure of the lowest-numbered bad block
-/// (the same whatever the thread count), or index == jobs.size() when all succeed.
-[[nodiscard]] BlockFailure decompress_blocks(BlockCodec codec, std::span<const BlockJob> jobs);
+/// (the same whatever the thread count), or index == jobs.size() when all succeed. With `file`
+/// (the inputs lie in its bytes), each input is first copied out of the file into a buffer of
+/// the thread (FileSource::copy: pread), so the compressed payload never becomes resident.
+[[nodiscard]] BlockFailure decompress_blocks(BlockCodec codec, std::span<const BlockJob> jobs,
+                                             const FileSource* file = nullptr);
 
 /// A payload compressed block by block: `data` holds the blocks one after another, `sizes` the
 /// compressed size of each.
