@@ -847,23 +847,19 @@ void write_ply(const PolyData& mesh, const std::filesystem::path& path,
     }
   }
 
-  // ---- faces: polys, then strips as triangles; `rows` maps each face to its cell id ----
-  CellArray faces = mesh.polys;
-  std::vector<std::size_t> rows(mesh.polys.size());
-  for (std::size_t c = 0; c < rows.size(); ++c) rows[c] = c;
+  // ---- faces: polys, then strips as triangles (cell data of a strip's triangles: the strip's)
+  std::size_t num_faces = mesh.polys.size();
+  std::size_t max_face = 0;
+  for (std::size_t f = 0; f < mesh.polys.size(); ++f) {
+    max_face = std::max(max_face, mesh.polys.cell_size(f));
+  }
   for (std::size_t s = 0; s < mesh.strips.size(); ++s) {
-    const auto ids = mesh.strips.cell(s);
-    for (std::size_t k = 0; k + 2 < ids.size(); ++k) {
-      if (k % 2 == 0) {
-        faces.add({ids[k], ids[k + 1], ids[k + 2]});
-      } else {
-        faces.add({ids[k + 1], ids[k], ids[k + 2]});
-      }
-      rows.push_back(mesh.polys.size() + s);
+    const std::size_t n = mesh.strips.cell_size(s);
+    if (n >= 3) {
+      num_faces += n - 2;
+      max_face = std::max<std::size_t>(max_face, 3);
     }
   }
-  std::size_t max_face = 0;
-  for (std::size_t f = 0; f < faces.size(); ++f) max_face = std::max(max_face, faces.cell_size(f));
   const ScalarType count_type = max_face <= 255 ? ScalarType::UInt8 : ScalarType::Int32;
   const ScalarType index_type =
       np <= static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()) ? ScalarType::Int32
@@ -898,7 +894,7 @@ void write_ply(const PolyData& mesh, const std::filesystem::path& path,
   for (const auto& p : vprops) {
     buf += "property " + std::string(ply_type_name(p.type)) + " " + p.name + "\n";
   }
-  buf += "element face " + std::to_string(faces.size()) + "\n";
+  buf += "element face " + std::to_string(num_faces) + "\n";
   buf += "property list " + std::string(ply_type_name(count_type)) + " " +
          std::string(ply_type_name(index_type)) + " vertex_indices\n";
   for (const auto& p : fprops) {
@@ -906,32 +902,49 @@ void write_ply(const PolyData& mesh, const std::filesystem::path& path,
   }
   buf += "end_header\n";
 
-  // ---- body: built in memory (90% of the progress, by values), then written ----
+  // ---- body: encoded into a buffer written out every 4 MiB (memory: the buffer, whatever the
+  // mesh's size); progress by values ----
   const std::uint64_t vertex_values = 3 + vprops.size(), face_values = 1 + fprops.size();
   io_detail::Progress progress(options.progress,
-                               np * vertex_values + faces.connectivity().size() +
-                                   faces.size() * face_values,
-                               "writing", 0, 0.9);
+                               np * vertex_values + mesh.polys.connectivity().size() +
+                                   3 * (num_faces - mesh.polys.size()) + num_faces * face_values,
+                               "writing");
+  AtomicFile file_out(path);
+  std::ostream& os = file_out.stream();
+  constexpr std::size_t kFlush = std::size_t{4} << 20;
+  const auto flush = [&](bool always) {
+    if (always || buf.size() >= kFlush) {
+      os.write(buf.data(), static_cast<std::streamsize>(buf.size()));
+      buf.clear();
+    }
+  };
   for (std::size_t i = 0; i < np; ++i) {
     const Vec3 p = mesh.points[i];
     for (int a = 0; a < 3; ++a) out.put_as(pt, p[a]);
     for (const auto& q : vprops) out.put_as(q.type, q.array->get(i, q.comp));
     out.end_record();
     progress.add(vertex_values);
+    flush(false);
   }
-  for (std::size_t f = 0; f < faces.size(); ++f) {
-    const auto ids = faces.cell(f);
+  const auto face = [&](std::span<const Index> ids, std::size_t row) {
     out.put_as(count_type, static_cast<double>(ids.size()));
     for (Index id : ids) out.put_as(index_type, static_cast<double>(id));
-    for (const auto& q : fprops) out.put_as(q.type, q.array->get(rows[f], q.comp));
+    for (const auto& q : fprops) out.put_as(q.type, q.array->get(row, q.comp));
     out.end_record();
     progress.add(ids.size() + face_values);
+    flush(false);
+  };
+  for (std::size_t f = 0; f < mesh.polys.size(); ++f) face(mesh.polys.cell(f), f);
+  for (std::size_t s = 0; s < mesh.strips.size(); ++s) {
+    const auto ids = mesh.strips.cell(s);
+    for (std::size_t k = 0; k + 2 < ids.size(); ++k) {
+      const Index tri[3] = {ids[k + (k % 2)], ids[k + 1 - (k % 2)], ids[k + 2]};
+      face(tri, mesh.polys.size() + s);
+    }
   }
-
-  AtomicFile file_out(path);
-  io_detail::Progress written(options.progress, buf.size(), "writing", 0.9, 1);
-  io_detail::write_blocks(file_out.stream(), buf.data(), buf.size(), written);
-  written.finish();  // before the commit: a cancel leaves the target unchanged
+  flush(true);
+  if (!os) throw Error(file + ": writing failed");
+  progress.finish();  // before the commit: a cancel leaves the target unchanged
   file_out.commit();
 }
 
