@@ -362,8 +362,7 @@ class LegacyReader {
     } else {
       s_.check_count(count, 2, what + " value count");
       v.resize(count);
-      const std::string item = what + " value";
-      for (T& x : v) x = s_.parse_token<T>(item);
+      s_.parse_tokens<T>(count, v.data(), what + " value");
     }
     return v;
   }
@@ -555,16 +554,45 @@ class LegacyReader {
       fail_at(w, kw + ": " + str(static_cast<std::uint64_t>(a)) + " cells cannot fit in " +
                      str(static_cast<std::uint64_t>(b)) + " values");
     }
+    // The values: read at once (binary, or ASCII parsed in parallel), or, after an ASCII
+    // problem, token by token again so that the error names the line of the cell at fault.
     std::vector<std::int32_t> raw;
+    std::vector<std::int32_t> raw_text;  // (a value beyond int32 goes the token-by-token way)
+    const auto start = s_.mark();
     if (binary_) {
       raw = read_numbers<std::int32_t>(b, kw);
     } else {
       s_.check_count(b, 2, kw + " value count");
+      raw_text.resize(b);
+      try {
+        s_.parse_tokens<std::int32_t>(b, raw_text.data(), kw + " value");
+      } catch (const Error&) {
+        raw_text.clear();  // parsed again below, failing at the bad token
+        s_.restore(start);
+      }
     }
+    const bool buffered = binary_ || raw_text.size() == b;
+    try {
+      return classic_cells(kw, w, a, b, raw, raw_text, buffered);
+    } catch (const Error&) {
+      if (binary_ || !buffered) throw;
+      s_.restore(start);  // again token by token: the same error, at its line
+      return classic_cells(kw, w, a, b, raw, {}, false);
+    }
+  }
+
+  /// The classic cell lists (see read_cells) from `raw` (binary), `raw_text` (ASCII, parsed)
+  /// or, when not `buffered`, token by token from the scanner.
+  CellArray classic_cells(const std::string& kw, const Where& w, std::size_t a, std::size_t b,
+                          const std::vector<std::int32_t>& raw,
+                          const std::vector<std::int32_t>& raw_text, bool buffered) {
     std::size_t pos = 0;
     const std::string item = kw + " value";
     auto next = [&]() -> std::int64_t {
-      return binary_ ? raw[pos++] : (++pos, s_.parse_token<std::int64_t>(item));
+      if (binary_) return raw[pos++];
+      if (buffered) return raw_text[pos++];
+      ++pos;
+      return s_.parse_token<std::int64_t>(item);
     };
     auto fail_cell = [&](const std::string& what) {
       if (binary_) fail_at({0, data_offset_ + 4 * (pos - 1)}, what);

@@ -1233,3 +1233,65 @@ TEST(VtkLegacyRead, TruncatedRealFilesThrowOnlyIsoforgeErrors) {
 }
 
 }  // namespace
+
+namespace {
+
+/// An ASCII polydata of `n` points on a line (ragged lines of 1-7 numbers, some with several
+/// spaces, so that the 1 MiB pieces of the parallel parser cut tokens) and n - 2 triangles.
+std::string big_ascii_polydata(std::size_t n) {
+  std::string s = "# vtk DataFile Version 4.2\nbig\nASCII\nDATASET POLYDATA\nPOINTS " +
+                  std::to_string(n) + " double\n";
+  for (std::size_t i = 0; i < 3 * n; ++i) {
+    s += std::to_string(i) + ".25";  // exact in binary
+    s += (i % 7 == 6) ? "\n" : (i % 3 == 0 ? "   " : " ");
+  }
+  s += "\nPOLYGONS " + std::to_string(n - 2) + " " + std::to_string(4 * (n - 2)) + "\n";
+  for (std::size_t c = 0; c + 2 < n; ++c) {
+    s += "3 " + std::to_string(c) + " " + std::to_string(c + 1) + " " + std::to_string(c + 2) +
+         (c % 2 ? "\n" : "\t");
+  }
+  s += "\nPOINT_DATA " + std::to_string(n) + "\nSCALARS s int 1\nLOOKUP_TABLE default\n";
+  for (std::size_t i = 0; i < n; ++i) s += std::to_string(static_cast<int>(i) - 5) + "\n";
+  return s;
+}
+
+/// The 1-based line of the first occurrence of `what` in `text`.
+std::size_t line_of(const std::string& text, const std::string& what) {
+  const std::size_t at = text.find(what);
+  return 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+}
+
+}  // namespace
+
+// Arrays of 2^16 values or more are parsed in parallel: the values are those of the text, and
+// an error is reported at the line of the bad token or cell, as the serial parser does.
+TEST(VtkLegacyRead, BigAsciiArraysParseInParallelWithErrorsAtTheirLines) {
+  const std::size_t n = 120000;  // 360k coordinates: a few MiB of text, several pieces
+  const std::string text = big_ascii_polydata(n);
+  const Dataset ds = parse(text, "big.vtk");
+  const auto& pd = std::get<PolyData>(ds);
+  ASSERT_EQ(pd.points.size(), n);
+  for (std::size_t i : {std::size_t{0}, std::size_t{77777}, n - 1}) {
+    EXPECT_EQ(pd.points[i].x, static_cast<double>(3 * i) + 0.25);
+    EXPECT_EQ(pd.points[i].z, static_cast<double>(3 * i + 2) + 0.25);
+  }
+  ASSERT_EQ(pd.polys.size(), n - 2);
+  const auto last = pd.polys.cell(n - 3);
+  EXPECT_EQ(std::vector<Index>(last.begin(), last.end()),
+            (std::vector<Index>{static_cast<Index>(n - 3), static_cast<Index>(n - 2),
+                                static_cast<Index>(n - 1)}));
+  EXPECT_EQ(pd.point_data.get("s").get(n - 1), static_cast<double>(n) - 6);
+
+  // A bad coordinate deep in the points; a cell with a negative point count.
+  std::string bad = text;
+  const std::string coord = " 300000.25";
+  bad.replace(bad.find(coord), coord.size(), " 1.5x");
+  EXPECT_CONTAINS(read_error(bad, "coord.vtk"),
+                  "coord.vtk:" + std::to_string(line_of(bad, "1.5x")) + ": expected");
+  bad = text;
+  const std::string cell = "3 90000 90001 90002";
+  bad.replace(bad.find(cell), 1, "-3");
+  EXPECT_CONTAINS(read_error(bad, "cell.vtk"),
+                  "cell.vtk:" + std::to_string(line_of(bad, "-3 90000 90001")) +
+                      ": POLYGONS: cell 90000 has a negative point count -3");
+}

@@ -4,6 +4,7 @@
 // (line for text, byte offset for binary). Used by every reader.
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <charconv>
 #include <cmath>
@@ -18,6 +19,7 @@
 #include <vector>
 
 #include "isoforge/core/error.hpp"
+#include "isoforge/core/parallel.hpp"
 #include "file_source.hpp"
 #include "progress.hpp"
 
@@ -104,6 +106,108 @@ inline void append_number(std::string& out, T v) {
   out.append(buf, r.ptr);
 }
 
+/// Parses one number token as `Scanner::parse` does (a leading '+' allowed; a float out of
+/// range becomes what strtod makes of it); false if it is not a valid T.
+template <class T>
+bool parse_number(std::string_view t, T& value) {
+  const char* b = t.data();
+  const char* e = t.data() + t.size();
+  if (!t.empty() && *b == '+') ++b;
+  const auto [p, ec] = std::from_chars(b, e, value);
+  if constexpr (std::is_floating_point_v<T>) {
+    if (ec == std::errc::result_out_of_range) {
+      value = static_cast<T>(std::strtod(std::string(t).c_str(), nullptr));
+      return true;
+    }
+  }
+  return ec == std::errc() && p == e;
+}
+
+/// What `parse_numbers` did: bytes of `text` up to the end of the last token, the newlines in
+/// them, the tokens parsed (< count at the end of the text), and whether one was not a number.
+struct ParsedNumbers {
+  std::size_t end = 0;
+  std::int64_t lines = 0;
+  std::size_t found = 0;
+  bool bad = false;
+};
+
+/// Parses the first `count` white-space separated numbers of `text` into `out`, in parallel:
+/// the text is cut into 1 MiB pieces (a token belongs to the piece it starts in), the tokens of
+/// a batch of pieces are counted on all threads, then each piece parses its own at the index
+/// the counts give. The result does not depend on the thread count.
+template <class T>
+ParsedNumbers parse_numbers(std::string_view text, std::size_t count, T* out) {
+  constexpr std::size_t kPiece = std::size_t{1} << 20;
+  constexpr std::size_t kBatch = 16;  // pieces counted and parsed together
+  const auto space = [](char c) { return is_ascii_space(c); };
+  ParsedNumbers r;
+  std::size_t pos = 0;
+  std::atomic<bool> bad{false};
+  while (r.found < count && pos < text.size()) {
+    const std::size_t np = std::min(kBatch, (text.size() - pos + kPiece - 1) / kPiece);
+    std::vector<std::size_t> first(np), tokens(np), last_end(np);
+    const auto piece_begin = [&](std::size_t k) {
+      std::size_t s = pos + k * kPiece;
+      if (s > 0 && !space(text[s - 1])) {  // inside a token of the piece before
+        while (s < text.size() && !space(text[s])) ++s;
+      }
+      return s;
+    };
+    const auto piece_end = [&](std::size_t k) { return std::min(text.size(), pos + (k + 1) * kPiece); };
+    parallel_for_range(np, 1, [&](std::size_t b, std::size_t e) {
+      for (std::size_t k = b; k < e; ++k) {
+        std::size_t i = piece_begin(k), n = 0;
+        const std::size_t stop = piece_end(k);
+        first[k] = i;
+        while (true) {
+          while (i < stop && space(text[i])) ++i;
+          if (i >= stop) break;
+          ++n;
+          while (i < text.size() && !space(text[i])) ++i;
+        }
+        tokens[k] = n;
+      }
+    });
+    std::vector<std::size_t> at(np + 1, r.found);
+    for (std::size_t k = 0; k < np; ++k) at[k + 1] = at[k] + tokens[k];
+    parallel_for_range(np, 1, [&](std::size_t b, std::size_t e) {
+      for (std::size_t k = b; k < e; ++k) {
+        std::size_t i = first[k], idx = at[k], end = first[k];
+        const std::size_t stop = piece_end(k);
+        while (idx < count) {
+          while (i < stop && space(text[i])) ++i;
+          if (i >= stop) break;
+          const std::size_t t0 = i;
+          while (i < text.size() && !space(text[i])) ++i;
+          if (!parse_number(text.substr(t0, i - t0), out[idx])) bad.store(true);
+          ++idx;
+          end = i;
+        }
+        last_end[k] = end;
+      }
+    });
+    for (std::size_t k = 0; k < np; ++k) {
+      if (at[k] < count && tokens[k] > 0) r.end = last_end[k];
+    }
+    r.found = std::min(count, at[np]);
+    pos = piece_end(np - 1);
+  }
+  r.bad = bad.load();
+  // Lines in the consumed text, for the scanner's line count.
+  const std::size_t pieces = (r.end + kPiece - 1) / kPiece;
+  std::vector<std::int64_t> nl(pieces, 0);
+  parallel_for_range(pieces, 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t k = b; k < e; ++k) {
+      const std::size_t lo = k * kPiece, hi = std::min(r.end, lo + kPiece);
+      nl[k] = std::count(text.begin() + static_cast<std::ptrdiff_t>(lo),
+                         text.begin() + static_cast<std::ptrdiff_t>(hi), '\n');
+    }
+  });
+  for (const auto n : nl) r.lines += n;
+  return r;
+}
+
 class Scanner {
  public:
   /// `source`: the bytes (and the file they are mapped from, whose arrays read_array copies
@@ -136,6 +240,12 @@ class Scanner {
     source_.release(data_.data() + released_, data_.data() + pos_);
     released_ = pos_;
     release_at_ = pos_ + kReleaseStep;
+  }
+  /// The place (offset and line) to come back to with `restore`.
+  [[nodiscard]] std::pair<std::size_t, std::int64_t> mark() const { return {pos_, line_}; }
+  void restore(std::pair<std::size_t, std::int64_t> m) {
+    pos_ = m.first;
+    line_ = m.second;
   }
   void seek(std::size_t offset) {
     if (offset > data_.size()) fail_at_byte(offset, "seek past end of file");
@@ -222,6 +332,24 @@ class Scanner {
   [[nodiscard]] T parse_token(std::string_view what) {
     auto t = require_token(what);
     return parse<T>(t, what);
+  }
+
+  /// `count` tokens parsed as T into `out`: big arrays in parallel (parse_numbers); a file that
+  /// ends early or holds a bad token is parsed again one token at a time, which reports it at
+  /// its line as parse_token does.
+  template <class T>
+  void parse_tokens(std::size_t count, T* out, std::string_view what) {
+    constexpr std::size_t kParallelFrom = std::size_t{1} << 16;
+    if (count >= kParallelFrom) {
+      const ParsedNumbers r = parse_numbers(view(pos_, data_.size()), count, out);
+      if (r.found == count && !r.bad) {
+        pos_ += r.end;
+        line_ += r.lines;
+        tick();
+        return;
+      }
+    }
+    for (std::size_t i = 0; i < count; ++i) out[i] = parse_token<T>(what);
   }
 
   template <class T>
