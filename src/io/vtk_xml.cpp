@@ -770,6 +770,20 @@ template <class T, class Tick>
 std::vector<T> parse_ascii(std::string_view text, std::optional<std::uint64_t> count,
                            const XmlWhere& w, std::string_view type_name, Tick&& tick) {
   std::vector<T> out;
+  // Big arrays in parallel (io_detail::parse_numbers); any problem: parsed again below, one
+  // value at a time, which names it.
+  if (count && *count >= (std::uint64_t{1} << 16) && *count <= text.size() / 2 + 1) {
+    out.resize(static_cast<std::size_t>(*count));
+    const io_detail::ParsedNumbers r = io_detail::parse_numbers(
+        text, out.size(), out.data(), [](std::string_view t, T& v) { return parse_value(t, v); });
+    std::size_t rest = r.end;
+    while (rest < text.size() && is_space(text[rest])) ++rest;
+    if (r.found == out.size() && !r.bad && rest == text.size()) {
+      tick(text.size());
+      return out;
+    }
+    out.clear();
+  }
   // Each value takes at least two characters (digit and separator), which bounds the reservation
   // whatever count the file claims.
   if (count)

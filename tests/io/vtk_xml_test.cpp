@@ -2047,3 +2047,48 @@ TEST(VtkXmlCompressors, StreamedAndBufferedWritesHoldTheSameBytes) {
     EXPECT_EQ(read_string(buf.text, "buffered.vti"), Dataset(img));
   }
 }
+
+// ASCII arrays of 2^16 values or more are parsed in parallel: the same values, and a bad value
+// or a wrong count reported as the serial parser reports it.
+TEST(VtkXmlAscii, BigArraysParseInParallelWithTheSameErrors) {
+  ImageData img;
+  img.dims = {80, 60, 30};  // 144k points
+  DataArray f("f", ScalarType::Float32, 1, img.num_points());
+  auto fv = f.values<float>();
+  for (std::size_t i = 0; i < fv.size(); ++i) fv[i] = static_cast<float>(i % 977) * 0.125f - 3.0f;
+  img.point_data.add(std::move(f), AttributeRole::Scalars);
+  DataArray k("k", ScalarType::Int32, 2, img.num_points());
+  auto kv = k.values<std::int32_t>();
+  for (std::size_t i = 0; i < kv.size(); ++i) kv[i] = static_cast<std::int32_t>(i) - 100000;
+  img.point_data.add(std::move(k));
+  VtkXmlWriteOptions o;
+  o.encoding = VtkXmlEncoding::Ascii;
+  std::ostringstream out;
+  write_vtk_xml(img, out, o);
+  const std::string text = out.str();
+  EXPECT_EQ(read_string(text, "big.vti"), Dataset(img));
+
+  std::string bad = text;
+  const std::string value = " 99000 ";  // a value of 'k', far into the array (value 199000)
+  const std::size_t at = bad.find(value);
+  ASSERT_NE(at, std::string::npos);
+  bad.replace(at, value.size(), " 99x00 ");
+  try {
+    (void)read_string(bad, "bad.vti");
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("ascii value 199000 '99x00' is not a valid Int32"),
+              std::string::npos)
+        << e.what();
+  }
+  bad = text;
+  bad.replace(at, value.size(), " 99000 1 ");
+  try {
+    (void)read_string(bad, "more.vti");
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("ascii data holds more than the 288000 values"),
+              std::string::npos)
+        << e.what();
+  }
+}

@@ -135,9 +135,11 @@ struct ParsedNumbers {
 /// Parses the first `count` white-space separated numbers of `text` into `out`, in parallel:
 /// the text is cut into 1 MiB pieces (a token belongs to the piece it starts in), the tokens of
 /// a batch of pieces are counted on all threads, then each piece parses its own at the index
-/// the counts give. The result does not depend on the thread count.
-template <class T>
-ParsedNumbers parse_numbers(std::string_view text, std::size_t count, T* out) {
+/// the counts give. The result does not depend on the thread count. `parse(token, value)` is
+/// the format's own number syntax (default: parse_number's).
+template <class T, class Parse = bool (*)(std::string_view, T&)>
+ParsedNumbers parse_numbers(std::string_view text, std::size_t count, T* out,
+                            Parse parse = &parse_number<T>) {
   constexpr std::size_t kPiece = std::size_t{1} << 20;
   constexpr std::size_t kBatch = 16;  // pieces counted and parsed together
   const auto space = [](char c) { return is_ascii_space(c); };
@@ -180,7 +182,7 @@ ParsedNumbers parse_numbers(std::string_view text, std::size_t count, T* out) {
           if (i >= stop) break;
           const std::size_t t0 = i;
           while (i < text.size() && !space(text[i])) ++i;
-          if (!parse_number(text.substr(t0, i - t0), out[idx])) bad.store(true);
+          if (!parse(text.substr(t0, i - t0), out[idx])) bad.store(true);
           ++idx;
           end = i;
         }
