@@ -106,23 +106,7 @@ using io_detail::ascii_lower;
 using io_detail::trim_space;
 constexpr auto is_space = io_detail::is_ascii_space;
 
-/// Parses a whole token as T. Floats out of range become inf/0 (strtod semantics).
-template <class T>
-bool parse_value(std::string_view tok, T& v) {
-  const char* b = tok.data();
-  const char* e = tok.data() + tok.size();
-  if (b != e && *b == '+') ++b;
-  if (b == e) return false;
-  auto [p, ec] = std::from_chars(b, e, v);
-  if constexpr (std::is_floating_point_v<T>) {
-    if (ec == std::errc::result_out_of_range && p == e) {
-      const std::string s(b, e);
-      v = static_cast<T>(std::strtod(s.c_str(), nullptr));
-      return true;
-    }
-  }
-  return ec == std::errc() && p == e;
-}
+using io_detail::parse_number;
 
 std::optional<std::string_view> attr(pugi::xml_node n, const char* name) {
   const pugi::xml_attribute a = n.attribute(name);
@@ -139,7 +123,7 @@ std::uint64_t count_attr(pugi::xml_node n, const char* name, const XmlWhere& w,
     w.fail(std::string("missing attribute '") + name + "'");
   }
   std::int64_t x = 0;
-  if (!parse_value(trim_space(*v), x)) {
+  if (!parse_number(trim_space(*v), x)) {
     w.fail(std::string("attribute ") + name + "='" + printable(*v) + "' is not an integer");
   }
   if (x < 0) w.fail(std::string("attribute ") + name + "=" + std::to_string(x) + " is negative");
@@ -159,7 +143,7 @@ std::vector<T> list_attr(pugi::xml_node n, const char* name, std::size_t count, 
     std::size_t len = 0;
     while (len < s.size() && !is_space(s[len])) ++len;
     T x{};
-    if (out.size() == count || !parse_value(s.substr(0, len), x)) {
+    if (out.size() == count || !parse_number(s.substr(0, len), x)) {
       w.fail(std::string("attribute ") + name + "='" + printable(*v) + "' is not " +
              std::to_string(count) + " numbers");
     }
@@ -251,12 +235,12 @@ class Base64Encoder {
 /// blocks as separate streams) is handled like one continuous stream.
 class ByteSource {
  public:
-  /// `file`: where `data` lies (its copies then come from the file; null: in memory).
+  /// `file`: the input `data` lies in (copies come from its file, if it has one).
   static ByteSource raw(std::span<const std::byte> data, std::uint64_t file_offset,
-                        const io_detail::FileSource* file) {
+                        const io_detail::FileSource& file) {
     ByteSource s;
     s.raw_ = data;
-    s.file_ = file;
+    s.file_ = &file;
     s.base_ = file_offset;
     return s;
   }
@@ -280,11 +264,7 @@ class ByteSource {
   void read(std::byte* dst, std::size_t n, const XmlWhere& w, std::string_view what) {
     if (!b64_) {
       if (n > raw_.size() - pos_) truncated(w, n, what);
-      if (file_) {
-        file_->copy(raw_.data() + pos_, dst, n);
-      } else if (n > 0) {
-        std::memcpy(dst, raw_.data() + pos_, n);
-      }
+      file_->copy(raw_.data() + pos_, dst, n);
       pos_ += n;
       return;
     }
@@ -737,7 +717,7 @@ std::vector<std::byte> Reader::decode_block(const io_detail::VtkXmlBlockFormat& 
       format.base64
           ? ByteSource::base64(
                 std::string_view(reinterpret_cast<const char*>(data_.data()), data_.size()), 0)
-          : ByteSource::raw(data_, 0, &source_);
+          : ByteSource::raw(data_, 0, source_);
   std::vector<std::byte> out;
   read_payload(src, root_where("DataArray"), expected, unit, [&](std::uint64_t n) {
     out.resize(static_cast<std::size_t>(n));
@@ -775,7 +755,7 @@ std::vector<T> parse_ascii(std::string_view text, std::optional<std::uint64_t> c
   if (count && *count >= (std::uint64_t{1} << 16) && *count <= text.size() / 2 + 1) {
     out.resize(static_cast<std::size_t>(*count));
     const io_detail::ParsedNumbers r = io_detail::parse_numbers(
-        text, out.size(), out.data(), [](std::string_view t, T& v) { return parse_value(t, v); });
+        text, out.size(), out.data());
     std::size_t rest = r.end;
     while (rest < text.size() && is_space(text[rest])) ++rest;
     if (r.found == out.size() && !r.bad && rest == text.size()) {
@@ -799,7 +779,7 @@ std::vector<T> parse_ascii(std::string_view text, std::optional<std::uint64_t> c
       w.fail("ascii data holds more than the " + num(*count) + " values the array needs");
     }
     T v{};
-    if (!parse_value(tok, v)) {
+    if (!parse_number(tok, v)) {
       w.fail("ascii value " + num(out.size()) + " '" + printable(tok) + "' is not a valid " +
              std::string(type_name));
     }
@@ -916,7 +896,7 @@ std::optional<DataArray> Reader::read_array(pugi::xml_node el, const XmlWhere& w
                                   appended_.size() - static_cast<std::size_t>(off));
       src = ByteSource::base64(text, dw.byte);
     } else {
-      src = ByteSource::raw(appended_.subspan(static_cast<std::size_t>(off)), dw.byte, &source_);
+      src = ByteSource::raw(appended_.subspan(static_cast<std::size_t>(off)), dw.byte, source_);
     }
   } else {
     w.fail("format='" + printable(*format) + "' is not ascii, binary or appended");
@@ -927,7 +907,7 @@ std::optional<DataArray> Reader::read_array(pugi::xml_node el, const XmlWhere& w
     out.emplace(name, *type, ncomp, static_cast<std::size_t>(n / unit));
     return out->bytes();
   });
-  if (endian_ != kHostEndian) io_detail::swap_bytes_inplace(out->bytes(), out->size(), esize);
+  if (endian_ != kHostEndian) io_detail::swap_elements(out->bytes(), out->size(), esize);
   return out;
 }
 
@@ -1523,8 +1503,8 @@ Dataset Reader::read() {
     const std::string_view s = trim_space(*v);
     const std::size_t dot = s.find('.');
     int major = -1, minor = 0;
-    const bool ok = parse_value(s.substr(0, dot), major) &&
-                    (dot == std::string_view::npos || parse_value(s.substr(dot + 1), minor));
+    const bool ok = parse_number(s.substr(0, dot), major) &&
+                    (dot == std::string_view::npos || parse_number(s.substr(dot + 1), minor));
     if (!ok || major < 0 || minor < 0)
       w.fail("version='" + printable(*v) + "' is not a version number");
     if (major > 2) {
@@ -1864,7 +1844,7 @@ class Writer {
     const std::byte* bytes = a.bytes;
     if (kHostEndian != Endian::Little && es > 1 && n > 0) {
       p.swapped.assign(bytes, bytes + n);
-      io_detail::swap_bytes_inplace(p.swapped.data(), a.values, es);
+      io_detail::swap_elements(p.swapped.data(), a.values, es);
       bytes = p.swapped.data();
     }
     auto put_word = [&](std::uint64_t v) {

@@ -40,18 +40,6 @@ inline T byteswap_value(T v) {
   return v;
 }
 
-/// Swaps every element of `values` in place if `from` differs from the host order.
-template <class T>
-inline void to_host(std::span<T> values, Endian from) {
-  if (from == kHostEndian || sizeof(T) == 1) return;
-  for (auto& v : values) v = byteswap_value(v);
-}
-
-/// Swaps elements of a raw buffer of `elem_size`-byte elements in place.
-inline void swap_bytes_inplace(std::byte* data, std::size_t count, std::size_t elem_size) {
-  if (elem_size <= 1) return;
-  for (std::size_t i = 0; i < count; ++i) std::reverse(data + i * elem_size, data + (i + 1) * elem_size);
-}
 
 /// File content shown in an error message: at most `max` bytes, "..." when cut, and every byte
 /// outside printable ASCII as \xNN — a NUL would end the message, an escape sequence would
@@ -106,17 +94,19 @@ inline void append_number(std::string& out, T v) {
   out.append(buf, r.ptr);
 }
 
-/// Parses one number token as `Scanner::parse` does (a leading '+' allowed; a float out of
-/// range becomes what strtod makes of it); false if it is not a valid T.
+/// Parses a whole token as a number of type T (a leading '+' allowed; nan/inf spellings as
+/// from_chars takes them; a float out of range becomes what strtod makes of it: inf or 0);
+/// false if the token is not a valid T. Every reader's number syntax.
 template <class T>
 bool parse_number(std::string_view t, T& value) {
   const char* b = t.data();
   const char* e = t.data() + t.size();
-  if (!t.empty() && *b == '+') ++b;
+  if (b != e && *b == '+') ++b;
+  if (b == e) return false;
   const auto [p, ec] = std::from_chars(b, e, value);
   if constexpr (std::is_floating_point_v<T>) {
-    if (ec == std::errc::result_out_of_range) {
-      value = static_cast<T>(std::strtod(std::string(t).c_str(), nullptr));
+    if (ec == std::errc::result_out_of_range && p == e) {
+      value = static_cast<T>(std::strtod(std::string(b, e).c_str(), nullptr));
       return true;
     }
   }
@@ -357,29 +347,15 @@ class Scanner {
   template <class T>
   [[nodiscard]] T parse(std::string_view t, std::string_view what) const {
     T value{};
-    const char* b = t.data();
-    const char* e = t.data() + t.size();
-    if constexpr (std::is_floating_point_v<T>) {
-      if (!t.empty() && *b == '+') ++b;
-      auto [p, ec] = std::from_chars(b, e, value);
-      if (ec == std::errc::result_out_of_range) {
-        // Denormals and overflows: fall back to strtod semantics (inf / 0).
-        value = static_cast<T>(std::strtod(std::string(t).c_str(), nullptr));
-      } else if (ec != std::errc() || p != e) {
-        // Accept nan/inf spellings from other writers (handled by from_chars), else fail.
-        fail_line("expected " + std::string(what) + ", found " + quoted(t));
-      }
-    } else {
-      if (!t.empty() && *b == '+') ++b;
-      auto [p, ec] = std::from_chars(b, e, value);
-      if (ec == std::errc::result_out_of_range) {
+    if (parse_number(t, value)) return value;
+    if constexpr (std::is_integral_v<T>) {
+      const char* b = t.data() + (!t.empty() && t.front() == '+' ? 1 : 0);
+      const auto [p, ec] = std::from_chars(b, t.data() + t.size(), value);
+      if (ec == std::errc::result_out_of_range && p == t.data() + t.size()) {
         fail_line(std::string(what) + " " + quoted(t) + " is out of range");
       }
-      if (ec != std::errc() || p != e) {
-        fail_line("expected " + std::string(what) + ", found " + quoted(t));
-      }
     }
-    return value;
+    fail_line("expected " + std::string(what) + ", found " + quoted(t));
   }
 
   /// Parses a non-negative count and checks it against an upper bound derived from the bytes
