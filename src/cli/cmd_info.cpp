@@ -58,10 +58,11 @@ void add_info_command(CLI::App& app, Context& ctx) {
     ro.plot3d_q = *q;
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
     bar.stage("reading");
-    Dataset ds = read_input(*path, bar, ro);
+    ro.progress = bar.callback();
+    const DatasetSummary summary = summarize_file(*path, ro);
     bar.finish();
     fmt::print("file: {} ({})\n", p.string(), format_name(format));
-    fmt::print("{}", describe(ds));
+    fmt::print("{}", describe(summary));
   });
 }
 

@@ -5,6 +5,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "core/detail/ranges.hpp"
 #include "isoforge/core/parallel.hpp"
 
 namespace isoforge {
@@ -122,48 +123,6 @@ void DataArray::push_back(std::span<const double> tuple) {
       storage_);
 }
 
-namespace {
-
-/// Min and max over values [b, e) of a strided column, NaNs skipped (they compare false), in
-/// the stored type (exact; floats compare without conversion and the loop vectorises).
-template <class T>
-std::pair<double, double> column_range(const T* v, std::size_t stride, std::size_t b,
-                                       std::size_t e) {
-  T lo, hi;
-  if constexpr (std::is_floating_point_v<T>) {
-    lo = std::numeric_limits<T>::infinity();
-    hi = -lo;
-  } else {
-    lo = std::numeric_limits<T>::max();
-    hi = std::numeric_limits<T>::lowest();
-  }
-  for (std::size_t t = b; t < e; ++t) {
-    const T x = v[t * stride];
-    lo = x < lo ? x : lo;
-    hi = x > hi ? x : hi;
-  }
-  return {static_cast<double>(lo), static_cast<double>(hi)};
-}
-
-template <class T>
-std::pair<double, double> magnitude_range(const T* v, std::size_t nc, std::size_t b,
-                                          std::size_t e) {
-  double lo = std::numeric_limits<double>::infinity();
-  double hi = -lo;
-  for (std::size_t t = b; t < e; ++t) {
-    double s = 0;
-    for (std::size_t c = 0; c < nc; ++c) {
-      const auto x = static_cast<double>(v[t * nc + c]);
-      s += x * x;
-    }
-    const double m = std::sqrt(s);
-    lo = m < lo ? m : lo;  // a NaN magnitude compares false
-    hi = m > hi ? m : hi;
-  }
-  return {lo, hi};
-}
-
-}  // namespace
 
 std::pair<double, double> DataArray::range(int component) const {
   const std::size_t nc = static_cast<std::size_t>(components_);
@@ -176,8 +135,8 @@ std::pair<double, double> DataArray::range(int component) const {
         if (n == 0) return;
         const auto part = [&](std::size_t b, std::size_t e) {
           return component < 0
-                     ? magnitude_range(v.data(), nc, b, e)
-                     : column_range(v.data() + component, nc, b, e);
+                     ? core_detail::magnitude_range(v.data(), nc, b, e)
+                     : core_detail::column_range(v.data() + component, nc, b, e);
         };
         // Pieces of 64k tuples on all threads; min and max do not depend on the order.
         constexpr std::size_t kPiece = std::size_t{1} << 16;

@@ -272,6 +272,19 @@ const CellArray& poly_locate(const PolyData& pd, Index& cell, int& which) {
 }
 }  // namespace
 
+CellType poly_cell_type(int section, std::size_t size) {
+  switch (section) {
+    case 0:
+      return size == 1 ? CellType::Vertex : CellType::PolyVertex;
+    case 1:
+      return size == 2 ? CellType::Line : CellType::PolyLine;
+    case 2:
+      return size == 3 ? CellType::Triangle : (size == 4 ? CellType::Quad : CellType::Polygon);
+    default:
+      return CellType::TriangleStrip;
+  }
+}
+
 CellType cell_type(DatasetRef ds, Index cell) {
   return ds.visit(Overloaded{[](const ImageData& d) { return structured_cell_type(d.dims, true); },
                  [](const StructuredGrid& d) { return structured_cell_type(d.dims, false); },
@@ -279,15 +292,7 @@ CellType cell_type(DatasetRef ds, Index cell) {
                    Index local = cell;
                    int which = 0;
                    const CellArray& ca = poly_locate(d, local, which);
-                   const std::size_t n = ca.cell_size(static_cast<std::size_t>(local));
-                   switch (which) {
-                     case 0: return n == 1 ? CellType::Vertex : CellType::PolyVertex;
-                     case 1: return n == 2 ? CellType::Line : CellType::PolyLine;
-                     case 2:
-                       return n == 3 ? CellType::Triangle
-                                     : (n == 4 ? CellType::Quad : CellType::Polygon);
-                     default: return CellType::TriangleStrip;
-                   }
+                   return poly_cell_type(which, ca.cell_size(static_cast<std::size_t>(local)));
                  },
                  [cell](const UnstructuredGrid& d) { return d.types[static_cast<std::size_t>(cell)]; }});
 }

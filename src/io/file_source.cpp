@@ -10,6 +10,7 @@
 #include <cstring>
 
 #include "detail/progress.hpp"
+#include "detail/tuple_stream.hpp"
 #include "isoforge/core/error.hpp"
 #include "isoforge/core/parallel.hpp"
 
@@ -180,6 +181,46 @@ void copy_elements(const FileSource& src, const std::byte* from, std::byte* dst,
       });
     }
     if (progress) progress->set(progress_base + (i + m) * elem_size);
+  }
+}
+
+TupleStream::TupleStream(ScalarType type, int components, bool swap, Consumer consume)
+    : elem_(scalar_size(type)),
+      unit_(scalar_size(type) * static_cast<std::size_t>(components)),
+      swap_(swap && scalar_size(type) > 1),
+      consume_(std::move(consume)) {}
+
+std::byte* TupleStream::window(std::size_t n) {
+  if (buffer_.size() < carry_ + n) buffer_.resize(carry_ + n);
+  return buffer_.data() + carry_;
+}
+
+void TupleStream::filled(std::size_t n) {
+  const std::size_t have = carry_ + n;
+  const std::size_t count = have / unit_;
+  if (count > 0) {
+    if (swap_) {
+      const std::size_t elems = count * unit_ / elem_;
+      const std::size_t piece = std::max<std::size_t>(1, kParallelPiece / elem_);
+      parallel_for_range((elems + piece - 1) / piece, 1, [&](std::size_t b, std::size_t e) {
+        const std::size_t lo = b * piece, hi = std::min(elems, e * piece);
+        swap_elements(buffer_.data() + lo * elem_, hi - lo, elem_);
+      });
+    }
+    consume_(buffer_.data(), count);
+    tuples_ += count;
+  }
+  carry_ = have - count * unit_;
+  if (carry_ > 0) std::memmove(buffer_.data(), buffer_.data() + count * unit_, carry_);
+}
+
+void stream_bytes(const FileSource& src, const std::byte* from, std::size_t n, TupleStream& stream,
+                  Progress* progress, std::uint64_t progress_base) {
+  for (std::size_t at = 0; at < n; at += TupleStream::kPiece) {
+    const std::size_t m = std::min(TupleStream::kPiece, n - at);
+    src.copy(from + at, stream.window(m), m);
+    stream.filled(m);
+    if (progress) progress->set(progress_base + at + m);
   }
 }
 

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "detail/progress.hpp"
+#include "detail/summaries.hpp"
 #include "isoforge/core/append.hpp"
 #include "isoforge/io/draco.hpp"
 #include "isoforge/io/gltf.hpp"
@@ -94,6 +95,18 @@ std::uint64_t file_size_or_zero(const std::filesystem::path& path) {
 std::vector<std::byte> read_file_bytes(const std::filesystem::path& path) {
   const io_detail::MappedFile file(path);
   return {file.bytes().begin(), file.bytes().end()};
+}
+
+DatasetSummary summarize_file(const std::filesystem::path& path, const ReadOptions& options) {
+  switch (format_from_path(path)) {
+    case FileFormat::VtkImageData:
+    case FileFormat::VtkStructuredGrid:
+    case FileFormat::VtkPolyData:
+    case FileFormat::VtkUnstructuredGrid:
+      return io_detail::summarize_vtk_xml(path, options.progress);
+    default:
+      return summarize(read(path, options));
+  }
 }
 
 Dataset read(const std::filesystem::path& path, const ReadOptions& options) {

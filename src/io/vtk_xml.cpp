@@ -36,6 +36,8 @@
 #include <vector>
 
 #include "detail/scanner.hpp"
+#include "detail/summaries.hpp"
+#include "detail/tuple_stream.hpp"
 #include "detail/vtk_xml_codecs.hpp"
 #include "isoforge/io/atomic_file.hpp"
 #include "isoforge/io/io.hpp"
@@ -392,6 +394,16 @@ std::string extent_string(const Extent& e) {
 }
 
 /// What a DataArray must look like where it is read.
+struct ArrayHeader {
+  ScalarType type;
+  std::string_view type_name;
+  std::string name;
+  int components;
+  std::optional<std::uint64_t> values, bytes;  // when the tuple count is known
+  std::size_t unit;                            // bytes per tuple
+  std::string_view format;                     // ascii, binary or appended
+};
+
 struct ArrayRequest {
   std::optional<std::uint64_t> tuples;  ///< required tuple count (nullopt: any)
   int components = 0;                   ///< required components (0: any)
@@ -447,6 +459,28 @@ void copy_box(const DataArray& src, const std::array<std::size_t, 3>& sub, DataA
   }
 }
 
+/// Where Reader::read_payload puts the bytes it decodes: the whole payload in one buffer
+/// (`alloc(n)` gives it) ...
+template <class Alloc>
+struct WholeTarget {
+  static constexpr std::uint64_t kMaxPiece = std::numeric_limits<std::uint64_t>::max();
+  explicit WholeTarget(Alloc a) : alloc(std::move(a)) {}
+  void start(std::uint64_t n) { base = alloc(n); }
+  std::byte* piece(std::uint64_t offset, std::size_t /*n*/) { return base + offset; }
+  void done(std::size_t /*n*/) {}
+  Alloc alloc;
+  std::byte* base = nullptr;
+};
+
+/// ... or a piece at a time through a TupleStream (summaries: memory for one piece).
+struct StreamTarget {
+  static constexpr std::uint64_t kMaxPiece = io_detail::TupleStream::kPiece;
+  void start(std::uint64_t /*n*/) {}
+  std::byte* piece(std::uint64_t /*offset*/, std::size_t n) { return stream.window(n); }
+  void done(std::size_t n) { stream.filled(n); }
+  io_detail::TupleStream& stream;
+};
+
 class Reader {
  public:
   Reader(io_detail::FileSource source, std::string_view name,
@@ -458,6 +492,16 @@ class Reader {
   }
 
   Dataset read();
+  /// What the file holds, in one streaming pass (no array is loaded whole except ascii ones,
+  /// no connectivity is read).
+  DatasetSummary summarize();
+  struct Opened {
+    Kind kind;
+    pugi::xml_node ds;
+    XmlWhere where;
+  };
+  /// Parses the XML and the root's attributes: the dataset element and its kind.
+  Opened open();
   /// One payload on its own (io/detail/vtk_xml_block.hpp): the whole input is the payload.
   std::vector<std::byte> decode_block(const io_detail::VtkXmlBlockFormat& format,
                                       std::optional<std::uint64_t> expected, std::size_t unit);
@@ -502,10 +546,33 @@ class Reader {
     return v;
   }
 
-  template <class Alloc>
+  template <class Target>
   void read_payload(ByteSource& src, const XmlWhere& w, std::optional<std::uint64_t> expected,
-                    std::size_t unit, Alloc&& alloc);
+                    std::size_t unit, Target& target);
+  std::optional<ArrayHeader> array_header(pugi::xml_node el, const XmlWhere& w,
+                                          const ArrayRequest& req);
+  /// The binary payload of an array (none for ascii); `dw` says where it starts.
+  std::optional<ByteSource> payload_source(pugi::xml_node el, const XmlWhere& w,
+                                           const ArrayHeader& h, XmlWhere& dw,
+                                           std::string& storage);
   std::optional<DataArray> read_array(pugi::xml_node el, const XmlWhere& w, const ArrayRequest& req);
+  /// Summary mode: the array's values go through `consume` (whole tuples, host order, in pieces)
+  /// instead of into memory; returns its header (none for a skipped array).
+  std::optional<ArrayHeader> stream_array(pugi::xml_node el, const XmlWhere& w,
+                                          const ArrayRequest& req,
+                                          const io_detail::TupleStream::Consumer& consume,
+                                          const std::function<void(const ArrayHeader&)>& ready);
+  std::optional<ArraySummary> summarize_array(pugi::xml_node el, const XmlWhere& w,
+                                              const ArrayRequest& req);
+  void summarize_attributes(pugi::xml_node el, const XmlWhere& w,
+                            std::optional<std::uint64_t> tuples, AttributesSummary& out);
+  Bounds summarize_points(pugi::xml_node piece, const XmlWhere& w, std::uint64_t np);
+  /// Counts the cells of a cell section by type from its offsets (`types` null: polygonal data
+  /// section `section`) or its types array; the connectivity is not read.
+  void count_cells(pugi::xml_node el, const XmlWhere& w, std::uint64_t ncells, int section,
+                   std::map<CellType, std::uint64_t>& out);
+  /// An image's origin, spacing and dimensions (no arrays) from its attributes.
+  ImageData image_geometry(pugi::xml_node ds, const XmlWhere& w, const Extent& whole);
   void read_attributes(pugi::xml_node el, const XmlWhere& w, std::optional<std::uint64_t> tuples,
                        Attributes& out);
   Points read_points(pugi::xml_node piece, const XmlWhere& w, std::uint64_t np);
@@ -592,9 +659,9 @@ void Reader::split_appended() {
   xml_.insert(xml_.end(), kClose.begin(), kClose.end());
 }
 
-template <class Alloc>
+template <class Target>
 void Reader::read_payload(ByteSource& src, const XmlWhere& w, std::optional<std::uint64_t> expected,
-                          std::size_t unit, Alloc&& alloc) {
+                          std::size_t unit, Target& target) {
   const std::uint64_t start = src.file_pos();
   if (!codec_) {
     const std::uint64_t n = read_word(src, w, "the data header");
@@ -611,12 +678,14 @@ void Reader::read_payload(ByteSource& src, const XmlWhere& w, std::optional<std:
                                     " bytes but at most " + num(src.available()) + " remain");
     }
     charge(n, w);
-    std::byte* dst = alloc(n);
+    target.start(n);
     // Sixteen pieces with progress between them (each big one read on all threads).
-    const std::uint64_t step = std::max<std::uint64_t>(io_detail::Progress::kStep, n / 16);
+    const std::uint64_t step = std::min<std::uint64_t>(
+        std::max<std::uint64_t>(io_detail::Progress::kStep, n / 16), Target::kMaxPiece);
     for (std::uint64_t at = 0; at < n; at += step) {
       const auto m = static_cast<std::size_t>(std::min(step, n - at));
-      src.read(dst + at, m, w, "the array data");
+      src.read(target.piece(at, m), m, w, "the array data");
+      target.done(m);
       tick(src.file_pos());
     }
     return;
@@ -672,28 +741,36 @@ void Reader::read_payload(ByteSource& src, const XmlWhere& w, std::optional<std:
     }
   }
   charge(total, w);
-  std::byte* dst = alloc(total);
+  target.start(total);
   // The compressed blocks: a view of the file (raw), or decoded once from base64. Every block is
-  // an independent stream, decompressed in parallel straight into the array.
+  // an independent stream, decompressed in parallel straight into the target.
   const std::uint64_t data_pos = src.file_pos();
   const auto in = src.view(static_cast<std::size_t>(csum), w, "the compressed blocks");
   std::vector<io_detail::BlockJob> jobs(csize.size());
-  std::vector<std::uint64_t> at(csize.size());
-  std::uint64_t cin = 0, cout = 0;
+  std::vector<std::uint64_t> at(csize.size()), out_at(csize.size() + 1, 0);
+  std::uint64_t cin = 0;
   for (std::size_t b = 0; b < csize.size(); ++b) {
     const std::uint64_t u = (b + 1 == csize.size() && last) ? last : block;
-    jobs[b] = {in.data() + cin, static_cast<std::size_t>(csize[b]), dst + cout,
+    jobs[b] = {in.data() + cin, static_cast<std::size_t>(csize[b]), nullptr,
                static_cast<std::size_t>(u)};
     at[b] = data_pos + cin;
     cin += csize[b];
-    cout += u;
+    out_at[b + 1] = out_at[b] + u;
   }
-  // Without progress one parallel loop; with it, slices with a report after each.
-  const std::size_t slice =
+  // Without progress one parallel loop; with it, slices with a report after each; never more
+  // than the target takes at once.
+  std::size_t slice =
       progress_ ? std::max<std::size_t>(kProgressBytes / std::max<std::uint64_t>(block, 1), 4)
                 : std::max<std::size_t>(jobs.size(), 1);
+  slice = std::min<std::uint64_t>(slice,
+                                  std::max<std::uint64_t>(Target::kMaxPiece / std::max<std::uint64_t>(block, 1), 1));
   for (std::size_t b0 = 0; b0 < jobs.size(); b0 += slice) {
     const std::size_t b1 = std::min(jobs.size(), b0 + slice);
+    const auto bytes = static_cast<std::size_t>(out_at[b1] - out_at[b0]);
+    std::byte* dst = target.piece(out_at[b0], bytes);
+    for (std::size_t b = b0; b < b1; ++b) {
+      jobs[b].out = dst + (out_at[b] - out_at[b0]);
+    }
     const io_detail::BlockFailure f =
         io_detail::decompress_blocks(codec, std::span(jobs).subspan(b0, b1 - b0),
                                      src.is_raw() ? &source_ : nullptr);
@@ -702,6 +779,7 @@ void Reader::read_payload(ByteSource& src, const XmlWhere& w, std::optional<std:
       w.fail_at(at[b], std::string(codec_label(codec)) + " error in compressed block " + num(b) +
                            " of " + num(nblocks) + ": " + f.why);
     }
+    target.done(bytes);
     tick(b1 < jobs.size() ? at[b1] : data_pos + cin);
   }
 }
@@ -719,10 +797,11 @@ std::vector<std::byte> Reader::decode_block(const io_detail::VtkXmlBlockFormat& 
                 std::string_view(reinterpret_cast<const char*>(data_.data()), data_.size()), 0)
           : ByteSource::raw(data_, 0, source_);
   std::vector<std::byte> out;
-  read_payload(src, root_where("DataArray"), expected, unit, [&](std::uint64_t n) {
+  WholeTarget target([&](std::uint64_t n) {
     out.resize(static_cast<std::size_t>(n));
     return out.data();
   });
+  read_payload(src, root_where("DataArray"), expected, unit, target);
   return out;
 }
 
@@ -793,8 +872,8 @@ std::vector<T> parse_ascii(std::string_view text, std::optional<std::uint64_t> c
   return out;
 }
 
-std::optional<DataArray> Reader::read_array(pugi::xml_node el, const XmlWhere& w,
-                                            const ArrayRequest& req) {
+std::optional<ArrayHeader> Reader::array_header(pugi::xml_node el, const XmlWhere& w,
+                                                const ArrayRequest& req) {
   const auto type_name = attr(el, "type");
   if (!type_name) w.fail("missing attribute 'type'");
   if (*type_name == "String" || *type_name == "Bit") {
@@ -835,15 +914,54 @@ std::optional<DataArray> Reader::read_array(pugi::xml_node el, const XmlWhere& w
 
   const auto format = attr(el, "format");
   if (!format) w.fail("missing attribute 'format'");
-  const int ncomp = static_cast<int>(comps);
+  return ArrayHeader{*type, *type_name, name, static_cast<int>(comps), values, bytes, unit,
+                     *format};
+}
 
-  if (*format == "ascii") {
+std::optional<ByteSource> Reader::payload_source(pugi::xml_node el, const XmlWhere& w,
+                                                 const ArrayHeader& h, XmlWhere& dw,
+                                                 std::string& storage) {
+  std::optional<ByteSource> src;
+  dw = w;
+  if (h.format == "binary") {
+    const std::string_view text = element_text(el, storage, dw.byte);
+    src = ByteSource::base64(text, dw.byte);
+  } else if (h.format == "appended") {
+    if (!has_appended_) w.fail("format is appended but the file has no <AppendedData> section");
+    const std::uint64_t off = count_attr(el, "offset", w);
+    if (off > appended_.size()) {
+      w.fail("offset " + num(off) + " is beyond the end of the appended data section (" +
+             num(appended_.size()) + " bytes): the file is truncated or the offset is wrong");
+    }
+    dw.byte = appended_start_ + off;
+    if (appended_b64_) {
+      const std::string_view text(reinterpret_cast<const char*>(appended_.data()) + off,
+                                  appended_.size() - static_cast<std::size_t>(off));
+      src = ByteSource::base64(text, dw.byte);
+    } else {
+      src = ByteSource::raw(appended_.subspan(static_cast<std::size_t>(off)), dw.byte, source_);
+    }
+  } else if (h.format != "ascii") {
+    w.fail("format='" + printable(h.format) + "' is not ascii, binary or appended");
+  }
+  return src;
+}
+
+std::optional<DataArray> Reader::read_array(pugi::xml_node el, const XmlWhere& w,
+                                            const ArrayRequest& req) {
+  const std::optional<ArrayHeader> h = array_header(el, w, req);
+  if (!h) return std::nullopt;
+  const auto& [type, type_name, name, ncomp, values, bytes, unit, format] = *h;
+  const auto comps = static_cast<std::uint64_t>(ncomp);
+  const std::size_t esize = scalar_size(type);
+
+  if (format == "ascii") {
     std::string storage;
     XmlWhere tw = w;
     const std::string_view text = element_text(el, storage, tw.byte);
     auto make = [&](auto tag) {
       using T = decltype(tag);
-      auto vec = parse_ascii<T>(text, values, tw, *type_name,
+      auto vec = parse_ascii<T>(text, values, tw, type_name,
                                 [&, at = tw.byte](std::size_t i) { tick(at + i); });
       if (!values && vec.size() % comps != 0) {
         tw.fail("ascii data holds " + num(vec.size()) + " values, not a multiple of " + num(comps) +
@@ -852,7 +970,7 @@ std::optional<DataArray> Reader::read_array(pugi::xml_node el, const XmlWhere& w
       charge(vec.size() * sizeof(T), tw);
       return DataArray::from_vector<T>(name, ncomp, std::move(vec));
     };
-    switch (*type) {
+    switch (type) {
       case ScalarType::Int8:
         return make(std::int8_t{});
       case ScalarType::UInt8:
@@ -877,36 +995,16 @@ std::optional<DataArray> Reader::read_array(pugi::xml_node el, const XmlWhere& w
     w.fail("unknown type");
   }
 
-  std::optional<ByteSource> src;
-  XmlWhere dw = w;
+  XmlWhere dw;
   std::string storage;
-  if (*format == "binary") {
-    const std::string_view text = element_text(el, storage, dw.byte);
-    src = ByteSource::base64(text, dw.byte);
-  } else if (*format == "appended") {
-    if (!has_appended_) w.fail("format is appended but the file has no <AppendedData> section");
-    const std::uint64_t off = count_attr(el, "offset", w);
-    if (off > appended_.size()) {
-      w.fail("offset " + num(off) + " is beyond the end of the appended data section (" +
-             num(appended_.size()) + " bytes): the file is truncated or the offset is wrong");
-    }
-    dw.byte = appended_start_ + off;
-    if (appended_b64_) {
-      const std::string_view text(reinterpret_cast<const char*>(appended_.data()) + off,
-                                  appended_.size() - static_cast<std::size_t>(off));
-      src = ByteSource::base64(text, dw.byte);
-    } else {
-      src = ByteSource::raw(appended_.subspan(static_cast<std::size_t>(off)), dw.byte, source_);
-    }
-  } else {
-    w.fail("format='" + printable(*format) + "' is not ascii, binary or appended");
-  }
+  std::optional<ByteSource> src = payload_source(el, w, *h, dw, storage);
 
   std::optional<DataArray> out;
-  read_payload(*src, dw, bytes, unit, [&](std::uint64_t n) -> std::byte* {
-    out.emplace(name, *type, ncomp, static_cast<std::size_t>(n / unit));
+  WholeTarget target([&](std::uint64_t n) -> std::byte* {
+    out.emplace(name, type, ncomp, static_cast<std::size_t>(n / unit));
     return out->bytes();
   });
+  read_payload(*src, dw, bytes, unit, target);
   if (endian_ != kHostEndian) io_detail::swap_elements(out->bytes(), out->size(), esize);
   return out;
 }
@@ -1108,38 +1206,31 @@ void check_same_arrays(const Attributes& a0, const Attributes& ap, const XmlWher
   }
 }
 
-void Reader::assemble_structured(const Extent& whole, std::vector<StructuredPiece>& pieces,
-                                 const XmlWhere& w, Attributes& pd, Attributes& cd,
-                                 DataArray* points) {
-  if (pieces.size() == 1 && pieces[0].ext == whole) {
-    pd = std::move(pieces[0].pd);
-    cd = std::move(pieces[0].cd);
-    if (points) *points = std::move(*pieces[0].points);
-    return;
-  }
+/// The cell boxes of pieces with extents `exts` in cell indices of the whole extent. \throw Error
+/// (through the piece's `wheres` or `w`) unless they tile it.
+std::vector<std::array<std::int64_t, 6>> tiling_boxes(const Extent& whole,
+                                                      const std::vector<Extent>& exts,
+                                                      const std::vector<XmlWhere>& wheres,
+                                                      const XmlWhere& w) {
   const Dims wd = extent_dims(whole);
-  std::array<std::size_t, 3> wpts{}, wcells{};
-  for (int a = 0; a < 3; ++a) {
-    wpts[a] = static_cast<std::size_t>(wd[a]);
-    wcells[a] = wd[a] > 1 ? static_cast<std::size_t>(wd[a] - 1) : 1;
-  }
-  const std::uint64_t whole_cells = wcells[0] * wcells[1] * wcells[2];
-  // Cell boxes of the pieces, in cell indices of the whole extent.
+  std::uint64_t whole_cells = 1;
+  for (int a = 0; a < 3; ++a) whole_cells *= wd[a] > 1 ? static_cast<std::uint64_t>(wd[a] - 1) : 1;
   std::vector<std::array<std::int64_t, 6>> boxes;
   std::uint64_t covered = 0;
-  for (const auto& p : pieces) {
+  for (std::size_t i = 0; i < exts.size(); ++i) {
+    const Extent& ext = exts[i];
     std::array<std::int64_t, 6> box{};
     std::uint64_t vol = 1;
     for (int a = 0; a < 3; ++a) {
-      const std::int64_t lo = p.ext[2 * a], hi = p.ext[2 * a + 1];
+      const std::int64_t lo = ext[2 * a], hi = ext[2 * a + 1];
       if (lo < whole[2 * a] || hi > whole[2 * a + 1]) {
-        p.where.fail("Extent '" + extent_string(p.ext) + "' lies outside WholeExtent '" +
-                     extent_string(whole) + "'");
+        wheres[i].fail("Extent '" + extent_string(ext) + "' lies outside WholeExtent '" +
+                       extent_string(whole) + "'");
       }
       if (wd[a] > 1) {
         if (hi == lo) {
-          p.where.fail("Extent '" + extent_string(p.ext) + "' is flat along axis " +
-                       std::to_string(a) + "; pieces must tile the WholeExtent");
+          wheres[i].fail("Extent '" + extent_string(ext) + "' is flat along axis " +
+                         std::to_string(a) + "; pieces must tile the WholeExtent");
         }
         box[2 * a] = lo - whole[2 * a];
         box[2 * a + 1] = hi - whole[2 * a];
@@ -1159,9 +1250,8 @@ void Reader::assemble_structured(const Extent& whole, std::vector<StructuredPiec
         overlap = boxes[i][2 * a] < boxes[j][2 * a + 1] && boxes[j][2 * a] < boxes[i][2 * a + 1];
       }
       if (overlap) {
-        pieces[j].where.fail("Extent '" + extent_string(pieces[j].ext) +
-                             "' overlaps the Extent of piece " + num(i) + " '" +
-                             extent_string(pieces[i].ext) + "'");
+        wheres[j].fail("Extent '" + extent_string(exts[j]) + "' overlaps the Extent of piece " +
+                       num(i) + " '" + extent_string(exts[i]) + "'");
       }
     }
   }
@@ -1169,6 +1259,32 @@ void Reader::assemble_structured(const Extent& whole, std::vector<StructuredPiec
     w.fail("the pieces cover " + num(covered) + " of the " + num(whole_cells) +
            " cells of WholeExtent '" + extent_string(whole) + "'; they must tile it");
   }
+  return boxes;
+}
+
+void Reader::assemble_structured(const Extent& whole, std::vector<StructuredPiece>& pieces,
+                                 const XmlWhere& w, Attributes& pd, Attributes& cd,
+                                 DataArray* points) {
+  if (pieces.size() == 1 && pieces[0].ext == whole) {
+    pd = std::move(pieces[0].pd);
+    cd = std::move(pieces[0].cd);
+    if (points) *points = std::move(*pieces[0].points);
+    return;
+  }
+  const Dims wd = extent_dims(whole);
+  std::array<std::size_t, 3> wpts{}, wcells{};
+  for (int a = 0; a < 3; ++a) {
+    wpts[a] = static_cast<std::size_t>(wd[a]);
+    wcells[a] = wd[a] > 1 ? static_cast<std::size_t>(wd[a] - 1) : 1;
+  }
+  const std::uint64_t whole_cells = wcells[0] * wcells[1] * wcells[2];
+  std::vector<Extent> extents;
+  std::vector<XmlWhere> wheres;
+  for (const auto& p : pieces) {
+    extents.push_back(p.ext);
+    wheres.push_back(p.where);
+  }
+  const auto boxes = tiling_boxes(whole, extents, wheres, w);
   for (std::size_t i = 1; i < pieces.size(); ++i) {
     check_same_arrays(pieces[0].pd, pieces[i].pd, pieces[i].where, "PointData");
     check_same_arrays(pieces[0].cd, pieces[i].cd, pieces[i].where, "CellData");
@@ -1223,8 +1339,17 @@ void Reader::assemble_structured(const Extent& whole, std::vector<StructuredPiec
 }
 
 ImageData Reader::read_image(pugi::xml_node ds, const XmlWhere& w) {
-  ImageData img;
   const Extent whole = read_extent(ds, "WholeExtent", w, false);
+  ImageData img = image_geometry(ds, w, whole);
+  read_attributes(ds.child("FieldData"), w.child(ds.child("FieldData"), "FieldData"), std::nullopt,
+                  img.field_data);
+  auto pieces = read_structured_pieces(ds, w, whole, false);
+  assemble_structured(whole, pieces, w, img.point_data, img.cell_data, nullptr);
+  return img;
+}
+
+ImageData Reader::image_geometry(pugi::xml_node ds, const XmlWhere& w, const Extent& whole) {
+  ImageData img;
   std::array<double, 3> origin{0, 0, 0}, spacing{1, 1, 1};
   if (attr(ds, "Origin")) {
     const auto v = list_attr<double>(ds, "Origin", 3, w);
@@ -1260,10 +1385,6 @@ ImageData Reader::read_image(pugi::xml_node ds, const XmlWhere& w) {
     img.origin[a] = origin[a] + static_cast<double>(whole[2 * a]) * spacing[a];
     img.spacing[a] = spacing[a];
   }
-  read_attributes(ds.child("FieldData"), w.child(ds.child("FieldData"), "FieldData"), std::nullopt,
-                  img.field_data);
-  auto pieces = read_structured_pieces(ds, w, whole, false);
-  assemble_structured(whole, pieces, w, img.point_data, img.cell_data, nullptr);
   return img;
 }
 
@@ -1460,7 +1581,330 @@ UnstructuredGrid Reader::read_unstructured(pugi::xml_node ds, const XmlWhere& w)
   return out;
 }
 
-Dataset Reader::read() {
+
+// ------------------------------------------------------------------------------------------------
+// Summaries (io::summarize_file): the same checks of the structure, the values streamed.
+
+std::optional<ArrayHeader> Reader::stream_array(pugi::xml_node el, const XmlWhere& w,
+                                                const ArrayRequest& req,
+                                                const io_detail::TupleStream::Consumer& consume,
+                                                const std::function<void(const ArrayHeader&)>& ready) {
+  std::optional<ArrayHeader> h = array_header(el, w, req);
+  if (!h) return h;
+  if (ready) ready(*h);
+  if (h->format == "ascii") {
+    // Text is parsed whole (ascii files are small next to the binary ones this pass is for).
+    const std::optional<DataArray> a = read_array(el, w, req);
+    if (a->tuples() > 0) consume(a->bytes(), a->tuples());
+    h->values = a->size();
+    return h;
+  }
+  XmlWhere dw;
+  std::string storage;
+  std::optional<ByteSource> src = payload_source(el, w, *h, dw, storage);
+  io_detail::TupleStream stream(h->type, h->components, endian_ != kHostEndian, consume);
+  StreamTarget target{stream};
+  read_payload(*src, dw, h->bytes, h->unit, target);
+  h->values = stream.tuples() * static_cast<std::uint64_t>(h->components);
+  return h;
+}
+
+std::optional<ArraySummary> Reader::summarize_array(pugi::xml_node el, const XmlWhere& w,
+                                                    const ArrayRequest& req) {
+  // The type and components are known once the header is parsed, before the first piece.
+  std::optional<ValueRanges> ranges;
+  ScalarType type{};
+  const auto h = stream_array(el, w, req, [&](const std::byte* v, std::size_t n) {
+    ranges->add(type, v, n);
+  }, [&](const ArrayHeader& header) {
+    type = header.type;
+    ranges.emplace(header.components);
+  });
+  if (!h) return std::nullopt;
+  ArraySummary a{h->name, h->type, h->components, *h->values / static_cast<std::uint64_t>(h->components),
+                 std::move(*ranges)};
+  return a;
+}
+
+void Reader::summarize_attributes(pugi::xml_node el, const XmlWhere& w,
+                                  std::optional<std::uint64_t> tuples, AttributesSummary& out) {
+  if (!el) return;
+  std::size_t index = 0;
+  std::vector<std::string> names;
+  for (pugi::xml_node a = el.child("DataArray"); a; a = a.next_sibling("DataArray"), ++index) {
+    const auto name = attr(a, "Name");
+    const XmlWhere aw =
+        w.child(a, name ? "DataArray '" + printable(*name, 80) + "'" : "DataArray " + num(index));
+    auto arr = summarize_array(a, aw, ArrayRequest{tuples, 0, true});
+    if (!arr) continue;
+    if (arr->name.empty()) arr->name = "Array " + num(index);
+    if (std::find(names.begin(), names.end(), arr->name) != names.end()) {
+      aw.fail("duplicate array name '" + printable(arr->name, 80) + "'");
+    }
+    names.push_back(arr->name);
+    out.merge_array(std::move(*arr));
+  }
+  static constexpr std::pair<const char*, AttributeRole> kRoles[] = {
+      {"Scalars", AttributeRole::Scalars},
+      {"Vectors", AttributeRole::Vectors},
+      {"Normals", AttributeRole::Normals},
+      {"Tensors", AttributeRole::Tensors},
+      {"TCoords", AttributeRole::TCoords}};
+  for (const auto& [key, role] : kRoles) {
+    const auto v = attr(el, key);
+    if (v && !v->empty() && out.find(std::string(*v)) != nullptr) {
+      out.active[static_cast<std::size_t>(role)] = *v;
+    }
+  }
+}
+
+Bounds Reader::summarize_points(pugi::xml_node piece, const XmlWhere& w, std::uint64_t np) {
+  const pugi::xml_node pel = piece.child("Points");
+  if (!pel) {
+    if (np == 0) return {};
+    w.fail("missing <Points> element for NumberOfPoints=" + num(np));
+  }
+  const XmlWhere pw = w.child(pel, "Points");
+  const pugi::xml_node da = pel.child("DataArray");
+  if (!da) {
+    if (np == 0) return {};
+    pw.fail("missing <DataArray> with the point coordinates");
+  }
+  const XmlWhere aw = pw.child(da, "DataArray");
+  ValueRanges ranges(3);
+  ScalarType type{};
+  bool finite = true;
+  stream_array(
+      da, aw, ArrayRequest{np, 3, false},
+      [&](const std::byte* v, std::size_t n) {
+        ranges.add(type, v, n);
+        visit_scalar_type(type, [&](auto tag) {
+          using T = decltype(tag);
+          if constexpr (std::is_floating_point_v<T>) {
+            const T* t = reinterpret_cast<const T*>(v);
+            T sum = 0;  // NaN or infinite if any value is
+            for (std::size_t i = 0; i < 3 * n; ++i) sum += t[i] * T(0);
+            finite = finite && sum == 0;
+          }
+        });
+      },
+      [&](const ArrayHeader& h) { type = h.type; });
+  if (!finite) {
+    (void)read_points(piece, w, np);  // names the point
+    aw.fail("non-finite coordinates");
+  }
+  Bounds b;
+  if (np == 0) return b;
+  for (int c = 0; c < 3; ++c) {
+    b.min[c] = ranges.component(c).first;
+    b.max[c] = ranges.component(c).second;
+  }
+  return b;
+}
+
+/// Calls f(value) for each of `n` integer values of `type` in host order (an Error through
+/// `w` for floating types or values beyond Index).
+template <class F>
+void each_index(ScalarType type, const std::byte* v, std::size_t n, const XmlWhere& w, F&& f) {
+  visit_scalar_type(type, [&](auto tag) {
+    using T = decltype(tag);
+    if constexpr (std::is_floating_point_v<T>) {
+      w.fail("must have an integer type, not " + std::string(scalar_type_name(type)));
+    } else {
+      const T* t = reinterpret_cast<const T*>(v);
+      for (std::size_t i = 0; i < n; ++i) {
+        if constexpr (std::is_same_v<T, std::uint64_t>) {
+          if (t[i] > static_cast<std::uint64_t>(std::numeric_limits<Index>::max())) {
+            w.fail("value " + num(i) + " (" + num(t[i]) + ") is out of range");
+          }
+        }
+        f(static_cast<Index>(t[i]));
+      }
+    }
+  });
+}
+
+void Reader::count_cells(pugi::xml_node el, const XmlWhere& w, std::uint64_t ncells, int section,
+                         std::map<CellType, std::uint64_t>& out) {
+  ScalarType type{};
+  const auto ready = [&](const ArrayHeader& h) { type = h.type; };
+  const pugi::xml_node off_el = named_array(el, "offsets");
+  if (section >= 0) {
+    if (ncells == 0 && !off_el && !named_array(el, "connectivity")) return;
+    if (!off_el) w.fail("missing DataArray 'offsets' for " + num(ncells) + " cells");
+    const XmlWhere ow = w.child(off_el, "DataArray 'offsets'");
+    Index prev = 0;
+    std::uint64_t cell = 0;
+    std::array<std::uint64_t, 5> by_size{};  // cells of 0-4 points, then of more
+    std::uint64_t larger = 0;
+    stream_array(
+        off_el, ow, ArrayRequest{ncells, 1, false},
+        [&](const std::byte* v, std::size_t n) {
+          each_index(type, v, n, ow, [&](Index end) {
+            if (end < prev) {
+              ow.fail("offsets are not monotonic: cell " + num(cell) + " ends at " +
+                      std::to_string(end) + " before it starts at " + std::to_string(prev));
+            }
+            const auto size = static_cast<std::uint64_t>(end - prev);
+            ++(size < by_size.size() ? by_size[size] : larger);
+            prev = end;
+            ++cell;
+          });
+        },
+        ready);
+    for (std::size_t k = 0; k < by_size.size(); ++k) {
+      if (by_size[k] > 0) out[poly_cell_type(section, k)] += by_size[k];
+    }
+    if (larger > 0) out[poly_cell_type(section, by_size.size())] += larger;
+    if (prev > 0 && !named_array(el, "connectivity")) w.fail("missing DataArray 'connectivity'");
+    return;
+  }
+  const pugi::xml_node tel = named_array(el, "types");
+  if (!tel) {
+    if (ncells != 0) w.fail("missing DataArray 'types'");
+    return;
+  }
+  if (!off_el) w.fail("missing DataArray 'offsets' for " + num(ncells) + " cells");
+  const XmlWhere tw = w.child(tel, "DataArray 'types'");
+  std::array<std::uint64_t, 256> count{};
+  std::uint64_t cell = 0;
+  stream_array(
+      tel, tw, ArrayRequest{ncells, 1, false},
+      [&](const std::byte* v, std::size_t n) {
+        each_index(type, v, n, tw, [&](Index t) {
+          if (t < 0 || t > 255 || !is_valid_cell_type(static_cast<int>(t))) {
+            tw.fail("cell " + num(cell) + " has unsupported cell type " + std::to_string(t));
+          }
+          ++count[static_cast<std::size_t>(t)];
+          ++cell;
+        });
+      },
+      ready);
+  for (std::size_t t = 0; t < count.size(); ++t) {
+    if (count[t] > 0) out[static_cast<CellType>(t)] += count[t];
+  }
+}
+
+DatasetSummary Reader::summarize() {
+  const auto [kind, ds, w] = open();
+  DatasetSummary s;
+  s.streamed = true;
+  summarize_attributes(ds.child("FieldData"), w.child(ds.child("FieldData"), "FieldData"),
+                       std::nullopt, s.field_data);
+  std::size_t index = 0;
+  if (kind == Kind::Image || kind == Kind::Structured) {
+    s.kind = kind == Kind::Image ? 0 : 1;
+    const Extent whole = read_extent(ds, "WholeExtent", w, false);
+    if (kind == Kind::Image) {
+      const ImageData img = image_geometry(ds, w, whole);
+      s.dims = img.dims;
+      s.origin = img.origin;
+      s.spacing = img.spacing;
+      s.bounds = img.bounds();
+    } else {
+      s.dims = extent_dims(whole);
+    }
+    try {
+      s.points = checked_point_count(s.dims, "WholeExtent");
+    } catch (const Error& e) {
+      w.fail(e.what());
+    }
+    s.cells = structured_cell_count(s.dims);
+    if (s.cells > 0) {
+      ImageData shape;  // the cell type follows from the dimensions alone
+      shape.dims = s.dims;
+      CellType t = cell_type(shape, 0);
+      if (kind == Kind::Structured) {
+        StructuredGrid grid;
+        grid.dims = s.dims;
+        t = cell_type(grid, 0);
+      }
+      s.cell_types[t] = s.cells;
+    }
+    std::vector<Extent> extents;
+    std::vector<XmlWhere> wheres;
+    for (pugi::xml_node p = ds.child("Piece"); p; p = p.next_sibling("Piece"), ++index) {
+      const XmlWhere pw = w.child(p, "Piece " + num(index));
+      Extent ext = whole;
+      if (attr(p, "Extent")) ext = read_extent(p, "Extent", pw, true);
+      if (extent_empty(ext)) continue;
+      if (extents.size() >= kMaxStructuredPieces) {
+        pw.fail("more than " + num(kMaxStructuredPieces) + " pieces are not supported");
+      }
+      extents.push_back(ext);
+      wheres.push_back(pw);
+    }
+    if (extents.empty()) w.fail("no <Piece> with a non-empty Extent");
+    if (extents.size() > 1 || extents[0] != whole) (void)tiling_boxes(whole, extents, wheres, w);
+    index = 0;
+    for (pugi::xml_node p = ds.child("Piece"); p; p = p.next_sibling("Piece"), ++index) {
+      const XmlWhere pw = w.child(p, "Piece " + num(index));
+      Extent ext = whole;
+      if (attr(p, "Extent")) ext = read_extent(p, "Extent", pw, true);
+      if (extent_empty(ext)) continue;
+      const Dims d = extent_dims(ext);
+      std::size_t np = 0;
+      try {
+        np = checked_point_count(d, "Extent");
+      } catch (const Error& e) {
+        pw.fail(e.what());
+      }
+      summarize_attributes(p.child("PointData"), pw.child(p.child("PointData"), "PointData"), np,
+                           s.point_data);
+      summarize_attributes(p.child("CellData"), pw.child(p.child("CellData"), "CellData"),
+                           structured_cell_count(d), s.cell_data);
+      if (kind == Kind::Structured) s.bounds.merge(summarize_points(p, pw, np));
+    }
+    return s;
+  }
+  s.kind = kind == Kind::Poly ? 2 : 3;
+  static constexpr const char* kCat[4] = {"Verts", "Lines", "Polys", "Strips"};
+  static constexpr const char* kCount[4] = {"NumberOfVerts", "NumberOfLines", "NumberOfPolys",
+                                            "NumberOfStrips"};
+  for (pugi::xml_node p = ds.child("Piece"); p; p = p.next_sibling("Piece"), ++index) {
+    const XmlWhere pw = w.child(p, "Piece " + num(index));
+    const std::uint64_t np = count_attr(p, "NumberOfPoints", pw);
+    std::uint64_t nc = 0;
+    std::array<std::uint64_t, 4> n{};
+    if (kind == Kind::Poly) {
+      for (int c = 0; c < 4; ++c) {
+        n[c] = count_attr(p, kCount[c], pw, 0);
+        if (__builtin_add_overflow(nc, n[c], &nc)) pw.fail("cell counts overflow");
+      }
+    } else {
+      nc = count_attr(p, "NumberOfCells", pw);
+    }
+    s.points += np;
+    s.cells += nc;
+    s.bounds.merge(summarize_points(p, pw, np));
+    summarize_attributes(p.child("PointData"), pw.child(p.child("PointData"), "PointData"), np,
+                         s.point_data);
+    summarize_attributes(p.child("CellData"), pw.child(p.child("CellData"), "CellData"), nc,
+                         s.cell_data);
+    if (kind == Kind::Poly) {
+      for (int c = 0; c < 4; ++c) {
+        const pugi::xml_node el = p.child(kCat[c]);
+        if (!el) {
+          if (n[c] != 0) {
+            pw.fail(std::string("missing <") + kCat[c] + "> for " + kCount[c] + "=" + num(n[c]));
+          }
+          continue;
+        }
+        count_cells(el, pw.child(el, kCat[c]), n[c], c, s.cell_types);
+      }
+    } else {
+      const pugi::xml_node cel = p.child("Cells");
+      if (!cel) {
+        if (nc != 0) pw.fail("missing <Cells> for NumberOfCells=" + num(nc));
+        continue;
+      }
+      count_cells(cel, pw.child(cel, "Cells"), nc, -1, s.cell_types);
+    }
+  }
+  return s;
+}
+
+Reader::Opened Reader::open() {
   split_appended();
   const pugi::xml_parse_result r =
       doc_.load_buffer_inplace(xml_.data(), xml_.size(), pugi::parse_default, pugi::encoding_utf8);
@@ -1545,6 +1989,11 @@ Dataset Reader::read() {
   if (!ds) w.fail("missing <" + std::string(*type) + "> element");
   // Paths below name the dataset element, e.g. "PolyData/Piece 0/PointData/DataArray 'N'".
   const XmlWhere dw = root_where("").child(ds, std::string(*type));
+  return {kind, ds, dw};
+}
+
+Dataset Reader::read() {
+  const auto [kind, ds, dw] = open();
   Dataset out;
   switch (kind) {
     case Kind::Image:
@@ -2054,11 +2503,16 @@ class Writer {
 
 namespace {
 
-Dataset read_xml(const io_detail::FileSource& data, std::string_view name,
-                 io_detail::Progress* progress, std::uint64_t progress_base) {
+template <class Result = Dataset>
+Result read_xml(const io_detail::FileSource& data, std::string_view name,
+                io_detail::Progress* progress, std::uint64_t progress_base) {
   try {
     Reader r(data, name, progress, progress_base);
-    return r.read();
+    if constexpr (std::is_same_v<Result, DatasetSummary>) {
+      return r.summarize();
+    } else {
+      return r.read();
+    }
   } catch (const Error&) {
     throw;
   } catch (const std::bad_alloc&) {
@@ -2083,6 +2537,14 @@ Dataset read_vtk_xml(const std::filesystem::path& path, const ProgressCallback& 
 }
 
 namespace io_detail {
+
+DatasetSummary summarize_vtk_xml(const std::filesystem::path& path,
+                                 const ProgressCallback& progress) {
+  return read_with_progress(
+      path, progress, [&](const FileSource& src, Progress* p, std::uint64_t base) {
+        return read_xml<DatasetSummary>(src, path.string(), p, base);
+      });
+}
 
 std::vector<std::byte> decode_vtk_xml_block(std::span<const std::byte> data,
                                             const VtkXmlBlockFormat& format,

@@ -191,6 +191,9 @@ class DatasetRef {
 [[nodiscard]] Attributes& field_data(Dataset& ds);
 void validate(DatasetRef ds);
 
+/// The type of a polygonal data cell of `size` points in `section` (0 verts, 1 lines, 2 polys,
+/// 3 strips): vertex or poly vertex, line or polyline, triangle, quad or polygon, strip.
+[[nodiscard]] CellType poly_cell_type(int section, std::size_t size);
 /// Type of cell `cell` of any dataset (voxel/pixel/line/vertex for image data).
 [[nodiscard]] CellType cell_type(DatasetRef ds, Index cell);
 /// Point ids of cell `cell`, written into `ids` (cleared first), in VTK order for its type.

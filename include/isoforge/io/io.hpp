@@ -25,6 +25,7 @@
 
 #include "isoforge/core/dataset.hpp"
 #include "isoforge/core/progress.hpp"
+#include "isoforge/core/summary.hpp"
 #include "isoforge/io/gltf.hpp"
 #include "isoforge/io/draco.hpp"
 #include "isoforge/io/vtk_xml.hpp"
@@ -93,6 +94,12 @@ struct WriteOptions {
 /// Reads any supported file. \throw Error naming the file and what is wrong; `Cancelled` if
 /// `options.progress` returns false.
 [[nodiscard]] Dataset read(const std::filesystem::path& path, const ReadOptions& options = {});
+
+/// What a file holds (core/summary.hpp), read in one streaming pass without loading its arrays or
+/// its connectivity: VTK XML (arrays in ascii text are parsed whole); the other formats are
+/// read and summarised. \throw Error as `read` does.
+[[nodiscard]] DatasetSummary summarize_file(const std::filesystem::path& path,
+                                            const ReadOptions& options = {});
 
 /// Writes `ds` atomically in the format given by the extension. \throw Error if the format
 /// cannot hold this dataset type (e.g. an unstructured grid to .ply) or on I/O failure.

@@ -1,0 +1,17 @@
+#pragma once
+// Private: the formats' streaming summaries behind io::summarize_file (io.cpp). Each parses
+// and checks the file's structure as its reader does, streams the arrays it describes through
+// ValueRanges piece by piece (io/detail/tuple_stream.hpp) and counts cells without reading
+// their connectivity. \throw Error as the readers do.
+
+#include <filesystem>
+
+#include "isoforge/core/progress.hpp"
+#include "isoforge/core/summary.hpp"
+
+namespace isoforge::io_detail {
+
+[[nodiscard]] DatasetSummary summarize_vtk_xml(const std::filesystem::path& path,
+                                               const ProgressCallback& progress);
+
+}  // namespace isoforge::io_detail
