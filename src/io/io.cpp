@@ -104,6 +104,10 @@ DatasetSummary summarize_file(const std::filesystem::path& path, const ReadOptio
     case FileFormat::VtkPolyData:
     case FileFormat::VtkUnstructuredGrid:
       return io_detail::summarize_vtk_xml(path, options.progress);
+    case FileFormat::Nrrd:
+      return io_detail::summarize_raw_volume(path, options.progress, true);
+    case FileFormat::MetaImage:
+      return io_detail::summarize_raw_volume(path, options.progress, false);
     default:
       return summarize(read(path, options));
   }

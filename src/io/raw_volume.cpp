@@ -20,6 +20,8 @@
 #include <vector>
 
 #include "detail/scanner.hpp"
+#include "detail/summaries.hpp"
+#include "detail/tuple_stream.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/raw_volume.hpp"
 
@@ -123,6 +125,8 @@ struct DataSpec {
   int components = 1;
   Endian endian = io_detail::kHostEndian;
   std::size_t tuples = 0;
+  // Summaries: the samples go through this instead of into an array (io::summarize_file).
+  io_detail::TupleStream* stream = nullptr;
   // Progress of loading the samples: fractions [progress_from, 1] of the callback (none if null).
   const ProgressCallback* progress = nullptr;
   double progress_from = 0;
@@ -153,7 +157,8 @@ std::uint64_t data_file_size(const DataSpec& spec, const std::string& file) {
 
 /// Inflates a zlib or gzip stream into exactly `out.size()` bytes.
 void inflate_into(std::span<const std::byte> in, std::span<std::byte> out,
-                  const std::string& label) {
+                  const std::string& label, io_detail::TupleStream* stream = nullptr,
+                  std::size_t skip = 0) {
   // Deflate cannot expand data more than about 1032:1; a header asking for more lies.
   if (out.size() / 1032 > in.size() + 64) {
     throw Error(label + ": " + std::to_string(in.size()) + " compressed bytes cannot hold the " +
@@ -171,11 +176,20 @@ void inflate_into(std::span<const std::byte> in, std::span<std::byte> out,
       z.avail_in = static_cast<uInt>(n);
       in_pos += n;
     }
-    const std::size_t n_out = std::min(kChunk, out.size() - out_pos);
-    z.next_out = reinterpret_cast<Bytef*>(out.data() + out_pos);
+    // Streamed: pieces into the stream's window, the first `skip` bytes dropped.
+    const std::size_t n_out =
+        std::min(stream ? io_detail::TupleStream::kPiece : kChunk, out.size() - out_pos);
+    std::byte* to = stream ? stream->window(n_out) : out.data() + out_pos;
+    z.next_out = reinterpret_cast<Bytef*>(to);
     z.avail_out = static_cast<uInt>(n_out);
     rc = inflate(&z, Z_NO_FLUSH);
-    out_pos += n_out - z.avail_out;
+    const std::size_t got = n_out - z.avail_out;
+    if (stream) {
+      const std::size_t drop = std::min(got, skip > out_pos ? skip - out_pos : 0);
+      if (drop > 0) std::memmove(to, to + drop, got - drop);
+      stream->filled(got - drop);
+    }
+    out_pos += got;
     if (rc == Z_STREAM_END) break;
     if (rc == Z_BUF_ERROR && z.avail_in == 0 && in_pos >= in.size()) break;  // input exhausted
     if (rc != Z_OK && rc != Z_BUF_ERROR) {
@@ -230,7 +244,11 @@ void decode_piece(const DataSpec& spec, const io_detail::FileSource& src, std::s
       }
       pos += static_cast<std::size_t>(skip);
     }
-    src.copy(bytes.data() + pos, out.data(), out.size());
+    if (spec.stream) {
+      io_detail::stream_bytes(src, bytes.data() + pos, out.size(), *spec.stream);
+    } else {
+      src.copy(bytes.data() + pos, out.data(), out.size());
+    }
     return;
   }
   const auto skip = static_cast<std::uint64_t>(spec.byte_skip);  // -1 rejected for compressed
@@ -241,7 +259,11 @@ void decode_piece(const DataSpec& spec, const io_detail::FileSource& src, std::s
                 std::to_string(out.size()) + " bytes (plus byte skip " + std::to_string(skip) +
                 ") the header describes");
   }
-  if (skip == 0) {
+  if (spec.stream) {
+    // `out` has no storage here: the stream takes the bytes after the skip.
+    inflate_into(bytes.subspan(pos), std::span<std::byte>(out.data(), static_cast<std::size_t>(total)),
+                 label, spec.stream, static_cast<std::size_t>(skip));
+  } else if (skip == 0) {
     inflate_into(bytes.subspan(pos), out, label);
   } else {
     std::vector<std::byte> tmp(static_cast<std::size_t>(total));
@@ -260,8 +282,8 @@ DataArray load_samples(const DataSpec& spec) {
                 std::to_string(elem) + " bytes overflow the addressable size");
   }
   DataArray a;  // allocated once the data is known to be there, and decoded into
-  const auto samples = [&] {
-    return std::span<std::byte>(a.bytes(), static_cast<std::size_t>(total));
+  const auto samples = [&] {  // no storage when streamed: only the sizes count
+    return std::span<std::byte>(spec.stream ? nullptr : a.bytes(), static_cast<std::size_t>(total));
   };
   static const ProgressCallback kNone;
   const ProgressCallback& callback = spec.progress ? *spec.progress : kNone;
@@ -283,7 +305,7 @@ DataArray load_samples(const DataSpec& spec) {
                   " compressed bytes cannot hold the " + std::to_string(total) +
                   " bytes the header describes");
     }
-    a = DataArray::uninitialized("Scalars", spec.type, spec.components, spec.tuples);
+    if (!spec.stream) a = DataArray::uninitialized("Scalars", spec.type, spec.components, spec.tuples);
     progress = io_detail::Progress(callback, 2 * total, "reading", spec.progress_from);
     decode_piece(spec, spec.attached, spec.attached_offset, samples(),
                  spec.header + ": attached data");
@@ -316,7 +338,7 @@ DataArray load_samples(const DataSpec& spec) {
       }
       sizes.push_back(size);
     }
-    a = DataArray::uninitialized("Scalars", spec.type, spec.components, spec.tuples);
+    if (!spec.stream) a = DataArray::uninitialized("Scalars", spec.type, spec.components, spec.tuples);
     // Work: each file's piece decoded into its place, then the samples' byte order.
     progress = io_detail::Progress(callback, 2 * total, "reading", spec.progress_from);
     for (std::size_t i = 0; i < spec.files.size(); ++i) {
@@ -336,7 +358,7 @@ DataArray load_samples(const DataSpec& spec) {
   constexpr std::size_t kBlock = std::size_t{4} << 20;  // a multiple of every element size
   for (std::size_t at = 0; at < static_cast<std::size_t>(total); at += kBlock) {
     const std::size_t n = std::min(kBlock, static_cast<std::size_t>(total) - at);
-    if (spec.endian != io_detail::kHostEndian) {
+    if (spec.endian != io_detail::kHostEndian && !spec.stream) {
       io_detail::swap_elements(a.bytes() + at, n / elem_size, elem_size);
     }
     progress.add(n);
@@ -460,7 +482,27 @@ std::uint64_t files_for_subdim(const std::vector<std::int64_t>& sizes, std::int6
   return n;
 }
 
-ImageData finish_volume(ImageData img, const std::string& file) {
+/// The image with its samples (`summary` null), or the summary of the image with its samples
+/// streamed through it.
+ImageData finish_volume(ImageData img, DataSpec& spec, const std::string& file,
+                        DatasetSummary* summary) {
+  if (summary) {
+    ValueRanges ranges(spec.components);
+    io_detail::TupleStream stream(spec.type, spec.components,
+                                  spec.endian != io_detail::kHostEndian,
+                                  [&](const std::byte* v, std::size_t n) {
+                                    ranges.add(spec.type, v, n);
+                                  });
+    spec.stream = &stream;
+    (void)load_samples(spec);
+    *summary = isoforge::summarize(img);
+    summary->streamed = true;
+    summary->point_data.arrays.push_back(
+        {"Scalars", spec.type, spec.components, spec.tuples, std::move(ranges)});
+    summary->point_data.active[static_cast<std::size_t>(AttributeRole::Scalars)] = "Scalars";
+    return img;
+  }
+  img.point_data.add(load_samples(spec), AttributeRole::Scalars);
   try {
     img.validate();
   } catch (const Error& e) {
@@ -589,7 +631,8 @@ bool nrrd_known_ignored(const std::string& f) {
 
 ImageData read_nrrd_impl(const io_detail::FileSource& data, const std::string& name,
                          const fs::path& base_dir,
-                         const ProgressCallback* progress = nullptr, double progress_from = 0) {
+                         const ProgressCallback* progress = nullptr, double progress_from = 0,
+                         DatasetSummary* summary = nullptr) {
   Scanner sc(data, name);
   std::string_view line;
   if (!sc.read_line(line)) fail_at(name, 1, "empty file, expected the NRRD magic 'NRRD000X'");
@@ -820,8 +863,7 @@ ImageData read_nrrd_impl(const io_detail::FileSource& data, const std::string& n
     spec.attached = data;
     spec.attached_offset = sc.offset();
   }
-  img.point_data.add(load_samples(spec), AttributeRole::Scalars);
-  return finish_volume(std::move(img), name);
+  return finish_volume(std::move(img), spec, name, summary);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -849,7 +891,8 @@ std::optional<bool> met_bool(std::string_view v) {
 
 ImageData read_metaimage_impl(const io_detail::FileSource& data, const std::string& name,
                               const fs::path& base_dir,
-                              const ProgressCallback* progress = nullptr, double progress_from = 0) {
+                              const ProgressCallback* progress = nullptr, double progress_from = 0,
+                         DatasetSummary* summary = nullptr) {
   Scanner sc(data, name);
   struct Field {
     std::string value;
@@ -1067,8 +1110,7 @@ ImageData read_metaimage_impl(const io_detail::FileSource& data, const std::stri
   } else {
     spec.files.names = {df.value};
   }
-  img.point_data.add(load_samples(spec), AttributeRole::Scalars);
-  return finish_volume(std::move(img), name);
+  return finish_volume(std::move(img), spec, name, summary);
 }
 
 }  // namespace
@@ -1084,14 +1126,14 @@ namespace {
 // when small (detached data), the first half of the work when big (attached data).
 template <class Impl>
 ImageData read_raw_volume(const std::filesystem::path& path, const ProgressCallback& callback,
-                          Impl&& impl) {
+                          Impl&& impl, DatasetSummary* summary = nullptr) {
   const std::uint64_t size = io_detail::file_size_or_zero(path);
   const double header_share = size >= io_detail::Progress::kStep ? 0.5 : 0.0;
   io_detail::Progress progress(callback, size, "reading", 0, header_share);
   const io_detail::MappedFile file(path);
   progress.add(file.bytes().size());
   return impl(io_detail::FileSource(file), path.string(), path.parent_path(),
-              callback ? &callback : nullptr, header_share);
+              callback ? &callback : nullptr, header_share, summary);
 }
 
 }  // namespace
@@ -1108,5 +1150,21 @@ ImageData read_metaimage(std::span<const std::byte> data, std::string_view name,
 ImageData read_metaimage(const std::filesystem::path& path, const ProgressCallback& progress) {
   return read_raw_volume(path, progress, [](auto&&... a) { return read_metaimage_impl(a...); });
 }
+
+namespace io_detail {
+
+DatasetSummary summarize_raw_volume(const std::filesystem::path& path,
+                                    const ProgressCallback& progress, bool nrrd) {
+  DatasetSummary s;
+  if (nrrd) {
+    (void)read_raw_volume(path, progress, [](auto&&... a) { return read_nrrd_impl(a...); }, &s);
+  } else {
+    (void)read_raw_volume(path, progress, [](auto&&... a) { return read_metaimage_impl(a...); },
+                          &s);
+  }
+  return s;
+}
+
+}  // namespace io_detail
 
 }  // namespace isoforge

@@ -14,4 +14,8 @@ namespace isoforge::io_detail {
 [[nodiscard]] DatasetSummary summarize_vtk_xml(const std::filesystem::path& path,
                                                const ProgressCallback& progress);
 
+/// NRRD (`nrrd`) or MetaImage: the header, then the samples streamed (raw or inflated).
+[[nodiscard]] DatasetSummary summarize_raw_volume(const std::filesystem::path& path,
+                                                  const ProgressCallback& progress, bool nrrd);
+
 }  // namespace isoforge::io_detail
