@@ -20,6 +20,8 @@
 #include <vector>
 
 #include "detail/scanner.hpp"
+#include "detail/summaries.hpp"
+#include "detail/tuple_stream.hpp"
 #include "isoforge/core/parallel.hpp"
 #include "isoforge/io/atomic_file.hpp"
 #include "isoforge/io/io.hpp"
@@ -84,6 +86,31 @@ class PlyReader {
             io_detail::Progress* progress = nullptr, std::uint64_t progress_base = 0)
       : sc_(data, std::string(name)) {
     sc_.track(progress, progress_base);
+  }
+
+  /// The summary in one streaming pass over binary files whose vertex and face records have a
+  /// fixed size (every face the same vertex count); false, with nothing decided, for the
+  /// others (ascii, list properties, mixed faces), which are read whole instead.
+  bool summarize(DatasetSummary& s) {
+    parse_header();
+    if (format_ == PlyFormat::Ascii) return false;
+    for (const PlyElement& e : elements_) {
+      if (e.name == "vertex") check_coordinates(e);
+    }
+    check_body_size();
+    s = DatasetSummary{};
+    s.kind = 2;
+    s.streamed = true;
+    for (const PlyElement& e : elements_) {
+      if (e.name == "vertex") {
+        if (!summarize_vertices(e, s)) return false;
+      } else if (e.name == "face") {
+        if (!summarize_faces(e, s)) return false;
+      } else {
+        skip_element(e);
+      }
+    }
+    return have_vertex_ || s.cells == 0;  // faces without vertices: the reader says so
   }
 
   PolyData read() {
@@ -353,6 +380,112 @@ class PlyReader {
         }
       }
     }
+  }
+
+  /// Offsets of the scalar properties in a fixed-size binary record and the record's size (0:
+  /// the records have lists).
+  static std::size_t record_layout(const PlyElement& e, std::vector<std::size_t>& offset) {
+    std::size_t rec = 0;
+    for (const auto& p : e.props) {
+      if (p.is_list) return 0;
+      offset.push_back(rec);
+      rec += scalar_size(p.type);
+    }
+    return rec;
+  }
+
+  /// Vertex records a window at a time: decoded and grouped as `build` does (normals, colours,
+  /// texture coordinates), summarised, dropped.
+  bool summarize_vertices(const PlyElement& e, DatasetSummary& s) {
+    std::vector<std::size_t> offset;
+    const std::size_t rec = record_layout(e, offset);
+    const auto n = static_cast<std::size_t>(e.count);
+    if (rec == 0 || n > sc_.remaining() / rec) return false;
+    have_vertex_ = true;
+    vertex_props_ = e.props;
+    const std::size_t window = std::max<std::size_t>(1, io_detail::TupleStream::kPiece / rec);
+    for (std::size_t r0 = 0; r0 < n; r0 += window) {
+      const std::size_t m = std::min(window, n - r0);
+      vertex_arrays_.clear();
+      for (const auto& p : e.props) vertex_arrays_.push_back(DataArray::uninitialized(p.name, p.type, 1, m));
+      decode_columns(e.props, offset, rec, 0, m, vertex_arrays_, -1);
+      sc_.skip(m * rec, "element records");
+      num_vertices_ = m;
+      polys_ = CellArray();  // build() takes it
+      const PolyData piece = build();
+      s.bounds.merge(piece.bounds());
+      const DatasetSummary ps = isoforge::summarize(piece);
+      for (const ArraySummary& a : ps.point_data.arrays) s.point_data.merge_array(a);
+      s.point_data.active = ps.point_data.active;
+    }
+    s.points = n;
+    return true;
+  }
+
+  /// Faces of one vertex count: counted, their scalar properties summarised a window at a time;
+  /// the index lists are not read.
+  bool summarize_faces(const PlyElement& e, DatasetSummary& s) {
+    int idx = e.find("vertex_indices", true);
+    if (idx < 0) idx = e.find("vertex_index", true);
+    if (idx < 0 || e.count == 0) return e.count == 0 && idx >= 0;
+    const PlyProperty& ip = e.props[static_cast<std::size_t>(idx)];
+    if (is_floating(ip.count_type) || is_floating(ip.type)) return false;
+    std::size_t before = 0;
+    std::vector<std::size_t> offset(e.props.size(), 0);
+    std::size_t at = 0;
+    for (std::size_t k = 0; k < e.props.size(); ++k) {
+      if (static_cast<int>(k) != idx && e.props[k].is_list) return false;
+      if (static_cast<int>(k) < idx) before += scalar_size(e.props[k].type);
+    }
+    const std::size_t cs = scalar_size(ip.count_type), is = scalar_size(ip.type);
+    if (before + cs > sc_.remaining()) return false;
+    const bool swap = endian_ != io_detail::kHostEndian;
+    const std::byte* base = sc_.data().data() + sc_.offset();
+    const std::int64_t c0 = visit_scalar_type(ip.count_type, [&](auto tag) -> std::int64_t {
+      using C = decltype(tag);
+      if constexpr (std::is_integral_v<C>) return static_cast<std::int64_t>(load<C>(base + before, swap));
+      return -1;
+    });
+    if (c0 < 3 || c0 > 64) return false;
+    for (std::size_t k = 0; k < e.props.size(); ++k) {
+      offset[k] = at;
+      at += static_cast<int>(k) == idx ? cs + static_cast<std::size_t>(c0) * is
+                                       : scalar_size(e.props[k].type);
+    }
+    const std::size_t rec = at;
+    const auto n = static_cast<std::size_t>(e.count);
+    if (n > sc_.remaining() / rec) return false;
+    std::atomic<bool> uniform{true};
+    const std::size_t window = std::max<std::size_t>(1, io_detail::TupleStream::kPiece / rec);
+    for (std::size_t r0 = 0; r0 < n && uniform.load(); r0 += window) {
+      const std::size_t m = std::min(window, n - r0);
+      const std::byte* w = sc_.data().data() + sc_.offset();
+      visit_scalar_type(ip.count_type, [&](auto ctag) {
+        using C = decltype(ctag);
+        if constexpr (std::is_integral_v<C>) {
+          const C want = static_cast<C>(c0);
+          parallel_for_range(m, 1 << 16, [&](std::size_t b, std::size_t end) {
+            bool ok = true;
+            for (std::size_t f = b; f < end; ++f) ok &= load<C>(w + f * rec + before, swap) == want;
+            if (!ok) uniform.store(false, std::memory_order_relaxed);
+          });
+        }
+      });
+      if (!uniform.load()) return false;
+      std::vector<DataArray> arrays;
+      for (const auto& p : e.props) {
+        arrays.push_back(DataArray::uninitialized(p.name, p.is_list ? ScalarType::UInt8 : p.type, 1,
+                                                  p.is_list ? 0 : m));
+      }
+      decode_columns(e.props, offset, rec, 0, m, arrays, idx);
+      sc_.skip(m * rec, "face records");
+      for (std::size_t k = 0; k < e.props.size(); ++k) {
+        if (static_cast<int>(k) != idx) s.cell_data.merge_array(isoforge::summarize(arrays[k]));
+      }
+    }
+    s.cells += n;
+    s.cell_types[poly_cell_type(2, static_cast<std::size_t>(c0))] += n;
+    return true;
   }
 
   /// Binary records of scalar properties only (fixed size): every property's column decoded in
@@ -776,6 +909,24 @@ PolyData read_ply(std::span<const std::byte> data, std::string_view name) {
   PlyReader reader(data, name);
   return reader.read();
 }
+
+namespace io_detail {
+
+DatasetSummary summarize_ply(const std::filesystem::path& path, const ProgressCallback& progress) {
+  DatasetSummary s;
+  const bool streamed = read_with_progress(
+      path, progress, [&](const FileSource& src, Progress* p, std::uint64_t base) {
+        try {
+          return PlyReader(src, path.string(), p, base).summarize(s);
+        } catch (const Error&) {
+          return false;  // the reader below says what is wrong, at the right record
+        }
+      });
+  if (!streamed) s = isoforge::summarize(read_ply(path, progress));
+  return s;
+}
+
+}  // namespace io_detail
 
 PolyData read_ply(const std::filesystem::path& path, const ProgressCallback& progress) {
   return io_detail::read_with_progress(

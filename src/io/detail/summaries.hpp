@@ -18,4 +18,8 @@ namespace isoforge::io_detail {
 [[nodiscard]] DatasetSummary summarize_raw_volume(const std::filesystem::path& path,
                                                   const ProgressCallback& progress, bool nrrd);
 
+/// PLY: binary files with fixed-size vertex and face records streamed; the others read whole.
+[[nodiscard]] DatasetSummary summarize_ply(const std::filesystem::path& path,
+                                           const ProgressCallback& progress);
+
 }  // namespace isoforge::io_detail
