@@ -1,0 +1,282 @@
+// summarize_file: the streaming summaries (VTK XML, PLY, NRRD) against the summary of the dataset
+// read whole, on every encoding, on arrays larger than one streamed piece (tuples straddling
+// pieces), and with the same errors as the readers.
+
+#include "support/scratch.hpp"
+
+#include <gtest/gtest.h>
+
+#include <zlib.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "isoforge/core/summary.hpp"
+#include "isoforge/io/io.hpp"
+#include "isoforge/io/ply.hpp"
+
+using namespace isoforge;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A file in this test's scratch directory.
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::path(ISOFORGE_TEST_TMP) / "summary" / isoforge::test::current_test_id();
+  fs::create_directories(dir);
+  fs::remove_all(dir / name);
+  return dir / name;
+}
+
+void expect_same_attributes(const AttributesSummary& a, const AttributesSummary& b) {
+  ASSERT_EQ(a.arrays.size(), b.arrays.size());
+  EXPECT_EQ(a.active, b.active);
+  for (std::size_t i = 0; i < a.arrays.size(); ++i) {
+    const ArraySummary& x = a.arrays[i];
+    const ArraySummary& y = b.arrays[i];
+    SCOPED_TRACE(x.name);
+    EXPECT_EQ(x.name, y.name);
+    EXPECT_EQ(x.type, y.type);
+    EXPECT_EQ(x.components, y.components);
+    EXPECT_EQ(x.tuples, y.tuples);
+    for (int c = 0; c < x.components; ++c) EXPECT_EQ(x.ranges.component(c), y.ranges.component(c));
+    if (x.components > 1) EXPECT_EQ(x.ranges.magnitude(), y.ranges.magnitude());
+  }
+}
+
+/// The streamed summary of `path` equals the summary of the dataset read whole.
+void expect_streamed_as_read(const fs::path& path) {
+  SCOPED_TRACE(path.string());
+  const DatasetSummary s = summarize_file(path);
+  const DatasetSummary r = summarize(read(path));
+  EXPECT_TRUE(s.streamed);
+  EXPECT_EQ(s.kind, r.kind);
+  EXPECT_EQ(s.dims, r.dims);
+  EXPECT_EQ(s.origin, r.origin);
+  EXPECT_EQ(s.spacing, r.spacing);
+  EXPECT_EQ(s.points, r.points);
+  EXPECT_EQ(s.cells, r.cells);
+  EXPECT_EQ(s.cell_types, r.cell_types);
+  EXPECT_EQ(s.bounds.min, r.bounds.min);
+  EXPECT_EQ(s.bounds.max, r.bounds.max);
+  expect_same_attributes(s.point_data, r.point_data);
+  expect_same_attributes(s.cell_data, r.cell_data);
+  expect_same_attributes(s.field_data, r.field_data);
+}
+
+std::vector<WriteOptions> xml_encodings() {
+  std::vector<WriteOptions> out(4);
+  out[0].xml_compressor = VtkXmlCompressor::Zlib;
+  out[1].xml_compressor = VtkXmlCompressor::Lz4;
+  out[2].compress = false;
+  out[3].binary = false;
+  return out;
+}
+
+// 9 x 7 x 5 points; a scalar with a NaN, a 3-vector, an int cell array.
+ImageData small_image() {
+  ImageData img;
+  img.dims = {9, 7, 5};
+  img.origin = {-1, 2, 0.5};
+  img.spacing = {0.5, 0.25, 2};
+  const std::size_t n = 9 * 7 * 5;
+  DataArray s("s", ScalarType::Float32, 1, n);
+  DataArray v("v", ScalarType::Float64, 3, n);
+  for (std::size_t i = 0; i < n; ++i) {
+    s.set(i, 0, std::sin(0.1 * static_cast<double>(i)));
+    for (int c = 0; c < 3; ++c) v.set(i, c, static_cast<double>(i % (7 + c)) - 3.0);
+  }
+  s.set(17, 0, std::numeric_limits<double>::quiet_NaN());
+  img.point_data.add(std::move(s), AttributeRole::Scalars);
+  img.point_data.add(std::move(v), AttributeRole::Vectors);
+  DataArray id("id", ScalarType::Int32, 1, 8 * 6 * 4);
+  for (std::size_t i = 0; i < id.tuples(); ++i) id.set(i, 0, static_cast<double>(i) - 50);
+  img.cell_data.add(std::move(id));
+  DataArray f("f", ScalarType::UInt16, 2, 3);
+  for (std::size_t i = 0; i < 6; ++i) f.set(i / 2, static_cast<int>(i % 2), static_cast<double>(7 * i));
+  img.field_data.add(std::move(f));
+  return img;
+}
+
+PolyData mixed_polydata() {
+  PolyData pd;
+  for (int i = 0; i < 12; ++i) pd.points.push_back({std::cos(i), std::sin(i), 0.1 * i});
+  pd.verts.add({0});
+  pd.verts.add({1, 2, 3});
+  pd.lines.add({0, 1});
+  pd.lines.add({2, 3, 4, 5});
+  pd.polys.add({0, 1, 2});
+  pd.polys.add({3, 4, 5, 6});
+  pd.polys.add({6, 7, 8, 9, 10});
+  pd.polys.add({1, 5, 9});
+  pd.strips.add({2, 4, 6, 8, 10});
+  DataArray c("cell", ScalarType::Int64, 1, 9);
+  for (std::size_t i = 0; i < 9; ++i) c.set(i, 0, -static_cast<double>(i * i));
+  pd.cell_data.add(std::move(c));
+  DataArray t("t", ScalarType::Float32, 2, 12);
+  for (std::size_t i = 0; i < 24; ++i) t.set(i / 2, static_cast<int>(i % 2), 0.25 * static_cast<double>(i));
+  pd.point_data.add(std::move(t), AttributeRole::TCoords);
+  return pd;
+}
+
+UnstructuredGrid mixed_grid() {
+  UnstructuredGrid ug;
+  for (int i = 0; i < 8; ++i) ug.points.push_back({double(i & 1), double((i >> 1) & 1), double(i >> 2)});
+  ug.points.push_back({0.5, 0.5, 2});
+  ug.add_cell(CellType::Hexahedron, {0, 1, 3, 2, 4, 5, 7, 6});
+  ug.add_cell(CellType::Pyramid, {4, 5, 7, 6, 8});
+  ug.add_cell(CellType::Tetra, {0, 1, 2, 4});
+  ug.add_cell(CellType::Tetra, {1, 3, 2, 7});
+  ug.add_cell(CellType::Triangle, {0, 1, 2});
+  DataArray p("p", ScalarType::Float32, 1, 9);
+  for (std::size_t i = 0; i < 9; ++i) p.set(i, 0, static_cast<double>(i) * 1.5);
+  ug.point_data.add(std::move(p));
+  return ug;
+}
+
+}  // namespace
+
+TEST(Summary, OfADatasetCountsCellTypesAndRangesIgnoringNaN) {
+  const DatasetSummary s = summarize(small_image());
+  EXPECT_EQ(s.points, 315u);
+  EXPECT_EQ(s.cells, 192u);
+  EXPECT_EQ(s.cell_types.at(CellType::Voxel), 192u);
+  ASSERT_EQ(s.point_data.arrays.size(), 2u);
+  const auto [lo, hi] = s.point_data.arrays[0].ranges.component(0);
+  EXPECT_TRUE(std::isfinite(lo) && std::isfinite(hi));  // the NaN is skipped
+  EXPECT_EQ(s.point_data.arrays[1].ranges.component(2), std::make_pair(-3.0, 5.0));
+  EXPECT_EQ(s.point_data.arrays[1].ranges.magnitude().first, 0.0);  // tuple 3: (0, 0, 0)
+  EXPECT_EQ(s.point_data.arrays[1].ranges.magnitude().second, std::sqrt(9.0 + 16.0 + 25.0));
+  const DatasetSummary p = summarize(mixed_polydata());
+  EXPECT_EQ(p.cell_types.at(CellType::Vertex), 1u);
+  EXPECT_EQ(p.cell_types.at(CellType::PolyVertex), 1u);
+  EXPECT_EQ(p.cell_types.at(CellType::Line), 1u);
+  EXPECT_EQ(p.cell_types.at(CellType::PolyLine), 1u);
+  EXPECT_EQ(p.cell_types.at(CellType::Triangle), 2u);
+  EXPECT_EQ(p.cell_types.at(CellType::Quad), 1u);
+  EXPECT_EQ(p.cell_types.at(CellType::Polygon), 1u);
+  EXPECT_EQ(p.cell_types.at(CellType::TriangleStrip), 1u);
+}
+
+TEST(Summary, VtkXmlStreamedAsReadOnEveryEncodingAndDatasetType) {
+  StructuredGrid sg;
+  sg.dims = {4, 3, 2};
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 4; ++i) sg.points.push_back({i + 0.1 * j, j * 2.0, k - 0.5 * i});
+  DataArray q("q", ScalarType::Int8, 1, 24);
+  for (std::size_t i = 0; i < 24; ++i) q.set(i, 0, static_cast<double>(i) - 12);
+  sg.point_data.add(std::move(q));
+  const std::vector<std::pair<std::string, Dataset>> cases = {
+      {"image.vti", small_image()},
+      {"grid.vts", sg},
+      {"poly.vtp", mixed_polydata()},
+      {"cells.vtu", mixed_grid()}};
+  int e = 0;
+  for (const WriteOptions& o : xml_encodings()) {
+    for (const auto& [name, ds] : cases) {
+      const fs::path p = scratch(std::to_string(e) + name);
+      write(ds, p, o);
+      expect_streamed_as_read(p);
+    }
+    ++e;
+  }
+}
+
+TEST(Summary, VtkXmlArraysLargerThanAPieceStraddleThePieces) {
+  // 3 x 8 bytes a tuple: the 8 MiB pieces end inside tuples.
+  ImageData img;
+  img.dims = {101, 103, 107};
+  const std::size_t n = 101 * 103 * 107;
+  DataArray v("v", ScalarType::Float64, 3, n);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int c = 0; c < 3; ++c) v.set(i, c, std::fmod(0.37 * static_cast<double>(i) + c, 11.0));
+  }
+  v.set(n / 2, 1, 123.5);
+  v.set(n - 1, 2, -7.25);
+  img.point_data.add(std::move(v));
+  for (const WriteOptions& o : {xml_encodings()[0], xml_encodings()[2]}) {
+    const fs::path p = scratch("big.vti");
+    write(img, p, o);
+    expect_streamed_as_read(p);
+    const DatasetSummary s = summarize_file(p);
+    EXPECT_EQ(s.point_data.arrays[0].ranges.component(1).second, 123.5);
+    EXPECT_EQ(s.point_data.arrays[0].ranges.component(2).first, -7.25);
+  }
+}
+
+TEST(Summary, VtkXmlErrorsAreTheReadersErrors) {
+  const fs::path p = scratch("cut.vtp");
+  WriteOptions o;
+  o.compress = false;
+  write(mixed_polydata(), p, o);
+  const auto size = fs::file_size(p);
+  for (std::uintmax_t keep : {size - 40, size / 2, std::uintmax_t{200}}) {
+    fs::resize_file(p, keep);
+    std::string from_read, from_summary;
+    try {
+      (void)read(p);
+    } catch (const Error& e) {
+      from_read = e.what();
+    }
+    try {
+      (void)summarize_file(p);
+    } catch (const Error& e) {
+      from_summary = e.what();
+    }
+    EXPECT_FALSE(from_read.empty());
+    EXPECT_EQ(from_summary, from_read) << "kept " << keep << " bytes";
+  }
+}
+
+TEST(Summary, BinaryPlyInWindowsOfRecordsWithGroupedProperties) {
+  // More vertices than one window holds; normals and colours grouped as the reader does; a
+  // face property.
+  PolyData pd;
+  const std::size_t n = 700'001;
+  DataArray normals("Normals", ScalarType::Float32, 3, n);
+  DataArray colors("Colors", ScalarType::UInt8, 3, n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double a = 0.001 * static_cast<double>(i);
+    pd.points.push_back({std::cos(a), std::sin(a), 1e-6 * static_cast<double>(i)});
+    normals.set(i, 0, std::cos(a));
+    normals.set(i, 1, std::sin(a));
+    normals.set(i, 2, 0);
+    for (int c = 0; c < 3; ++c) colors.set(i, c, static_cast<double>((i * (c + 1)) % 251));
+  }
+  pd.point_data.add(std::move(normals), AttributeRole::Normals);
+  pd.point_data.add(std::move(colors), AttributeRole::Scalars);
+  for (Index i = 0; i + 2 < static_cast<Index>(n); i += 2) pd.polys.add({i, i + 1, i + 2});
+  const fs::path p = scratch("many.ply");
+  write(pd, p);
+  expect_streamed_as_read(p);
+  PlyWriteOptions o;
+  o.encoding = PlyEncoding::BinaryBigEndian;
+  write_ply(pd, p, o);
+  expect_streamed_as_read(p);
+}
+
+TEST(Summary, GzipNrrdWithAByteSkipStreamed) {
+  const std::size_t n = 64 * 64 * 40;
+  std::vector<unsigned char> raw(100 + 4 * n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float v = static_cast<float>(std::sin(0.01 * static_cast<double>(i)) * 1000);
+    std::uint32_t u;
+    std::memcpy(&u, &v, 4);
+    for (int b = 0; b < 4; ++b) raw[100 + 4 * i + b] = static_cast<unsigned char>(u >> (24 - 8 * b));
+  }
+  uLongf len = compressBound(static_cast<uLong>(raw.size()));
+  std::vector<unsigned char> z(len);
+  ASSERT_EQ(compress2(z.data(), &len, raw.data(), static_cast<uLong>(raw.size()), 6), Z_OK);
+  const fs::path data = scratch("vol.raw.z");
+  std::ofstream(data, std::ios::binary).write(reinterpret_cast<const char*>(z.data()),
+                                               static_cast<std::streamsize>(len));
+  const fs::path header = scratch("vol.nhdr");
+  std::ofstream(header) << "NRRD0004\ntype: float\ndimension: 3\nsizes: 64 64 40\nendian: big\n"
+                           "encoding: gzip\nbyte skip: 100\nspacings: 1 2 3\ndata file: vol.raw.z\n";
+  expect_streamed_as_read(header);
+}
