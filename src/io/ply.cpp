@@ -429,62 +429,27 @@ class PlyReader {
     if (idx < 0) idx = e.find("vertex_index", true);
     if (idx < 0 || e.count == 0) return e.count == 0 && idx >= 0;
     const PlyProperty& ip = e.props[static_cast<std::size_t>(idx)];
-    if (is_floating(ip.count_type) || is_floating(ip.type)) return false;
-    std::size_t before = 0;
-    std::vector<std::size_t> offset(e.props.size(), 0);
-    std::size_t at = 0;
-    for (std::size_t k = 0; k < e.props.size(); ++k) {
-      if (static_cast<int>(k) != idx && e.props[k].is_list) return false;
-      if (static_cast<int>(k) < idx) before += scalar_size(e.props[k].type);
-    }
-    const std::size_t cs = scalar_size(ip.count_type), is = scalar_size(ip.type);
-    if (before + cs > sc_.remaining()) return false;
-    const bool swap = endian_ != io_detail::kHostEndian;
-    const std::byte* base = sc_.data().data() + sc_.offset();
-    const std::int64_t c0 = visit_scalar_type(ip.count_type, [&](auto tag) -> std::int64_t {
-      using C = decltype(tag);
-      if constexpr (std::is_integral_v<C>) return static_cast<std::int64_t>(load<C>(base + before, swap));
-      return -1;
-    });
-    if (c0 < 3 || c0 > 64) return false;
-    for (std::size_t k = 0; k < e.props.size(); ++k) {
-      offset[k] = at;
-      at += static_cast<int>(k) == idx ? cs + static_cast<std::size_t>(c0) * is
-                                       : scalar_size(e.props[k].type);
-    }
-    const std::size_t rec = at;
+    if (is_floating(ip.type)) return false;
+    const std::optional<FaceLayout> layout = face_layout(e, idx);
+    if (!layout) return false;
     const auto n = static_cast<std::size_t>(e.count);
-    if (n > sc_.remaining() / rec) return false;
-    std::atomic<bool> uniform{true};
-    const std::size_t window = std::max<std::size_t>(1, io_detail::TupleStream::kPiece / rec);
-    for (std::size_t r0 = 0; r0 < n && uniform.load(); r0 += window) {
+    const std::size_t window = std::max<std::size_t>(1, io_detail::TupleStream::kPiece / layout->rec);
+    for (std::size_t r0 = 0; r0 < n; r0 += window) {
       const std::size_t m = std::min(window, n - r0);
-      const std::byte* w = sc_.data().data() + sc_.offset();
-      visit_scalar_type(ip.count_type, [&](auto ctag) {
-        using C = decltype(ctag);
-        if constexpr (std::is_integral_v<C>) {
-          const C want = static_cast<C>(c0);
-          parallel_for_range(m, 1 << 16, [&](std::size_t b, std::size_t end) {
-            bool ok = true;
-            for (std::size_t f = b; f < end; ++f) ok &= load<C>(w + f * rec + before, swap) == want;
-            if (!ok) uniform.store(false, std::memory_order_relaxed);
-          });
-        }
-      });
-      if (!uniform.load()) return false;
+      if (!uniform_counts(*layout, ip, m)) return false;
       std::vector<DataArray> arrays;
       for (const auto& p : e.props) {
         arrays.push_back(DataArray::uninitialized(p.name, p.is_list ? ScalarType::UInt8 : p.type, 1,
                                                   p.is_list ? 0 : m));
       }
-      decode_columns(e.props, offset, rec, 0, m, arrays, idx);
-      sc_.skip(m * rec, "face records");
+      decode_columns(e.props, layout->offset, layout->rec, 0, m, arrays, idx);
+      sc_.skip(m * layout->rec, "face records");
       for (std::size_t k = 0; k < e.props.size(); ++k) {
         if (static_cast<int>(k) != idx) s.cell_data.merge_array(isoforge::summarize(arrays[k]));
       }
     }
     s.cells += n;
-    s.cell_types[poly_cell_type(2, static_cast<std::size_t>(c0))] += n;
+    s.cell_types[poly_cell_type(2, layout->count)] += n;
     return true;
   }
 
@@ -494,12 +459,7 @@ class PlyReader {
   bool read_fixed_records(const PlyElement& e, std::vector<DataArray>& arrays) {
     if (format_ == PlyFormat::Ascii) return false;
     std::vector<std::size_t> offset;
-    std::size_t rec = 0;
-    for (const auto& p : e.props) {
-      if (p.is_list) return false;
-      offset.push_back(rec);
-      rec += scalar_size(p.type);
-    }
+    const std::size_t rec = record_layout(e, offset);
     const auto n = static_cast<std::size_t>(e.count);
     if (rec == 0 || n > sc_.remaining() / rec) return false;
     decode_columns(e.props, offset, rec, 0, n, arrays, -1);
@@ -537,54 +497,77 @@ class PlyReader {
   /// Binary faces whose one list is the index list and whose every face has the first face's
   /// vertex count (a triangle or quad mesh): the counts are checked at the fixed record size,
   /// then all records decoded in parallel. False (nothing read) otherwise.
-  bool read_fixed_faces(const PlyElement& e, int idx, std::uint64_t nverts) {
-    if (format_ == PlyFormat::Ascii || e.count == 0) return false;
+  /// The layout of binary face records whose one list is the index list, taken from the first
+  /// record: its vertex count (3-64), the bytes before the list, the record size and every
+  /// property's offset. None for ascii, other lists, floating counts or a short body.
+  struct FaceLayout {
+    std::size_t count = 0, before = 0, rec = 0;
+    std::vector<std::size_t> offset;
+  };
+  std::optional<FaceLayout> face_layout(const PlyElement& e, int idx) const {
+    if (format_ == PlyFormat::Ascii || e.count == 0) return std::nullopt;
     const PlyProperty& ip = e.props[static_cast<std::size_t>(idx)];
-    if (is_floating(ip.count_type)) return false;
-    std::size_t before = 0, fixed = 0;  // bytes before the list; bytes of the scalars
+    if (is_floating(ip.count_type)) return std::nullopt;
+    FaceLayout f;
     for (std::size_t k = 0; k < e.props.size(); ++k) {
       if (static_cast<int>(k) == idx) continue;
-      if (e.props[k].is_list) return false;
-      if (static_cast<int>(k) < idx) before += scalar_size(e.props[k].type);
-      fixed += scalar_size(e.props[k].type);
+      if (e.props[k].is_list) return std::nullopt;
+      if (static_cast<int>(k) < idx) f.before += scalar_size(e.props[k].type);
     }
     const std::size_t cs = scalar_size(ip.count_type), is = scalar_size(ip.type);
-    const auto n = static_cast<std::size_t>(e.count);
-    if (before + cs > sc_.remaining()) return false;
+    if (f.before + cs > sc_.remaining()) return std::nullopt;
+    const std::byte* base = sc_.data().data() + sc_.offset();
+    const std::int64_t c0 = visit_scalar_type(ip.count_type, [&](auto tag) -> std::int64_t {
+      using C = decltype(tag);
+      if constexpr (std::is_integral_v<C>) {
+        return static_cast<std::int64_t>(load<C>(base + f.before, endian_ != io_detail::kHostEndian));
+      }
+      return -1;
+    });
+    if (c0 < 3 || c0 > 64) return std::nullopt;
+    f.count = static_cast<std::size_t>(c0);
+    for (std::size_t k = 0; k < e.props.size(); ++k) {
+      f.offset.push_back(f.rec);
+      f.rec += static_cast<int>(k) == idx ? cs + f.count * is : scalar_size(e.props[k].type);
+    }
+    if (e.count > sc_.remaining() / f.rec) return std::nullopt;
+    return f;
+  }
+
+  /// Whether the `n` face records at the scanner's position all have the layout's count.
+  bool uniform_counts(const FaceLayout& f, const PlyProperty& ip, std::size_t n) const {
     const std::byte* base = sc_.data().data() + sc_.offset();
     const bool swap = endian_ != io_detail::kHostEndian;
-    const auto count_at = [&](const std::byte* p) -> std::int64_t {
-      return visit_scalar_type(ip.count_type, [&](auto tag) -> std::int64_t {
-        using C = decltype(tag);
-        if constexpr (std::is_integral_v<C>) return static_cast<std::int64_t>(load<C>(p, swap));
-        return -1;
-      });
-    };
-    const std::int64_t c0 = count_at(base + before);
-    if (c0 < 3 || c0 > 64) return false;
-    const std::size_t c = static_cast<std::size_t>(c0);
-    const std::size_t rec = fixed + cs + c * is;
-    if (n > sc_.remaining() / rec) return false;
-    // Every count equal to the first: else the variable-size path.
     std::atomic<bool> uniform{true};
     visit_scalar_type(ip.count_type, [&](auto ctag) {
       using C = decltype(ctag);
       if constexpr (std::is_integral_v<C>) {
-        const C want = static_cast<C>(c0);
+        const auto want = static_cast<C>(f.count);
         parallel_for_range(n, 1 << 16, [&](std::size_t b, std::size_t end) {
           bool ok = true;
-          for (std::size_t f = b; f < end; ++f) ok &= load<C>(base + f * rec + before, swap) == want;
+          for (std::size_t i = b; i < end; ++i) ok &= load<C>(base + i * f.rec + f.before, swap) == want;
           if (!ok) uniform.store(false, std::memory_order_relaxed);
         });
       }
     });
-    if (!uniform.load()) return false;
+    return uniform.load();
+  }
+
+  bool read_fixed_faces(const PlyElement& e, int idx, std::uint64_t nverts) {
+    const std::optional<FaceLayout> layout = face_layout(e, idx);
+    const PlyProperty& ip = e.props[static_cast<std::size_t>(idx)];
+    const auto n = static_cast<std::size_t>(e.count);
+    // Every count equal to the first: else the variable-size path.
+    if (!layout || !uniform_counts(*layout, ip, n)) return false;
+    const std::size_t c = layout->count, rec = layout->rec, is = scalar_size(ip.type);
+    const std::byte* base = sc_.data().data() + sc_.offset();
+    const bool swap = endian_ != io_detail::kHostEndian;
     auto& conn = polys_.connectivity();
     auto& offsets = polys_.offsets();
     conn.resize(n * c);
     offsets.resize(n + 1);
     std::atomic<std::size_t> bad{n};  // the first face with an index out of range
-    const std::byte* list = base + before + cs;
+    const std::byte* list = base + layout->before + scalar_size(ip.count_type);
     bool integral = true;
     visit_scalar_type(ip.type, [&](auto itag) {
       using I = decltype(itag);
@@ -627,14 +610,7 @@ class PlyReader {
         }
       }
     }
-    // The scalar properties: at their byte in the record (after the list for those behind it).
-    std::vector<std::size_t> offset(e.props.size(), 0);
-    std::size_t at = 0;
-    for (std::size_t k = 0; k < e.props.size(); ++k) {
-      offset[k] = at;
-      at += static_cast<int>(k) == idx ? cs + c * is : scalar_size(e.props[k].type);
-    }
-    decode_columns(e.props, offset, rec, 0, n, face_arrays_, idx);
+    decode_columns(e.props, layout->offset, rec, 0, n, face_arrays_, idx);
     sc_.skip(n * rec, "face records");
     return true;
   }

@@ -394,6 +394,17 @@ std::string extent_string(const Extent& e) {
 }
 
 /// What a DataArray must look like where it is read.
+// The attributes of <PointData>/<CellData> naming the active array of each role.
+constexpr std::pair<const char*, AttributeRole> kRoles[] = {{"Scalars", AttributeRole::Scalars},
+                                                            {"Vectors", AttributeRole::Vectors},
+                                                            {"Normals", AttributeRole::Normals},
+                                                            {"Tensors", AttributeRole::Tensors},
+                                                            {"TCoords", AttributeRole::TCoords}};
+// The cell sections of a PolyData piece and the attributes counting their cells.
+constexpr const char* kCat[4] = {"Verts", "Lines", "Polys", "Strips"};
+constexpr const char* kCount[4] = {"NumberOfVerts", "NumberOfLines", "NumberOfPolys",
+                                   "NumberOfStrips"};
+
 struct ArrayHeader {
   ScalarType type;
   std::string_view type_name;
@@ -567,8 +578,9 @@ class Reader {
   void summarize_attributes(pugi::xml_node el, const XmlWhere& w,
                             std::optional<std::uint64_t> tuples, AttributesSummary& out);
   Bounds summarize_points(pugi::xml_node piece, const XmlWhere& w, std::uint64_t np);
-  /// Counts the cells of a cell section by type from its offsets (`types` null: polygonal data
-  /// section `section`) or its types array; the connectivity is not read.
+  /// Counts the cells of a cell section by type: of polygonal data section `section` (0-3) from
+  /// their offsets, of an unstructured grid (`section` -1) from its types array; the
+  /// connectivity is not read.
   void count_cells(pugi::xml_node el, const XmlWhere& w, std::uint64_t ncells, int section,
                    std::map<CellType, std::uint64_t>& out);
   /// An image's origin, spacing and dimensions (no arrays) from its attributes.
@@ -1023,12 +1035,6 @@ void Reader::read_attributes(pugi::xml_node el, const XmlWhere& w, std::optional
     if (out.has(arr->name())) aw.fail("duplicate array name '" + printable(arr->name(), 80) + "'");
     out.add(std::move(*arr));
   }
-  static constexpr std::pair<const char*, AttributeRole> kRoles[] = {
-      {"Scalars", AttributeRole::Scalars},
-      {"Vectors", AttributeRole::Vectors},
-      {"Normals", AttributeRole::Normals},
-      {"Tensors", AttributeRole::Tensors},
-      {"TCoords", AttributeRole::TCoords}};
   for (const auto& [key, role] : kRoles) {
     const auto v = attr(el, key);
     // A role naming a skipped (String/Bit) or absent array is ignored, as VTK does.
@@ -1407,9 +1413,6 @@ StructuredGrid Reader::read_structured(pugi::xml_node ds, const XmlWhere& w) {
 }
 
 PolyData Reader::read_poly(pugi::xml_node ds, const XmlWhere& w) {
-  static constexpr const char* kCat[4] = {"Verts", "Lines", "Polys", "Strips"};
-  static constexpr const char* kCount[4] = {"NumberOfVerts", "NumberOfLines", "NumberOfPolys",
-                                            "NumberOfStrips"};
   std::vector<PolyPiece> pieces;
   std::vector<std::array<std::size_t, 4>> counts;
   std::size_t index = 0;
@@ -1614,16 +1617,15 @@ std::optional<ArraySummary> Reader::summarize_array(pugi::xml_node el, const Xml
   // The type and components are known once the header is parsed, before the first piece.
   std::optional<ValueRanges> ranges;
   ScalarType type{};
-  const auto h = stream_array(el, w, req, [&](const std::byte* v, std::size_t n) {
-    ranges->add(type, v, n);
-  }, [&](const ArrayHeader& header) {
-    type = header.type;
-    ranges.emplace(header.components);
-  });
+  const auto h = stream_array(
+      el, w, req, [&](const std::byte* v, std::size_t n) { ranges->add(type, v, n); },
+      [&](const ArrayHeader& header) {
+        type = header.type;
+        ranges.emplace(header.components);
+      });
   if (!h) return std::nullopt;
-  ArraySummary a{h->name, h->type, h->components, *h->values / static_cast<std::uint64_t>(h->components),
-                 std::move(*ranges)};
-  return a;
+  const auto tuples = *h->values / static_cast<std::uint64_t>(h->components);
+  return ArraySummary{h->name, h->type, h->components, tuples, std::move(*ranges)};
 }
 
 void Reader::summarize_attributes(pugi::xml_node el, const XmlWhere& w,
@@ -1644,12 +1646,6 @@ void Reader::summarize_attributes(pugi::xml_node el, const XmlWhere& w,
     names.push_back(arr->name);
     out.merge_array(std::move(*arr));
   }
-  static constexpr std::pair<const char*, AttributeRole> kRoles[] = {
-      {"Scalars", AttributeRole::Scalars},
-      {"Vectors", AttributeRole::Vectors},
-      {"Normals", AttributeRole::Normals},
-      {"Tensors", AttributeRole::Tensors},
-      {"TCoords", AttributeRole::TCoords}};
   for (const auto& [key, role] : kRoles) {
     const auto v = attr(el, key);
     if (v && !v->empty() && out.find(std::string(*v)) != nullptr) {
@@ -1858,9 +1854,6 @@ DatasetSummary Reader::summarize() {
     return s;
   }
   s.kind = kind == Kind::Poly ? 2 : 3;
-  static constexpr const char* kCat[4] = {"Verts", "Lines", "Polys", "Strips"};
-  static constexpr const char* kCount[4] = {"NumberOfVerts", "NumberOfLines", "NumberOfPolys",
-                                            "NumberOfStrips"};
   for (pugi::xml_node p = ds.child("Piece"); p; p = p.next_sibling("Piece"), ++index) {
     const XmlWhere pw = w.child(p, "Piece " + num(index));
     const std::uint64_t np = count_attr(p, "NumberOfPoints", pw);
