@@ -30,6 +30,7 @@
 #include "isoforge/core/result.hpp"
 #include "isoforge/core/srgb.hpp"
 #include "isoforge/core/subset.hpp"
+#include "isoforge/core/summary.hpp"
 #include "isoforge/core/union_find.hpp"
 #include "isoforge/core/vec.hpp"
 #include "isoforge/filters/colormap.hpp"

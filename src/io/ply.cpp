@@ -888,6 +888,17 @@ PolyData read_ply(std::span<const std::byte> data, std::string_view name) {
 
 namespace io_detail {
 
+DatasetSummary summarize_ply(std::span<const std::byte> data, std::string_view name) {
+  DatasetSummary s;
+  bool streamed = false;
+  try {
+    streamed = PlyReader(data, name).summarize(s);
+  } catch (const Error&) {
+    // the reader below says what is wrong, at the right record
+  }
+  return streamed ? s : isoforge::summarize(read_ply(data, name));
+}
+
 DatasetSummary summarize_ply(const std::filesystem::path& path, const ProgressCallback& progress) {
   DatasetSummary s;
   const bool streamed = read_with_progress(

@@ -2531,6 +2531,10 @@ Dataset read_vtk_xml(const std::filesystem::path& path, const ProgressCallback& 
 
 namespace io_detail {
 
+DatasetSummary summarize_vtk_xml(std::span<const std::byte> data, std::string_view name) {
+  return read_xml<DatasetSummary>(data, name, nullptr, 0);
+}
+
 DatasetSummary summarize_vtk_xml(const std::filesystem::path& path,
                                  const ProgressCallback& progress) {
   return read_with_progress(

@@ -1,9 +1,10 @@
-// Fuzz target: VTK XML reader.
+// Fuzz target: VTK XML reader, and its streaming summary.
 #include <cstddef>
 #include <cstdint>
 #include <span>
 
 #include "isoforge/io/vtk_xml.hpp"
+#include "io/detail/summaries.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const auto bytes = std::as_bytes(std::span(data, size));
@@ -11,6 +12,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     (void)isoforge::read_vtk_xml(bytes, "fuzz.vtu");
   } catch (const isoforge::Error&) {
     // Rejecting bad input with a clear error is the expected outcome.
+  }
+  try {  // the streaming summary of `isoforge info` (src/io/detail/summaries.hpp)
+    (void)isoforge::io_detail::summarize_vtk_xml(bytes, "fuzz.vtu");
+  } catch (const isoforge::Error&) {
   }
   return 0;
 }

@@ -4,7 +4,10 @@
 // ValueRanges piece by piece (io/detail/tuple_stream.hpp) and counts cells without reading
 // their connectivity. \throw Error as the readers do.
 
+#include <cstddef>
 #include <filesystem>
+#include <span>
+#include <string_view>
 
 #include "isoforge/core/progress.hpp"
 #include "isoforge/core/summary.hpp"
@@ -13,6 +16,9 @@ namespace isoforge::io_detail {
 
 [[nodiscard]] DatasetSummary summarize_vtk_xml(const std::filesystem::path& path,
                                                const ProgressCallback& progress);
+/// The same of a file held in memory (`name` for messages; the fuzzers' entry point).
+[[nodiscard]] DatasetSummary summarize_vtk_xml(std::span<const std::byte> data,
+                                               std::string_view name);
 
 /// NRRD (`nrrd`) or MetaImage: the header, then the samples streamed (raw or inflated).
 [[nodiscard]] DatasetSummary summarize_raw_volume(const std::filesystem::path& path,
@@ -21,5 +27,6 @@ namespace isoforge::io_detail {
 /// PLY: binary files with fixed-size vertex and face records streamed; the others read whole.
 [[nodiscard]] DatasetSummary summarize_ply(const std::filesystem::path& path,
                                            const ProgressCallback& progress);
+[[nodiscard]] DatasetSummary summarize_ply(std::span<const std::byte> data, std::string_view name);
 
 }  // namespace isoforge::io_detail
