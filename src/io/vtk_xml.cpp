@@ -405,6 +405,23 @@ constexpr const char* kCat[4] = {"Verts", "Lines", "Polys", "Strips"};
 constexpr const char* kCount[4] = {"NumberOfVerts", "NumberOfLines", "NumberOfPolys",
                                    "NumberOfStrips"};
 
+/// Where the `index`th DataArray `a` of an attributes element is, for messages.
+XmlWhere array_where(const XmlWhere& w, pugi::xml_node a, std::size_t index) {
+  const auto name = attr(a, "Name");
+  return w.child(a, name ? "DataArray '" + printable(*name, 80) + "'" : "DataArray " + num(index));
+}
+
+/// The roles an attributes element names (a role naming a skipped String/Bit array or an absent
+/// one is then ignored, as VTK does).
+std::vector<std::pair<AttributeRole, std::string_view>> named_roles(pugi::xml_node el) {
+  std::vector<std::pair<AttributeRole, std::string_view>> out;
+  for (const auto& [key, role] : kRoles) {
+    const auto v = attr(el, key);
+    if (v && !v->empty()) out.emplace_back(role, *v);
+  }
+  return out;
+}
+
 struct ArrayHeader {
   ScalarType type;
   std::string_view type_name;
@@ -1026,19 +1043,15 @@ void Reader::read_attributes(pugi::xml_node el, const XmlWhere& w, std::optional
   if (!el) return;
   std::size_t index = 0;
   for (pugi::xml_node a = el.child("DataArray"); a; a = a.next_sibling("DataArray"), ++index) {
-    const auto name = attr(a, "Name");
-    const XmlWhere aw =
-        w.child(a, name ? "DataArray '" + printable(*name, 80) + "'" : "DataArray " + num(index));
+    const XmlWhere aw = array_where(w, a, index);
     auto arr = read_array(a, aw, ArrayRequest{tuples, 0, true});
     if (!arr) continue;
     if (arr->name().empty()) arr->set_name("Array " + num(index));
     if (out.has(arr->name())) aw.fail("duplicate array name '" + printable(arr->name(), 80) + "'");
     out.add(std::move(*arr));
   }
-  for (const auto& [key, role] : kRoles) {
-    const auto v = attr(el, key);
-    // A role naming a skipped (String/Bit) or absent array is ignored, as VTK does.
-    if (v && !v->empty() && out.has(*v)) out.set_active(role, *v);
+  for (const auto& [role, name] : named_roles(el)) {
+    if (out.has(name)) out.set_active(role, name);
   }
 }
 
@@ -1634,9 +1647,7 @@ void Reader::summarize_attributes(pugi::xml_node el, const XmlWhere& w,
   std::size_t index = 0;
   std::vector<std::string> names;
   for (pugi::xml_node a = el.child("DataArray"); a; a = a.next_sibling("DataArray"), ++index) {
-    const auto name = attr(a, "Name");
-    const XmlWhere aw =
-        w.child(a, name ? "DataArray '" + printable(*name, 80) + "'" : "DataArray " + num(index));
+    const XmlWhere aw = array_where(w, a, index);
     auto arr = summarize_array(a, aw, ArrayRequest{tuples, 0, true});
     if (!arr) continue;
     if (arr->name.empty()) arr->name = "Array " + num(index);
@@ -1646,11 +1657,8 @@ void Reader::summarize_attributes(pugi::xml_node el, const XmlWhere& w,
     names.push_back(arr->name);
     out.merge_array(std::move(*arr));
   }
-  for (const auto& [key, role] : kRoles) {
-    const auto v = attr(el, key);
-    if (v && !v->empty() && out.find(std::string(*v)) != nullptr) {
-      out.active[static_cast<std::size_t>(role)] = *v;
-    }
+  for (const auto& [role, name] : named_roles(el)) {
+    if (out.find(std::string(name)) != nullptr) out.active[static_cast<std::size_t>(role)] = name;
   }
 }
 
