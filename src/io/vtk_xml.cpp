@@ -405,6 +405,15 @@ constexpr const char* kCat[4] = {"Verts", "Lines", "Polys", "Strips"};
 constexpr const char* kCount[4] = {"NumberOfVerts", "NumberOfLines", "NumberOfPolys",
                                    "NumberOfStrips"};
 
+/// The points of a piece's extent (dimensions `d`); an Error through `w` if they overflow.
+std::size_t extent_points(const Dims& d, const XmlWhere& w) {
+  try {
+    return checked_point_count(d, "Extent");
+  } catch (const Error& e) {
+    w.fail(e.what());
+  }
+}
+
 /// Where the `index`th DataArray `a` of an attributes element is, for messages.
 XmlWhere array_where(const XmlWhere& w, pugi::xml_node a, std::size_t index) {
   const auto name = attr(a, "Name");
@@ -1191,12 +1200,7 @@ std::vector<StructuredPiece> Reader::read_structured_pieces(pugi::xml_node ds, c
     sp.ext = ext;
     sp.where = pw;
     const Dims d = extent_dims(ext);
-    std::size_t np = 0;
-    try {
-      np = checked_point_count(d, "Extent");
-    } catch (const Error& e) {
-      pw.fail(e.what());
-    }
+    const std::size_t np = extent_points(d, pw);
     const std::size_t nc = structured_cell_count(d);
     read_attributes(p.child("PointData"), pw.child(p.child("PointData"), "PointData"), np, sp.pd);
     read_attributes(p.child("CellData"), pw.child(p.child("CellData"), "CellData"), nc, sp.cd);
@@ -1825,6 +1829,8 @@ DatasetSummary Reader::summarize() {
       }
       s.cell_types[t] = s.cells;
     }
+    // The pieces' extents are checked to tile the whole one first, as the reader does.
+    std::vector<pugi::xml_node> nodes;
     std::vector<Extent> extents;
     std::vector<XmlWhere> wheres;
     for (pugi::xml_node p = ds.child("Piece"); p; p = p.next_sibling("Piece"), ++index) {
@@ -1835,24 +1841,17 @@ DatasetSummary Reader::summarize() {
       if (extents.size() >= kMaxStructuredPieces) {
         pw.fail("more than " + num(kMaxStructuredPieces) + " pieces are not supported");
       }
+      nodes.push_back(p);
       extents.push_back(ext);
       wheres.push_back(pw);
     }
     if (extents.empty()) w.fail("no <Piece> with a non-empty Extent");
     if (extents.size() > 1 || extents[0] != whole) (void)tiling_boxes(whole, extents, wheres, w);
-    index = 0;
-    for (pugi::xml_node p = ds.child("Piece"); p; p = p.next_sibling("Piece"), ++index) {
-      const XmlWhere pw = w.child(p, "Piece " + num(index));
-      Extent ext = whole;
-      if (attr(p, "Extent")) ext = read_extent(p, "Extent", pw, true);
-      if (extent_empty(ext)) continue;
-      const Dims d = extent_dims(ext);
-      std::size_t np = 0;
-      try {
-        np = checked_point_count(d, "Extent");
-      } catch (const Error& e) {
-        pw.fail(e.what());
-      }
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+      const pugi::xml_node p = nodes[i];
+      const XmlWhere& pw = wheres[i];
+      const Dims d = extent_dims(extents[i]);
+      const std::size_t np = extent_points(d, pw);
       summarize_attributes(p.child("PointData"), pw.child(p.child("PointData"), "PointData"), np,
                            s.point_data);
       summarize_attributes(p.child("CellData"), pw.child(p.child("CellData"), "CellData"),
