@@ -130,7 +130,6 @@ std::pair<double, double> DataArray::range(int component) const {
   double hi = -lo;
   std::visit(
       [&](const auto& v) {
-        using T = typename std::decay_t<decltype(v)>::value_type;
         const std::size_t n = v.size() / nc;
         if (n == 0) return;
         const auto part = [&](std::size_t b, std::size_t e) {

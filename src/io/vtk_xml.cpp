@@ -989,7 +989,14 @@ std::optional<DataArray> Reader::read_array(pugi::xml_node el, const XmlWhere& w
                                             const ArrayRequest& req) {
   const std::optional<ArrayHeader> h = array_header(el, w, req);
   if (!h) return std::nullopt;
-  const auto& [type, type_name, name, ncomp, values, bytes, unit, format] = *h;
+  // (Named references, not a structured binding: clang 14 cannot capture those in lambdas.)
+  const ScalarType type = h->type;
+  const std::string_view type_name = h->type_name;
+  const std::string& name = h->name;
+  const int ncomp = h->components;
+  const std::optional<std::uint64_t> values = h->values, bytes = h->bytes;
+  const std::size_t unit = h->unit;
+  const std::string_view format = h->format;
   const auto comps = static_cast<std::uint64_t>(ncomp);
   const std::size_t esize = scalar_size(type);
 
