@@ -155,21 +155,22 @@ std::uint64_t data_file_size(const DataSpec& spec, const std::string& file) {
   return size;
 }
 
-/// Inflates a zlib or gzip stream into exactly `out.size()` bytes.
-void inflate_into(std::span<const std::byte> in, std::span<std::byte> out,
+/// Inflates a zlib or gzip stream into the `out_size` bytes at `out`, or with `stream` into the
+/// stream (`out` unused), the first `skip` bytes dropped.
+void inflate_into(std::span<const std::byte> in, std::byte* out, std::size_t out_size,
                   const std::string& label, io_detail::TupleStream* stream = nullptr,
                   std::size_t skip = 0) {
   // Deflate cannot expand data more than about 1032:1; a header asking for more lies.
-  if (out.size() / 1032 > in.size() + 64) {
+  if (out_size / 1032 > in.size() + 64) {
     throw Error(label + ": " + std::to_string(in.size()) + " compressed bytes cannot hold the " +
-                std::to_string(out.size()) + " bytes the header describes");
+                std::to_string(out_size) + " bytes the header describes");
   }
   z_stream z{};
   if (inflateInit2(&z, 15 + 32) != Z_OK) throw Error(label + ": cannot initialise zlib");
   std::size_t in_pos = 0, out_pos = 0;
   int rc = Z_OK;
   constexpr std::size_t kChunk = std::size_t{1} << 30;
-  while (out_pos < out.size()) {
+  while (out_pos < out_size) {
     if (z.avail_in == 0 && in_pos < in.size()) {
       const std::size_t n = std::min(kChunk, in.size() - in_pos);
       z.next_in = reinterpret_cast<Bytef*>(const_cast<std::byte*>(in.data() + in_pos));
@@ -178,8 +179,8 @@ void inflate_into(std::span<const std::byte> in, std::span<std::byte> out,
     }
     // Streamed: pieces into the stream's window, the first `skip` bytes dropped.
     const std::size_t n_out =
-        std::min(stream ? io_detail::TupleStream::kPiece : kChunk, out.size() - out_pos);
-    std::byte* to = stream ? stream->window(n_out) : out.data() + out_pos;
+        std::min(stream ? io_detail::TupleStream::kPiece : kChunk, out_size - out_pos);
+    std::byte* to = stream ? stream->window(n_out) : out + out_pos;
     z.next_out = reinterpret_cast<Bytef*>(to);
     z.avail_out = static_cast<uInt>(n_out);
     rc = inflate(&z, Z_NO_FLUSH);
@@ -199,9 +200,9 @@ void inflate_into(std::span<const std::byte> in, std::span<std::byte> out,
     }
   }
   inflateEnd(&z);
-  if (out_pos < out.size()) {
+  if (out_pos < out_size) {
     throw Error(label + ": truncated: compressed data decompresses to " + std::to_string(out_pos) +
-                " bytes, the header needs " + std::to_string(out.size()));
+                " bytes, the header needs " + std::to_string(out_size));
   }
 }
 
@@ -223,52 +224,52 @@ std::size_t skip_lines(std::span<const std::byte> bytes, std::size_t start, std:
 /// Decodes one file's bytes (starting at `start`) into `out`: raw data copied from the file
 /// (io_detail::FileSource::copy, no pass over the mapping), compressed data inflated in place.
 void decode_piece(const DataSpec& spec, const io_detail::FileSource& src, std::size_t start,
-                  std::span<std::byte> out, const std::string& label) {
+                  std::byte* out, std::size_t out_size, const std::string& label) {
   const std::span<const std::byte> bytes = src.bytes;
   std::size_t pos = skip_lines(bytes, start, spec.line_skip, label);
   const std::uint64_t avail = bytes.size() - pos;
   if (!spec.compressed) {
     if (spec.byte_skip == -1) {
-      if (avail < out.size()) {
-        throw Error(label + ": truncated: needs " + std::to_string(out.size()) + " bytes, has " +
+      if (avail < out_size) {
+        throw Error(label + ": truncated: needs " + std::to_string(out_size) + " bytes, has " +
                     std::to_string(avail));
       }
-      pos = bytes.size() - out.size();
+      pos = bytes.size() - out_size;
     } else {
       const auto skip = static_cast<std::uint64_t>(spec.byte_skip);
-      if (skip > avail || avail - skip < out.size()) {
+      if (skip > avail || avail - skip < out_size) {
         throw Error(label + ": truncated at byte " + std::to_string(bytes.size()) + ": needs " +
-                    std::to_string(out.size()) + " bytes of data after skipping " +
+                    std::to_string(out_size) + " bytes of data after skipping " +
                     std::to_string(pos + skip) + ", has " +
                     std::to_string(skip > avail ? 0 : avail - skip));
       }
       pos += static_cast<std::size_t>(skip);
     }
     if (spec.stream) {
-      io_detail::stream_bytes(src, bytes.data() + pos, out.size(), *spec.stream);
+      io_detail::stream_bytes(src, bytes.data() + pos, out_size, *spec.stream);
     } else {
-      src.copy(bytes.data() + pos, out.data(), out.size());
+      src.copy(bytes.data() + pos, out, out_size);
     }
     return;
   }
   const auto skip = static_cast<std::uint64_t>(spec.byte_skip);  // -1 rejected for compressed
   std::uint64_t total = 0;
-  if (__builtin_add_overflow(skip, static_cast<std::uint64_t>(out.size()), &total) ||
+  if (__builtin_add_overflow(skip, static_cast<std::uint64_t>(out_size), &total) ||
       total / 1032 > avail + 64) {
     throw Error(label + ": " + std::to_string(avail) + " compressed bytes cannot hold the " +
-                std::to_string(out.size()) + " bytes (plus byte skip " + std::to_string(skip) +
+                std::to_string(out_size) + " bytes (plus byte skip " + std::to_string(skip) +
                 ") the header describes");
   }
   if (spec.stream) {
     // `out` has no storage here: the stream takes the bytes after the skip.
-    inflate_into(bytes.subspan(pos), std::span<std::byte>(out.data(), static_cast<std::size_t>(total)),
-                 label, spec.stream, static_cast<std::size_t>(skip));
+    inflate_into(bytes.subspan(pos), nullptr, static_cast<std::size_t>(total), label, spec.stream,
+                 static_cast<std::size_t>(skip));
   } else if (skip == 0) {
-    inflate_into(bytes.subspan(pos), out, label);
+    inflate_into(bytes.subspan(pos), out, out_size, label);
   } else {
     std::vector<std::byte> tmp(static_cast<std::size_t>(total));
-    inflate_into(bytes.subspan(pos), tmp, label);
-    if (!out.empty()) std::memcpy(out.data(), tmp.data() + skip, out.size());
+    inflate_into(bytes.subspan(pos), tmp.data(), tmp.size(), label);
+    if (out_size > 0) std::memcpy(out, tmp.data() + skip, out_size);
   }
 }
 
@@ -282,8 +283,9 @@ DataArray load_samples(const DataSpec& spec) {
                 std::to_string(elem) + " bytes overflow the addressable size");
   }
   DataArray a;  // allocated once the data is known to be there, and decoded into
-  const auto samples = [&] {  // no storage when streamed: only the sizes count
-    return std::span<std::byte>(spec.stream ? nullptr : a.bytes(), static_cast<std::size_t>(total));
+  // Where the bytes from `offset` go (nothing when streamed: only the sizes count).
+  const auto samples = [&](std::uint64_t offset) {
+    return spec.stream ? nullptr : a.bytes() + offset;
   };
   static const ProgressCallback kNone;
   const ProgressCallback& callback = spec.progress ? *spec.progress : kNone;
@@ -307,8 +309,8 @@ DataArray load_samples(const DataSpec& spec) {
     }
     if (!spec.stream) a = DataArray::uninitialized("Scalars", spec.type, spec.components, spec.tuples);
     progress = io_detail::Progress(callback, 2 * total, "reading", spec.progress_from);
-    decode_piece(spec, spec.attached, spec.attached_offset, samples(),
-                 spec.header + ": attached data");
+    decode_piece(spec, spec.attached, spec.attached_offset, samples(0),
+                 static_cast<std::size_t>(total), spec.header + ": attached data");
     progress.add(total);
   } else {
     const std::uint64_t nfiles = spec.files.size();
@@ -347,10 +349,8 @@ DataArray load_samples(const DataSpec& spec) {
       if (file.bytes().size() != sizes[i]) {
         throw Error(data_label(spec, f) + ": changed size while being read");
       }
-      decode_piece(spec, io_detail::FileSource(file), 0,
-                   samples().subspan(static_cast<std::size_t>(i * per_file),
-                                     static_cast<std::size_t>(per_file)),
-                   data_label(spec, f));
+      decode_piece(spec, io_detail::FileSource(file), 0, samples(i * per_file),
+                   static_cast<std::size_t>(per_file), data_label(spec, f));
       progress.add(per_file);
     }
   }
