@@ -888,29 +888,32 @@ PolyData read_ply(std::span<const std::byte> data, std::string_view name) {
 
 namespace io_detail {
 
-DatasetSummary summarize_ply(std::span<const std::byte> data, std::string_view name) {
+namespace {
+
+// The streamed summary, or, when the file is not one it streams (or is bad: the reader then
+// says what is wrong, at the right record), the summary of the file read whole from the same
+// source.
+DatasetSummary summarize_source(const FileSource& src, std::string_view name, Progress* p,
+                                std::uint64_t base) {
   DatasetSummary s;
-  bool streamed = false;
   try {
-    streamed = PlyReader(data, name).summarize(s);
+    if (PlyReader(src, name, p, base).summarize(s)) return s;
   } catch (const Error&) {
-    // the reader below says what is wrong, at the right record
   }
-  return streamed ? s : isoforge::summarize(read_ply(data, name));
+  return isoforge::summarize(PlyReader(src, name, p, base).read());
+}
+
+}  // namespace
+
+DatasetSummary summarize_ply(std::span<const std::byte> data, std::string_view name) {
+  return summarize_source(data, name, nullptr, 0);
 }
 
 DatasetSummary summarize_ply(const std::filesystem::path& path, const ProgressCallback& progress) {
-  DatasetSummary s;
-  const bool streamed = read_with_progress(
-      path, progress, [&](const FileSource& src, Progress* p, std::uint64_t base) {
-        try {
-          return PlyReader(src, path.string(), p, base).summarize(s);
-        } catch (const Error&) {
-          return false;  // the reader below says what is wrong, at the right record
-        }
-      });
-  if (!streamed) s = isoforge::summarize(read_ply(path, progress));
-  return s;
+  return read_with_progress(path, progress,
+                            [&](const FileSource& src, Progress* p, std::uint64_t base) {
+                              return summarize_source(src, path.string(), p, base);
+                            });
 }
 
 }  // namespace io_detail
