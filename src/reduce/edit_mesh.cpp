@@ -36,6 +36,11 @@ Vec3 face_normal(const std::array<Vec3, 3>& p) {
 // here without the exact fallback.
 constexpr double kSeparationMargin = 1e-12;
 
+// A merge whose test is deferred is still tested against the faces around it when it turns a
+// face's normal by more than this (cos 10°): the folds a merge makes next to itself come from
+// turning faces, and a merge that turns none by more leaves its fan nearly where it was.
+constexpr double kTurnTestedNearby = 0.98480775301220806;
+
 double norm1(const Vec3& v) {
   return std::abs(v.x) + std::abs(v.y) + std::abs(v.z);
 }
@@ -367,6 +372,7 @@ Refusal EditMesh::check_merge(std::span<const Vid> group, const Vec3& p) {
   new_pos_.clear();
   chain_.clear();
   Refusal flip = Refusal::None;
+  bool turns = false;  // some face turns by more than kTurnTestedNearby
   for (Fid f : touched_) {
     const Tri& t = faces_[f];
     int members = 0, at = 0;
@@ -389,6 +395,7 @@ Refusal EditMesh::check_merge(std::span<const Vid> group, const Vec3& p) {
     } else {
       const double l0 = norm2(n0);
       if (l0 > 0 && dot(n0, n1) <= cos_turn_ * std::sqrt(l0 * l1)) flip = Refusal::Flip;
+      if (l0 > 0 && dot(n0, n1) <= kTurnTestedNearby * std::sqrt(l0 * l1)) turns = true;
     }
     chain_.push_back({t[(at + 1) % 3], t[(at + 2) % 3]});
     new_faces_.push_back(nt);
@@ -418,11 +425,12 @@ Refusal EditMesh::check_merge(std::span<const Vid> group, const Vec3& p) {
     }
   }
   if (flip != Refusal::None) return flip;
-  // Merges whose test is deferred are still tested against the faces around them, where
-  // nearly every intersection a merge can make is: a test of the finished mesh then rarely
-  // finds one to redo.
-  if (settings_.check_intersections &&
-      intersects(new_faces_, new_pos_, /*local=*/!tests_now(group))) {
+  // A merge whose test is deferred is still tested against the faces around it if it turns
+  // a face: nearly every intersection a merge can make is there, so a test of the finished mesh
+  // rarely finds one to redo.
+  if (!settings_.check_intersections) return Refusal::None;
+  const bool now = tests_now(group);
+  if ((now || turns) && intersects(new_faces_, new_pos_, /*local=*/!now)) {
     return Refusal::Intersection;
   }
   return Refusal::None;
