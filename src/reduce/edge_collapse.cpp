@@ -12,28 +12,20 @@
 #include <optional>
 
 #include "isoforge/core/parallel.hpp"
-#include "reduce/dary_heap.hpp"
 #include "reduce/decimate_internal.hpp"
 #include "reduce/quadric.hpp"
+#include "reduce/radix_heap.hpp"
 
 namespace isoforge::reduce {
 namespace {
 
-// 16 bytes, so four entries share a cache line. Stamps only grow, so the sum of the two
-// vertices' stamps changes whenever either does: one field tells a stale entry.
+// 16 bytes, so four entries share a cache line. `key` orders the cost (as a float). Stamps only
+// grow, so the sum of the two vertices' stamps changes whenever either does: one field tells a
+// stale entry.
 struct Entry {
-  float cost;
+  std::uint32_t key;
   Vid u, v;
   std::uint32_t stamps;
-};
-
-// Heap order: the smallest cost first, ties by vertex ids (deterministic).
-struct Later {
-  bool operator()(const Entry& a, const Entry& b) const {
-    if (a.cost != b.cost) return a.cost > b.cost;
-    if (a.u != b.u) return a.u > b.u;
-    return a.v > b.v;
-  }
 };
 
 struct Candidate {
@@ -101,7 +93,7 @@ class Collapser {
   bool replayed_all_ = false;
   double attribute_scale2_ = 0;
   std::vector<std::uint32_t> stamp_;
-  DaryHeap<Entry, Later> heap_;
+  RadixHeap<Entry> heap_;
   std::vector<Vid> scratch_;
 };
 
@@ -144,7 +136,7 @@ void Collapser::push_edges_of(Vid v) {
     const Vid a = std::min(v, w), b = std::max(v, w);
     const Candidate c = evaluate(a, b);
     if (!c.valid) continue;
-    heap_.push({static_cast<float>(c.cost), a, b, stamp_[a] + stamp_[b]});
+    heap_.push({order_key(static_cast<float>(c.cost)), a, b, stamp_[a] + stamp_[b]});
   }
 }
 
@@ -173,19 +165,16 @@ void Collapser::fill_heap() {
       for (Vid w : nb) {
         if (w <= v) continue;
         const Candidate c = evaluate(v, w);
-        entries[at] = {static_cast<float>(c.cost), v, w, stamp_[v] + stamp_[w]};
+        entries[at] = {order_key(static_cast<float>(c.cost)), v, w, stamp_[v] + stamp_[w]};
         ok[at] = c.valid ? 1 : 0;
         ++at;
       }
     }
   });
-  std::size_t kept = 0;
+  heap_.clear();
   for (std::size_t i = 0; i < entries.size(); ++i) {
-    if (ok[i]) entries[kept++] = entries[i];
+    if (ok[i]) heap_.push(entries[i]);
   }
-  entries.resize(kept);
-  entries.reserve(kept + kept / 2);
-  heap_.assign(std::move(entries));
 }
 
 void Collapser::apply(Vid keep, Vid drop, const Vec3& p, double t, double error,
