@@ -52,9 +52,7 @@ class CellCollapser {
   CarriedAttributes& attributes_;
   const Prepared& prepared_;
   const DecimateOptions& options_;
-  std::vector<Quadric> quadric_;
-  std::vector<PointQuadric> point_;
-  std::vector<double> area_;
+  std::vector<VertexQuadric> quadric_;
   std::vector<std::uint32_t> stamp_;
   std::vector<CellEntry> heap_;
 };
@@ -70,8 +68,8 @@ CellCandidate CellCollapser::evaluate(Fid f) const {
     }
   }
   if (locked > 1) return c;
-  const Quadric planes = quadric_[t[0]] + quadric_[t[1]] + quadric_[t[2]];
-  const Quadric q = (point_[t[0]] + point_[t[1]] + point_[t[2]]).added_to(planes);
+  const VertexQuadric sum = quadric_[t[0]] + quadric_[t[1]] + quadric_[t[2]];
+  const Quadric q = sum.total();
   const Vec3 a = mesh_.position(t[0]), b = mesh_.position(t[1]), d = mesh_.position(t[2]);
   const int keep = locked == 1 ? lock_at : 0;
   c.group = {t[keep], t[(keep + 1) % 3], t[(keep + 2) % 3]};
@@ -82,10 +80,9 @@ CellCandidate CellCollapser::evaluate(Fid f) const {
     c.p = place(q, centroid, {a, b, d, centroid});
   }
   c.p = prepared_.points->stored(c.p);  // checked and written as stored
-  const double geometric = planes(c.p);
-  const double area = area_[t[0]] + area_[t[1]] + area_[t[2]];
+  const double geometric = sum.planes(c.p);
   c.cost = q(c.p);
-  c.error = area > 0 ? std::sqrt(geometric / area) : 0;
+  c.error = sum.area > 0 ? std::sqrt(geometric / sum.area) : 0;
   // Barycentric weights of p's projection on the triangle, clamped to it, for the arrays.
   const Vec3 p0 = mesh_.position(c.group[0]), p1 = mesh_.position(c.group[1]),
              p2 = mesh_.position(c.group[2]);
@@ -127,7 +124,7 @@ DecimateStats CellCollapser::run() {
   DecimateStats stats;
   stats.input_triangles = mesh_.live_faces();
   stats.locked_vertices = prepared_.locked_count;
-  vertex_quadrics(mesh_, options_, quadric_, point_, area_,
+  vertex_quadrics(mesh_, options_, quadric_,
                   progress_range(options_.progress, 0, 0.05));
   stamp_.assign(mesh_.vertex_count(), 0);
   fill_heap();
@@ -151,15 +148,12 @@ DecimateStats CellCollapser::run() {
         continue;
       }
       if (!loop.accept(mesh_.check_merge(c.group, c.p))) continue;
-      const Quadric q = quadric_[c.group[0]] + quadric_[c.group[1]] + quadric_[c.group[2]];
-      const PointQuadric pq = point_[c.group[0]] + point_[c.group[1]] + point_[c.group[2]];
-      const double area = area_[c.group[0]] + area_[c.group[1]] + area_[c.group[2]];
+      const VertexQuadric merged =
+          quadric_[c.group[0]] + quadric_[c.group[1]] + quadric_[c.group[2]];
       mesh_.merge(c.group, c.p);
       const std::array<std::size_t, 3> from{c.group[0], c.group[1], c.group[2]};
       attributes_.blend(c.group[0], from, c.weights);
-      quadric_[c.group[0]] = q;
-      point_[c.group[0]] = pq;
-      area_[c.group[0]] = area;
+      quadric_[c.group[0]] = merged;
       for (Vid v : c.group) ++stamp_[v];
       stats.max_error = std::max(stats.max_error, c.error);
       for (Fid g : mesh_.faces_of(c.group[0])) {

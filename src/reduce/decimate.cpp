@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "isoforge/core/mesh_topology.hpp"
+#include "isoforge/core/parallel.hpp"
 #include "isoforge/core/subset.hpp"
 #include "isoforge/spatial/self_intersections.hpp"
 #include "reduce/decimate_internal.hpp"
@@ -21,26 +22,10 @@ void require(bool ok, const std::string& what) {
 
 // Locks the vertices of edges with more than two faces and the vertices whose faces form more
 // than one fan: decimation leaves them (and so the non-manifold parts of the input) as they are.
+// Each vertex looks at its own faces only (an edge seen from both ends locks both), so the
+// vertices are done in parallel.
 void lock_non_manifold(const std::vector<Tri>& tris, std::vector<std::uint8_t>& locked) {
   const std::size_t nv = locked.size();
-  // Edges (min, max, face), sorted: runs of equal edges give the face count.
-  std::vector<std::array<Vid, 3>> edges;
-  edges.reserve(3 * tris.size());
-  for (Fid f = 0; f < tris.size(); ++f) {
-    for (int k = 0; k < 3; ++k) {
-      Vid a = tris[f][k], b = tris[f][(k + 1) % 3];
-      if (a > b) std::swap(a, b);
-      edges.push_back({a, b, f});
-    }
-  }
-  std::sort(edges.begin(), edges.end());
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i;
-    while (j < edges.size() && edges[j][0] == edges[i][0] && edges[j][1] == edges[i][1]) ++j;
-    if (j - i > 2) locked[edges[i][0]] = locked[edges[i][1]] = 1;
-    i = j;
-  }
-  // Fans: faces around v joined through shared edges at v.
   std::vector<std::uint32_t> start(nv + 1, 0);
   for (const Tri& t : tris) {
     for (Vid v : t) ++start[v + 1];
@@ -51,35 +36,43 @@ void lock_non_manifold(const std::vector<Tri>& tris, std::vector<std::uint8_t>& 
   for (Fid f = 0; f < tris.size(); ++f) {
     for (Vid v : tris[f]) around[fill[v]++] = f;
   }
-  std::vector<std::uint32_t> parent;
-  for (std::size_t v = 0; v < nv; ++v) {
-    const std::uint32_t b = start[v], e = start[v + 1];
-    if (e - b < 2 || locked[v]) continue;
-    parent.resize(e - b);
-    for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
-    auto find = [&](std::uint32_t x) {
-      while (parent[x] != x) x = parent[x] = parent[parent[x]];
-      return x;
-    };
-    std::size_t fans = e - b;
-    for (std::uint32_t i = b; i < e; ++i) {
-      for (std::uint32_t j = b; j < i; ++j) {
-        // Faces i and j share an edge at v if they share a vertex other than v.
-        bool shared = false;
+  parallel_for_range(nv, 4096, [&](std::size_t begin, std::size_t end) {
+    std::vector<std::array<Vid, 2>> spokes;  // (other vertex of an edge at v, face at v)
+    std::vector<std::uint32_t> parent;
+    for (std::size_t v = begin; v < end; ++v) {
+      const std::uint32_t b = start[v], e = start[v + 1];
+      if (e - b < 2 || locked[v]) continue;
+      spokes.clear();
+      for (std::uint32_t i = b; i < e; ++i) {
         for (Vid x : tris[around[i]]) {
-          if (x == v) continue;
-          for (Vid y : tris[around[j]]) shared = shared || x == y;
-        }
-        if (!shared) continue;
-        const std::uint32_t ri = find(i - b), rj = find(j - b);
-        if (ri != rj) {
-          parent[ri] = rj;
-          --fans;
+          if (x != v) spokes.push_back({x, i - b});
         }
       }
+      std::sort(spokes.begin(), spokes.end());
+      // Runs of one other vertex are the faces of one edge; faces of one edge are in one fan.
+      parent.resize(e - b);
+      for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+      auto find = [&](std::uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+      };
+      std::size_t fans = e - b;
+      bool lock = false;
+      for (std::size_t i = 0; i < spokes.size() && !lock;) {
+        std::size_t j = i + 1;
+        for (; j < spokes.size() && spokes[j][0] == spokes[i][0]; ++j) {
+          const std::uint32_t ri = find(spokes[i][1]), rj = find(spokes[j][1]);
+          if (ri != rj) {
+            parent[ri] = rj;
+            --fans;
+          }
+        }
+        lock = j - i > 2;
+        i = j;
+      }
+      if (lock || fans > 1) locked[v] = 1;
     }
-    if (fans > 1) locked[v] = 1;
-  }
+  });
 }
 
 }  // namespace

@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -39,11 +41,7 @@ struct Candidate {
 
 // The quadrics of the vertices (owned by the caller: the parts of a partitioned run fill
 // disjoint entries of one set, which the final run then continues from).
-struct Quadrics {
-  std::vector<Quadric> planes;
-  std::vector<PointQuadric> points;
-  std::vector<double> area;
-};
+using Quadrics = std::vector<VertexQuadric>;
 
 // One run of collapses on a mesh, to `target` faces or until `max_error`.
 class Collapser {
@@ -54,9 +52,7 @@ class Collapser {
             const std::vector<MergeOp>* replay = nullptr, std::vector<MergeOp>* record = nullptr)
       : mesh_(mesh),
         attributes_(attributes),
-        quadric_(quadrics.planes),
-        point_(quadrics.points),
-        area_(quadrics.area),
+        quadric_(quadrics),
         prepared_(prepared),
         target_(target),
         progress_(std::move(progress)),
@@ -81,9 +77,7 @@ class Collapser {
 
   EditMesh& mesh_;
   CarriedAttributes& attributes_;
-  std::vector<Quadric>& quadric_;
-  std::vector<PointQuadric>& point_;
-  std::vector<double>& area_;
+  Quadrics& quadric_;
   const Prepared& prepared_;
   std::size_t target_;
   ProgressCallback progress_;
@@ -101,8 +95,8 @@ Candidate Collapser::evaluate(Vid u, Vid v) const {
   Candidate c;
   const bool lu = mesh_.locked(u), lv = mesh_.locked(v);
   if (lu && lv) return c;
-  const Quadric planes = quadric_[u] + quadric_[v];
-  const Quadric q = (point_[u] + point_[v]).added_to(planes);
+  const VertexQuadric sum = quadric_[u] + quadric_[v];
+  const Quadric q = sum.total();
   const Vec3& pu = mesh_.position(u);
   const Vec3& pv = mesh_.position(v);
   if (lu || lv) {
@@ -116,13 +110,12 @@ Candidate Collapser::evaluate(Vid u, Vid v) const {
     c.p = place(q, mid, {pu, pv, mid});
   }
   c.p = prepared_.points->stored(c.p);  // checked and written as stored
-  const double geometric = planes(c.p);
+  const double geometric = sum.planes(c.p);
   c.cost = q(c.p);
   if (attribute_scale2_ > 0) {
-    c.cost += attribute_scale2_ * attributes_.scaled_distance2(u, v) * (area_[u] + area_[v]);
+    c.cost += attribute_scale2_ * attributes_.scaled_distance2(u, v) * sum.area;
   }
-  const double area = area_[u] + area_[v];
-  c.error = area > 0 ? std::sqrt(geometric / area) : 0;
+  c.error = sum.area > 0 ? std::sqrt(geometric / sum.area) : 0;
   const Vec3 e = mesh_.position(c.drop) - mesh_.position(c.keep);
   const double l2 = norm2(e);
   c.t = l2 > 0 ? std::clamp(dot(c.p - mesh_.position(c.keep), e) / l2, 0.0, 1.0) : 0.5;
@@ -180,15 +173,11 @@ void Collapser::fill_heap() {
 void Collapser::apply(Vid keep, Vid drop, const Vec3& p, double t, double error,
                       DecimateStats& stats) {
   const std::array<Vid, 2> group{keep, drop};
-  const Quadric q = quadric_[keep] + quadric_[drop];
-  const PointQuadric pq = point_[keep] + point_[drop];
   mesh_.merge(group, p);
   const std::array<std::size_t, 2> from{keep, drop};
   const std::array<double, 2> weights{1 - t, t};
   attributes_.blend(keep, from, weights);
-  quadric_[keep] = q;
-  point_[keep] = pq;
-  area_[keep] += area_[drop];
+  quadric_[keep] += quadric_[drop];
   ++stamp_[keep];
   ++stamp_[drop];
   stats.max_error = std::max(stats.max_error, error);
@@ -339,8 +328,7 @@ Partitioned decimate_halves(const Prepared& prepared, CarriedAttributes& attribu
     settings.side_cut = cut;
     settings.side_below = h == 0;
     meshes[i].emplace(prepared.positions, std::move(faces[i]), std::move(locks[i]), settings);
-    vertex_quadrics(*meshes[i], options, quadrics[i].planes, quadrics[i].points, quadrics[i].area,
-                    {});
+    vertex_quadrics(*meshes[i], options, quadrics[i], {});
     Collapser collapser(*meshes[i], attributes, quadrics[i], prepared, options, targets[i], report,
                         &stop, replay != nullptr ? &replay->parts[i] : nullptr,
                         record != nullptr ? &record->parts[i] : nullptr);
@@ -370,15 +358,11 @@ Partitioned decimate_halves(const Prepared& prepared, CarriedAttributes& attribu
 
   // Join: each vertex from the half of its side; the crossing faces (unchanged, in both) once.
   out.positions = prepared.positions;
-  out.quadrics.planes.resize(nv);
-  out.quadrics.points.resize(nv);
-  out.quadrics.area.resize(nv);
+  out.quadrics.resize(nv);
   for (Vid v = 0; v < nv; ++v) {
     const auto h = static_cast<std::size_t>(side(v));
     out.positions[v] = meshes[h]->position(v);
-    out.quadrics.planes[v] = quadrics[h].planes[v];
-    out.quadrics.points[v] = quadrics[h].points[v];
-    out.quadrics.area[v] = quadrics[h].area[v];
+    out.quadrics[v] = quadrics[h][v];
     out.merged_into[v] = meshes[h]->merged_into(v);
   }
   out.replayed_all = replayed[0] && replayed[1];
@@ -418,6 +402,7 @@ MethodRun decimate_quadric(const PolyData& input, const Prepared& prepared,
       prepared.triangles.size() >= kPartitionMinFaces &&
       (prepared.target == 0 ||
        static_cast<double>(prepared.target) < 0.7 * static_cast<double>(prepared.triangles.size()));
+  auto T0 = std::chrono::steady_clock::now();
   if (split) {
     Partitioned halves = decimate_halves(prepared, attributes, options, settings, replay, record,
                                          progress_range(options.progress, 0, 0.85));
@@ -441,6 +426,7 @@ MethodRun decimate_quadric(const PolyData& input, const Prepared& prepared,
       if (joined.check_near[v] != 0) joined.check_near[find_root(run.merged_into, v)] = 1;
     }
   }
+  std::fprintf(stderr, "TIMING halves %.3f\n", std::chrono::duration<double>(std::chrono::steady_clock::now()-T0).count());
   std::vector<std::uint8_t> unchecked = std::move(halves_unchecked);
   run.mesh.emplace(std::move(positions), std::move(triangles), prepared.locked, joined);
   EditMesh& mesh = *run.mesh;
@@ -448,14 +434,15 @@ MethodRun decimate_quadric(const PolyData& input, const Prepared& prepared,
     if (unchecked[f] != 0) mesh.mark_unchecked(f);
   }
   if (!split) {
-    vertex_quadrics(mesh, options, quadrics.planes, quadrics.points, quadrics.area,
-                    progress_range(options.progress, 0, 0.05));
+    vertex_quadrics(mesh, options, quadrics, progress_range(options.progress, 0, 0.05));
   }
   Collapser collapser(mesh, attributes, quadrics, prepared, options, prepared.target,
                       progress_range(options.progress, from, 1.0), nullptr,
                       replay != nullptr ? &replay->parts[2] : nullptr,
                       record != nullptr ? &record->parts[2] : nullptr);
+  std::fprintf(stderr, "TIMING joined-setup %.3f\n", std::chrono::duration<double>(std::chrono::steady_clock::now()-T0).count());
   const DecimateStats last = collapser.run();
+  std::fprintf(stderr, "TIMING joined-run %.3f\n", std::chrono::duration<double>(std::chrono::steady_clock::now()-T0).count());
   add_stats(stats, last);
   stats.stop = last.stop;
   if (split) {

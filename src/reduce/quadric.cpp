@@ -63,12 +63,9 @@ Vec3 minimize(const Quadric& q, const Vec3& anchor, double relative_cutoff) {
 }
 
 void vertex_quadrics(const EditMesh& mesh, const DecimateOptions& options,
-                     std::vector<Quadric>& quadrics, std::vector<PointQuadric>& points,
-                     std::vector<double>& areas, const ProgressCallback& progress) {
+                     std::vector<VertexQuadric>& quadrics, const ProgressCallback& progress) {
   const std::size_t nv = mesh.vertex_count();
-  quadrics.assign(nv, Quadric{});
-  areas.assign(nv, 0.0);
-  points.assign(nv, PointQuadric{});
+  quadrics.resize(nv);
   const bool border = options.preserve_boundary && options.boundary_weight > 0;
   const bool features = options.feature_angle < 180;
   const double cos_feature = std::cos(options.feature_angle * std::numbers::pi / 180);
@@ -122,9 +119,7 @@ void vertex_quadrics(const EditMesh& mesh, const DecimateOptions& options,
               q += Quadric::plane(cn, -dot(cn, pv), options.boundary_weight * le2);
             }
           }
-          quadrics[v] = q;
-          points[v] = PointQuadric::at(pv, kPointQuadricWeight * area);
-          areas[v] = area;
+          quadrics[v] = {q, PointQuadric::at(pv, kPointQuadricWeight * area), area};
         }
       },
       progress, "decimate");

@@ -16,11 +16,10 @@
 namespace isoforge::reduce {
 
 struct Quadric {
-  // Symmetric A (xx, xy, xz, yy, yz, zz), b, c, and the total weight of the planes.
+  // Symmetric A (xx, xy, xz, yy, yz, zz), b and c.
   double a00 = 0, a01 = 0, a02 = 0, a11 = 0, a12 = 0, a22 = 0;
   double b0 = 0, b1 = 0, b2 = 0;
   double c = 0;
-  double weight = 0;
 
   /// The plane n·p + d = 0 (n of unit length) with weight w.
   static Quadric plane(const Vec3& n, double d, double w) {
@@ -35,7 +34,6 @@ struct Quadric {
     q.b1 = w * n.y * d;
     q.b2 = w * n.z * d;
     q.c = w * d * d;
-    q.weight = w;
     return q;
   }
 
@@ -50,7 +48,6 @@ struct Quadric {
     b1 += o.b1;
     b2 += o.b2;
     c += o.c;
-    weight += o.weight;
     return *this;
   }
   friend Quadric operator+(Quadric a, const Quadric& b) { return a += b; }
@@ -99,6 +96,26 @@ struct PointQuadric {
   }
 };
 
+/// What a vertex carries through the collapses: the quadric of its planes, its point quadric
+/// and the area of its faces, summed when vertices merge. 128 bytes on two cache lines, so an
+/// edge's evaluation reads its two ends' records and nothing else of theirs.
+struct alignas(64) VertexQuadric {
+  Quadric planes;
+  PointQuadric point;
+  double area = 0;
+
+  VertexQuadric& operator+=(const VertexQuadric& o) {
+    planes += o.planes;
+    point += o.point;
+    area += o.area;
+    return *this;
+  }
+  friend VertexQuadric operator+(VertexQuadric a, const VertexQuadric& b) { return a += b; }
+  /// The planes and the point quadric as one quadric (for the placement and the cost).
+  [[nodiscard]] Quadric total() const { return point.added_to(planes); }
+};
+static_assert(sizeof(VertexQuadric) == 128);
+
 /// The minimiser of q next to `anchor` (the edge midpoint): the exact one when q's Hessian A is
 /// well conditioned (Cramer's rule), otherwise the damped step anchor + (A + λI)⁻¹(−A anchor − b)
 /// with λ = `relative_cutoff` / 10 × trace(A), which keeps directions whose eigenvalues are well
@@ -128,13 +145,12 @@ inline constexpr double kPointQuadricWeight = 1e-7;
   return p;
 }
 
-/// The quadric of every vertex: its faces' planes weighted by area, a point quadric at the
-/// vertex in `points` (kPointQuadricWeight), plus (with
+/// The quadrics of every vertex: its faces' planes weighted by area, plus (with
 /// `preserve_boundary`) planes through border edges perpendicular to their face and (with a
 /// feature angle below 180) the same planes along feature edges, weighted by
-/// `boundary_weight` × the squared edge length. `areas` gets each vertex's face area. Parallel.
+/// `boundary_weight` × the squared edge length; a point quadric at the vertex
+/// (kPointQuadricWeight × its faces' area); and that area. Parallel.
 void vertex_quadrics(const EditMesh& mesh, const DecimateOptions& options,
-                     std::vector<Quadric>& quadrics, std::vector<PointQuadric>& points,
-                     std::vector<double>& areas, const ProgressCallback& progress);
+                     std::vector<VertexQuadric>& quadrics, const ProgressCallback& progress);
 
 }  // namespace isoforge::reduce
