@@ -284,7 +284,9 @@ Partitioned decimate_halves(const Prepared& prepared, CarriedAttributes& attribu
   std::nth_element(coordinate.begin(), coordinate.begin() + coordinate.size() / 2,
                    coordinate.end());
   const double cut = coordinate[coordinate.size() / 2];
-  auto side = [&](Vid v) { return prepared.positions[v][axis] < cut ? 0 : 1; };
+  std::vector<std::uint8_t> sides(nv);
+  for (std::size_t v = 0; v < nv; ++v) sides[v] = prepared.positions[v][axis] < cut ? 0 : 1;
+  auto side = [&](Vid v) { return static_cast<int>(sides[v]); };
 
   std::array<std::vector<Tri>, 2> faces;
   std::array<std::vector<std::uint8_t>, 2> locks{prepared.locked, prepared.locked};
@@ -314,9 +316,12 @@ Partitioned decimate_halves(const Prepared& prepared, CarriedAttributes& attribu
     targets[static_cast<std::size_t>(h)] = static_cast<std::size_t>(share) + crossing;
   }
 
+  // One set of quadrics: a half computes and changes only those of its side's vertices (it never
+  // reads the others': a vertex of the other side is on a crossing face, locked, and an edge
+  // to it has a locked end on this side too, so it is never evaluated).
   Partitioned out;
   out.merged_into.resize(nv);
-  std::array<Quadrics, 2> quadrics;
+  out.quadrics.resize(nv);
   std::array<std::optional<EditMesh>, 2> meshes;
   std::array<DecimateStats, 2> stats;
   std::array<bool, 2> replayed{false, false};
@@ -328,8 +333,8 @@ Partitioned decimate_halves(const Prepared& prepared, CarriedAttributes& attribu
     settings.side_cut = cut;
     settings.side_below = h == 0;
     meshes[i].emplace(prepared.positions, std::move(faces[i]), std::move(locks[i]), settings);
-    vertex_quadrics(*meshes[i], options, quadrics[i], {});
-    Collapser collapser(*meshes[i], attributes, quadrics[i], prepared, options, targets[i], report,
+    vertex_quadrics(*meshes[i], options, out.quadrics, {}, sides, static_cast<std::uint8_t>(h));
+    Collapser collapser(*meshes[i], attributes, out.quadrics, prepared, options, targets[i], report,
                         &stop, replay != nullptr ? &replay->parts[i] : nullptr,
                         record != nullptr ? &record->parts[i] : nullptr);
     stats[i] = collapser.run();
@@ -358,11 +363,9 @@ Partitioned decimate_halves(const Prepared& prepared, CarriedAttributes& attribu
 
   // Join: each vertex from the half of its side; the crossing faces (unchanged, in both) once.
   out.positions = prepared.positions;
-  out.quadrics.resize(nv);
   for (Vid v = 0; v < nv; ++v) {
     const auto h = static_cast<std::size_t>(side(v));
     out.positions[v] = meshes[h]->position(v);
-    out.quadrics[v] = quadrics[h][v];
     out.merged_into[v] = meshes[h]->merged_into(v);
   }
   out.replayed_all = replayed[0] && replayed[1];

@@ -63,9 +63,10 @@ Vec3 minimize(const Quadric& q, const Vec3& anchor, double relative_cutoff) {
 }
 
 void vertex_quadrics(const EditMesh& mesh, const DecimateOptions& options,
-                     std::vector<VertexQuadric>& quadrics, const ProgressCallback& progress) {
+                     std::vector<VertexQuadric>& quadrics, const ProgressCallback& progress,
+                     std::span<const std::uint8_t> side, std::uint8_t which) {
   const std::size_t nv = mesh.vertex_count();
-  quadrics.resize(nv);
+  if (side.empty()) quadrics.assign(nv, VertexQuadric{});
   const bool border = options.preserve_boundary && options.boundary_weight > 0;
   const bool features = options.feature_angle < 180;
   const double cos_feature = std::cos(options.feature_angle * std::numbers::pi / 180);
@@ -78,6 +79,7 @@ void vertex_quadrics(const EditMesh& mesh, const DecimateOptions& options,
       nv, 1024,
       [&](std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i) {
+          if (!side.empty() && side[i] != which) continue;
           const Vid v = static_cast<Vid>(i);
           Quadric q;
           double area = 0;

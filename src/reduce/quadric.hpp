@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include <cstdint>
 #include <initializer_list>
+#include <span>
 #include <vector>
 
 #include "isoforge/core/progress.hpp"
@@ -149,8 +151,11 @@ inline constexpr double kPointQuadricWeight = 1e-7;
 /// `preserve_boundary`) planes through border edges perpendicular to their face and (with a
 /// feature angle below 180) the same planes along feature edges, weighted by
 /// `boundary_weight` × the squared edge length; a point quadric at the vertex
-/// (kPointQuadricWeight × its faces' area); and that area. Parallel.
+/// (kPointQuadricWeight × its faces' area); and that area. Parallel. With `side` (one entry per
+/// vertex) only the vertices whose entry is `which` are computed, the others left as they are
+/// (the halves of a partitioned run fill one set); `quadrics` must then have a vertex's size.
 void vertex_quadrics(const EditMesh& mesh, const DecimateOptions& options,
-                     std::vector<VertexQuadric>& quadrics, const ProgressCallback& progress);
+                     std::vector<VertexQuadric>& quadrics, const ProgressCallback& progress,
+                     std::span<const std::uint8_t> side = {}, std::uint8_t which = 0);
 
 }  // namespace isoforge::reduce
