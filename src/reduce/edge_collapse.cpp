@@ -7,8 +7,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
-#include <cstdio>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -405,7 +403,6 @@ MethodRun decimate_quadric(const PolyData& input, const Prepared& prepared,
       prepared.triangles.size() >= kPartitionMinFaces &&
       (prepared.target == 0 ||
        static_cast<double>(prepared.target) < 0.7 * static_cast<double>(prepared.triangles.size()));
-  auto T0 = std::chrono::steady_clock::now();
   if (split) {
     Partitioned halves = decimate_halves(prepared, attributes, options, settings, replay, record,
                                          progress_range(options.progress, 0, 0.85));
@@ -429,7 +426,6 @@ MethodRun decimate_quadric(const PolyData& input, const Prepared& prepared,
       if (joined.check_near[v] != 0) joined.check_near[find_root(run.merged_into, v)] = 1;
     }
   }
-  std::fprintf(stderr, "TIMING halves %.3f\n", std::chrono::duration<double>(std::chrono::steady_clock::now()-T0).count());
   std::vector<std::uint8_t> unchecked = std::move(halves_unchecked);
   run.mesh.emplace(std::move(positions), std::move(triangles), prepared.locked, joined);
   EditMesh& mesh = *run.mesh;
@@ -443,9 +439,7 @@ MethodRun decimate_quadric(const PolyData& input, const Prepared& prepared,
                       progress_range(options.progress, from, 1.0), nullptr,
                       replay != nullptr ? &replay->parts[2] : nullptr,
                       record != nullptr ? &record->parts[2] : nullptr);
-  std::fprintf(stderr, "TIMING joined-setup %.3f\n", std::chrono::duration<double>(std::chrono::steady_clock::now()-T0).count());
   const DecimateStats last = collapser.run();
-  std::fprintf(stderr, "TIMING joined-run %.3f\n", std::chrono::duration<double>(std::chrono::steady_clock::now()-T0).count());
   add_stats(stats, last);
   stats.stop = last.stop;
   if (split) {
