@@ -27,7 +27,8 @@ runs=$out/runs.jsonl metrics=$out/metrics.jsonl
 : > "$runs"
 : > "$metrics"
 
-have_cli=0; "$iso" --help | grep -q "^  decimate " && have_cli=1
+# (grep reads the whole help: with pipefail, grep -q stopping early fails the pipeline by SIGPIPE)
+have_cli=0; "$iso" --help | grep "^  decimate " > /dev/null && have_cli=1
 have_vtk=0; $python -c "import vtk" 2> /dev/null && have_vtk=1
 [ $have_cli = 1 ] || echo "isoforge decimate is not in this build: its rows are left out"
 [ $have_vtk = 1 ] || echo "python3-vtk9 is missing: the VTK rows are left out"
