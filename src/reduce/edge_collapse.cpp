@@ -10,8 +10,10 @@
 #include <cmath>
 #include <numbers>
 #include <optional>
+#include <span>
 
 #include "isoforge/core/parallel.hpp"
+#include "isoforge/core/prefetch.hpp"
 #include "reduce/decimate_internal.hpp"
 #include "reduce/quadric.hpp"
 #include "reduce/radix_heap.hpp"
@@ -70,6 +72,16 @@ class Collapser {
   /// Redoes the merges of the replay log up to the first one refused; false if one was.
   bool replay(RunLoop& loop, DecimateStats& stats);
   [[nodiscard]] Candidate evaluate(Vid u, Vid v) const;
+  /// Asks for the records of `vertices` before evaluating their edges: a vertex's neighbours
+  /// are scattered, and an evaluation that waits on one cache miss at a time cost 9 % of a run.
+  void prefetch_records(std::span<const Vid> vertices) const {
+    for (Vid w : vertices) {
+      const auto* q = reinterpret_cast<const char*>(&quadric_[w]);
+      prefetch(q);
+      prefetch(q + 64);
+      prefetch(&mesh_.position(w));
+    }
+  }
   void push_edges_of(Vid v);
   void fill_heap();
 
@@ -123,6 +135,7 @@ Candidate Collapser::evaluate(Vid u, Vid v) const {
 
 void Collapser::push_edges_of(Vid v) {
   mesh_.neighbours(v, scratch_);
+  prefetch_records(scratch_);
   for (Vid w : scratch_) {
     const Vid a = std::min(v, w), b = std::max(v, w);
     const Candidate c = evaluate(a, b);
@@ -152,6 +165,7 @@ void Collapser::fill_heap() {
       const Vid v = static_cast<Vid>(i);
       mesh_.neighbours(v, nb);
       std::sort(nb.begin(), nb.end());
+      prefetch_records(nb);
       std::uint32_t at = start[v];
       for (Vid w : nb) {
         if (w <= v) continue;
