@@ -104,6 +104,8 @@ DatasetSummary summarize_file(const std::filesystem::path& path, const ReadOptio
     case FileFormat::VtkPolyData:
     case FileFormat::VtkUnstructuredGrid:
       return io_detail::summarize_vtk_xml(path, options.progress);
+    case FileFormat::VtkLegacy:
+      return io_detail::summarize_vtk_legacy(path, options.progress);
     case FileFormat::Ply:
       return io_detail::summarize_ply(path, options.progress);
     case FileFormat::Nrrd:

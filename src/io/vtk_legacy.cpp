@@ -52,6 +52,8 @@
 #include <vector>
 
 #include "detail/scanner.hpp"
+#include "detail/summaries.hpp"
+#include "isoforge/core/summary.hpp"
 #include "isoforge/io/atomic_file.hpp"
 #include "isoforge/io/io.hpp"
 
@@ -225,6 +227,53 @@ class LegacyReader {
   }
 
   Dataset read() {
+    Dataset ds = read_dataset();
+    try {
+      validate(ds);
+    } catch (const Error& e) {
+      fail(e.what());
+    }
+    return ds;
+  }
+
+  /// The summary of the file (`info`): read as by read(), except that the points and the
+  /// point, cell and field arrays are streamed through ValueRanges instead of loaded (cells,
+  /// coordinates of rectilinear grids, colours and lookup tables are still read).
+  DatasetSummary summarize() {
+    summary_ = true;
+    const Dataset ds = read_dataset();
+    DatasetSummary s = isoforge::summarize(ds);
+    s.streamed = true;
+    if (points_) {
+      s.points = points_->tuples;
+      if (s.points > 0) {
+        Bounds b;
+        for (int a = 0; a < 3; ++a) {
+          b.min[a] = points_->ranges.component(a).first;
+          b.max[a] = points_->ranges.component(a).second;
+        }
+        s.bounds = b;
+      }
+    }
+    // The streamed arrays replace the empty ones the dataset holds in their place (the last
+    // of a name wins, as in Attributes).
+    auto fill = [&](AttributesSummary& into, Section section) {
+      for (ArraySummary& a : streamed_[static_cast<std::size_t>(section)]) {
+        if (ArraySummary* old = into.find(a.name)) *old = std::move(a);
+      }
+    };
+    fill(s.point_data, Section::PointData);
+    fill(s.cell_data, Section::CellData);
+    fill(s.field_data, Section::Field);
+    return s;
+  }
+
+ private:
+  /// Where a streamed array goes (summary mode).
+  enum class Section : std::uint8_t { PointData, CellData, Field };
+
+  /// The dataset, unchecked by validate (in summary mode its streamed arrays are empty).
+  Dataset read_dataset() {
     read_header();
     const Where w = skip_to_token();
     const std::string_view kw = s_.token();
@@ -251,15 +300,16 @@ class LegacyReader {
     }
     field_data(ds) = std::move(field_);
     read_attributes(ds);
-    try {
-      validate(ds);
-    } catch (const Error& e) {
-      fail(e.what());
-    }
     return ds;
   }
 
- private:
+  /// Where arrays of `section` are streamed to: null unless in summary mode.
+  std::vector<ArraySummary>* streamed(Section section) {
+    return summary_ ? &streamed_[static_cast<std::size_t>(section)] : nullptr;
+  }
+  /// The point count of `ds` (in summary mode, of its streamed points).
+  std::size_t points_of(DatasetRef ds) const { return points_ ? points_->tuples : num_points(ds); }
+  std::size_t points_of(const Points& p) const { return points_ ? points_->tuples : p.size(); }
   // ---- errors and tokens ----
 
   [[nodiscard]] Where here() const { return {s_.line(), s_.offset()}; }
@@ -427,10 +477,42 @@ class LegacyReader {
     skip_metadata_body();
   }
 
+  /// Hands `tuples` tuples of `components` values stored as `type` to `consume(values, n)` in
+  /// pieces of host-order values, as read_numbers would read them, never holding the array.
+  template <class Consume>
+  void stream_numbers(ScalarType type, std::size_t tuples, int components,
+                      const std::string& what, Consume&& consume) {
+    const std::size_t elem = scalar_size(type);
+    const std::size_t count = values_count(tuples, components, what);
+    if (binary_) {
+      s_.skip_line();
+      data_offset_ = s_.offset();
+      io_detail::TupleStream stream(type, components, io_detail::kHostEndian != Endian::Big,
+                                    [&](const std::byte* v, std::size_t n) { consume(v, n); });
+      s_.stream_values(count, elem, stream, what);
+      return;
+    }
+    s_.check_count(count, 2, what + " value count");
+    const auto comps = static_cast<std::size_t>(components);
+    const std::size_t piece = std::max<std::size_t>(1, (std::size_t{1} << 16) / comps) * comps;
+    visit_scalar_type(type, [&](auto tag) {
+      using T = decltype(tag);
+      std::vector<T> buffer(std::min(piece, count));
+      for (std::size_t done = 0; done < count;) {
+        const std::size_t m = std::min(piece, count - done);
+        s_.parse_tokens<T>(m, buffer.data(), what + " value");
+        consume(buffer.data(), m / comps);
+        done += m;
+      }
+    });
+  }
+
   /// Reads `tuples` x `components` values of the legacy type named `type` (then any METADATA
-  /// block after them) into a DataArray called `name`. `what` names the data in errors.
+  /// block after them) into a DataArray called `name`. `what` names the data in errors. With
+  /// `stream`, numbers are streamed into a summary appended there and the array is empty.
   DataArray read_array(std::string_view type, std::size_t tuples, int components,
-                       std::string name, const std::string& what) {
+                       std::string name, const std::string& what,
+                       std::vector<ArraySummary>* stream = nullptr) {
     const auto lt = legacy_type(type);
     if (!lt) fail("unknown data type " + quote_token(type) + " for " + what);
     if (lt->kind == LegacyType::Kind::String) {
@@ -438,7 +520,14 @@ class LegacyReader {
     }
     const std::size_t count = values_count(tuples, components, what);
     DataArray a;
-    if (lt->kind == LegacyType::Kind::Bit) {
+    if (stream != nullptr && lt->kind == LegacyType::Kind::Number) {
+      ArraySummary sum{name, lt->memory, components, tuples, ValueRanges(components)};
+      stream_numbers(lt->file, tuples, components, what, [&](const void* v, std::size_t n) {
+        sum.ranges.add(lt->file, v, n);
+      });
+      stream->push_back(std::move(sum));
+      a = DataArray::uninitialized(std::move(name), lt->memory, components, 0);
+    } else if (lt->kind == LegacyType::Kind::Bit) {
       a = DataArray::from_vector(std::move(name), components, read_bits(count, what));
     } else {
       a = visit_scalar_type(lt->file, [&](auto tag) {
@@ -483,7 +572,7 @@ class LegacyReader {
       if (t.empty() || iequals(t, "POINT_DATA") || iequals(t, "CELL_DATA")) return {};
       (void)s_.token();
       if (iequals(t, "FIELD")) {
-        read_field(field_, std::nullopt, "dataset FIELD data");
+        read_field(field_, std::nullopt, "dataset FIELD data", Section::Field);
       } else if (iequals(t, "METADATA")) {
         skip_metadata_body();
       } else {
@@ -514,15 +603,38 @@ class LegacyReader {
   Points read_points(const Where& w) {
     const std::size_t n = s_.parse_count("POINTS count", binary_ ? 3 : 6);
     const std::string_view type = s_.require_token("POINTS data type");
+    if (const auto lt = legacy_type(type);
+        summary_ && lt && lt->kind == LegacyType::Kind::Number) {
+      // Streamed: the count and the bounds, each point checked as below.
+      ArraySummary sum{"Points", lt->memory, 3, n, ValueRanges(3)};
+      std::uint64_t index = 0;
+      stream_numbers(lt->file, n, 3, "POINTS", [&](const void* v, std::size_t count) {
+        if (lt->file == ScalarType::Float32 || lt->file == ScalarType::Float64) {
+          visit_scalar_type(lt->file, [&](auto tag) {
+            using T = decltype(tag);
+            const T* x = static_cast<const T*>(v);
+            for (std::size_t i = 0; i < count; ++i, x += 3) {
+              const Vec3 q{double(x[0]), double(x[1]), double(x[2])};
+              if (!is_finite(q)) non_finite_point(w, index + i, q);
+            }
+          });
+        }
+        sum.ranges.add(lt->file, v, count);
+        index += count;
+      });
+      skip_metadata();
+      points_ = std::move(sum);
+      return Points();
+    }
     Points p(read_array(type, n, 3, "Points", "POINTS"));  // non-float types become Float64
     const std::size_t bad = p.first_non_finite();
-    if (bad < p.size()) {
-      const Vec3 q = p[bad];
-      fail_at(w, "POINTS: point " + str(static_cast<std::uint64_t>(bad)) +
-                     " has a non-finite coordinate (" + format_double(q.x) + ", " +
-                     format_double(q.y) + ", " + format_double(q.z) + ")");
-    }
+    if (bad < p.size()) non_finite_point(w, bad, p[bad]);
     return p;
+  }
+
+  [[noreturn]] void non_finite_point(const Where& w, std::uint64_t i, const Vec3& q) const {
+    fail_at(w, "POINTS: point " + str(i) + " has a non-finite coordinate (" + format_double(q.x) +
+                   ", " + format_double(q.y) + ", " + format_double(q.z) + ")");
   }
 
   /// A cell section after its keyword: classic `n size` + `count id id ...` lists, or
@@ -683,8 +795,8 @@ class LegacyReader {
     if (!have_dims) fail("STRUCTURED_GRID has no DIMENSIONS");
     if (!points_at) fail("STRUCTURED_GRID has no POINTS");
     const std::size_t np = checked_point_count(sg.dims, "structured grid");
-    if (sg.points.size() != np) {
-      fail_at(*points_at, "POINTS has " + str(static_cast<std::uint64_t>(sg.points.size())) +
+    if (points_of(sg.points) != np) {
+      fail_at(*points_at, "POINTS has " + str(static_cast<std::uint64_t>(points_of(sg.points))) +
                               " points but DIMENSIONS " + str(sg.dims[0]) + " " +
                               str(sg.dims[1]) + " " + str(sg.dims[2]) + " needs " +
                               str(static_cast<std::uint64_t>(np)));
@@ -792,7 +904,7 @@ class LegacyReader {
       *cells = read_cells(name, w);
       sections.push_back({std::move(name), w, cells, min_size});
     }
-    for (const CellSection& sec : sections) check_cells(sec, pd.points.size());
+    for (const CellSection& sec : sections) check_cells(sec, points_of(pd.points));
     return pd;
   }
 
@@ -832,7 +944,7 @@ class LegacyReader {
                         "POINTS, CELLS, CELL_TYPES, FIELD, POINT_DATA or CELL_DATA");
       }
     }
-    if (cells_at) check_cells({"CELLS", *cells_at, &ug.cells, 0}, ug.points.size());
+    if (cells_at) check_cells({"CELLS", *cells_at, &ug.cells, 0}, points_of(ug.points));
     if (ug.types.size() != ug.cells.size()) {
       fail_at(types_at ? *types_at : (cells_at ? *cells_at : here()),
               "CELL_TYPES lists " + str(static_cast<std::uint64_t>(ug.types.size())) +
@@ -858,7 +970,8 @@ class LegacyReader {
 
   /// FIELD name n, then n arrays `name components tuples type` + values; "NULL_ARRAY" stands
   /// for a missing array. `tuples` is the required tuple count (none for dataset field data).
-  void read_field(Attributes& dst, std::optional<std::size_t> tuples, const std::string& where) {
+  void read_field(Attributes& dst, std::optional<std::size_t> tuples, const std::string& where,
+                  Section into) {
     (void)s_.require_token("FIELD name");
     const std::size_t n = s_.parse_count("FIELD array count", 1);
     for (std::size_t i = 0; i < n; ++i) {
@@ -881,7 +994,7 @@ class LegacyReader {
         skip_metadata();
         continue;
       }
-      dst.add(read_array(type, nt, comps, std::move(name), what));
+      dst.add(read_array(type, nt, comps, std::move(name), what, streamed(into)));
     }
   }
 
@@ -901,7 +1014,7 @@ class LegacyReader {
   }
 
   void read_attributes(Dataset& ds) {
-    const std::size_t np = num_points(ds);
+    const std::size_t np = points_of(ds);
     const std::size_t nc = num_cells(ds);
     Attributes* attrs = nullptr;
     std::size_t tuples = 0;
@@ -928,19 +1041,21 @@ class LegacyReader {
       if (attrs == nullptr) {
         fail_at(w, "unexpected keyword " + quote_token(kw) + " (expected POINT_DATA or CELL_DATA)");
       }
-      read_attribute(kw, w, *attrs, tuples, section, field_data(ds));
+      read_attribute(kw, w, *attrs, tuples, section, field_data(ds),
+                     section == "POINT_DATA" ? Section::PointData : Section::CellData);
     }
   }
 
   void read_attribute(std::string_view kw, const Where& w, Attributes& attrs, std::size_t n,
-                      const std::string& section, Attributes& field) {
+                      const std::string& section, Attributes& field, Section into) {
     const std::string key(kw);
+    std::vector<ArraySummary>* const stream = streamed(into);
     auto read_name = [&]() { return decode_name(s_.require_token(key + " name")); };
     // `KEY name type` + values with a fixed component count.
     auto read_fixed = [&](int comps, std::optional<AttributeRole> role) {
       std::string name = read_name();
       const std::string_view type = s_.require_token(key + " data type");
-      DataArray a = read_array(type, n, comps, name, key + " " + quote_token(name));
+      DataArray a = read_array(type, n, comps, name, key + " " + quote_token(name), stream);
       if (role) {
         add_attribute(attrs, std::move(a), *role);
       } else {
@@ -961,7 +1076,7 @@ class LegacyReader {
         fail(what + " must be followed by LOOKUP_TABLE, found " + quote_token(next));
       }
       std::string lut = decode_name(s_.require_token("lookup table name"));
-      DataArray a = read_array(type, n, comps, name, what);
+      DataArray a = read_array(type, n, comps, name, what, stream);
       if (lut != "default") a.set_lookup_table(std::move(lut));
       add_attribute(attrs, std::move(a), AttributeRole::Scalars);
     } else if (iequals(kw, "COLOR_SCALARS")) {
@@ -1015,7 +1130,7 @@ class LegacyReader {
       const int dim = parse_components(dim_token, what + " dimension");
       if (dim > 3) fail(what + " dimension " + str(dim) + " is not 1, 2 or 3");
       const std::string_view type = s_.require_token(what + " data type");
-      add_attribute(attrs, read_array(type, n, dim, name, what), AttributeRole::TCoords);
+      add_attribute(attrs, read_array(type, n, dim, name, what, stream), AttributeRole::TCoords);
     } else if (iequals(kw, "GLOBAL_IDS") || iequals(kw, "EDGE_FLAGS")) {
       read_fixed(1, std::nullopt);
     } else if (iequals(kw, "PEDIGREE_IDS")) {
@@ -1027,10 +1142,10 @@ class LegacyReader {
         skip_strings(n, what);
         skip_metadata();
       } else {
-        attrs.add(read_array(type, n, 1, name, what));
+        attrs.add(read_array(type, n, 1, name, what, stream));
       }
     } else if (iequals(kw, "FIELD")) {
-      read_field(attrs, n, section);
+      read_field(attrs, n, section, into);
     } else if (iequals(kw, "METADATA")) {
       skip_metadata_body();
     } else {
@@ -1044,6 +1159,10 @@ class LegacyReader {
   bool binary_ = false;
   std::size_t data_offset_ = 0;  ///< start of the last binary block read
   Attributes field_;             ///< dataset-level FIELD data, read with the geometry
+  // Summary mode (summarize): the streamed points and arrays, by section.
+  bool summary_ = false;
+  std::optional<ArraySummary> points_;
+  std::array<std::vector<ArraySummary>, 3> streamed_;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -1372,6 +1491,39 @@ Dataset read_vtk_legacy(const std::filesystem::path& path, const ProgressCallbac
 Dataset read_vtk_legacy(std::span<const std::byte> data, std::string_view name) {
   return read_legacy(data, name, nullptr, 0);
 }
+
+namespace io_detail {
+
+namespace {
+
+DatasetSummary summarize_legacy(const FileSource& data, std::string_view name, Progress* progress,
+                                std::uint64_t progress_base) {
+  try {
+    return LegacyReader(data, name, progress, progress_base).summarize();
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw Error(std::string(name) + ": out of memory while reading");
+  } catch (const std::exception& e) {
+    throw Error(std::string(name) + ": internal error while reading: " + e.what());
+  }
+}
+
+}  // namespace
+
+DatasetSummary summarize_vtk_legacy(const std::filesystem::path& path,
+                                    const ProgressCallback& progress) {
+  return read_with_progress(path, progress,
+                            [&](const FileSource& src, Progress* p, std::uint64_t base) {
+                              return summarize_legacy(src, path.string(), p, base);
+                            });
+}
+
+DatasetSummary summarize_vtk_legacy(std::span<const std::byte> data, std::string_view name) {
+  return summarize_legacy(data, name, nullptr, 0);
+}
+
+}  // namespace io_detail
 
 void write_vtk_legacy(DatasetRef ds, const std::filesystem::path& path,
                       const VtkLegacyWriteOptions& options) {

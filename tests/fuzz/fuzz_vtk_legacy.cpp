@@ -1,8 +1,9 @@
-// Fuzz target: VTK legacy reader.
+// Fuzz target: VTK legacy reader, and its streaming summary.
 #include <cstddef>
 #include <cstdint>
 #include <span>
 
+#include "io/detail/summaries.hpp"
 #include "isoforge/io/vtk_legacy.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -11,6 +12,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     (void)isoforge::read_vtk_legacy(bytes, "fuzz.vtk");
   } catch (const isoforge::Error&) {
     // Rejecting bad input with a clear error is the expected outcome.
+  }
+  try {  // the streaming summary of `isoforge info` (src/io/detail/summaries.hpp)
+    (void)isoforge::io_detail::summarize_vtk_legacy(bytes, "fuzz.vtk");
+  } catch (const isoforge::Error&) {
   }
   return 0;
 }

@@ -22,6 +22,7 @@
 #include "isoforge/core/parallel.hpp"
 #include "file_source.hpp"
 #include "progress.hpp"
+#include "tuple_stream.hpp"
 
 namespace isoforge::io_detail {
 
@@ -397,15 +398,29 @@ class Scanner {
   template <class Vec>
   void read_array(std::size_t count, Endian endian, Vec& out, std::string_view what) {
     using T = typename Vec::value_type;
-    if (count > remaining() / sizeof(T)) {
-      fail_byte("truncated: " + std::string(what) + " needs " + std::to_string(count) + " values of " +
-                std::to_string(sizeof(T)) + " bytes but only " + std::to_string(remaining()) +
-                " bytes remain");
-    }
+    require_values(count, sizeof(T), what);
     out.resize(count);
     copy_elements(source_, data_.data() + pos_, reinterpret_cast<std::byte*>(out.data()), count,
                   sizeof(T), endian != kHostEndian, progress_, progress_base_ + pos_);
     pos_ += count * sizeof(T);
+  }
+  /// Hands the next `count` values of `size` bytes to `stream` in pieces (stream_bytes: the
+  /// mapped pages stay untouched) and moves past them.
+  void stream_values(std::size_t count, std::size_t size, TupleStream& stream,
+                     std::string_view what) {
+    require_values(count, size, what);
+    io_detail::stream_bytes(source_, data_.data() + pos_, count * size, stream, progress_,
+                            progress_base_ + pos_);
+    pos_ += count * size;
+    tick();
+  }
+  /// Fails unless `count` values of `size` bytes remain.
+  void require_values(std::size_t count, std::size_t size, std::string_view what) const {
+    if (count > remaining() / size) {
+      fail_byte("truncated: " + std::string(what) + " needs " + std::to_string(count) +
+                " values of " + std::to_string(size) + " bytes but only " +
+                std::to_string(remaining()) + " bytes remain");
+    }
   }
   /// Raw bytes, without conversion.
   [[nodiscard]] std::span<const std::byte> read_bytes(std::size_t n, std::string_view what) {

@@ -20,6 +20,11 @@ namespace isoforge::io_detail {
 [[nodiscard]] DatasetSummary summarize_vtk_xml(std::span<const std::byte> data,
                                                std::string_view name);
 
+/// VTK legacy: the points and the point, cell and field arrays streamed; cells read.
+[[nodiscard]] DatasetSummary summarize_vtk_legacy(const std::filesystem::path& path,
+                                                  const ProgressCallback& progress);
+[[nodiscard]] DatasetSummary summarize_vtk_legacy(std::span<const std::byte> data,
+                                                  std::string_view name);
 /// NRRD (`nrrd`) or MetaImage: the header, then the samples streamed (raw or inflated).
 [[nodiscard]] DatasetSummary summarize_raw_volume(const std::filesystem::path& path,
                                                   const ProgressCallback& progress, bool nrrd);
