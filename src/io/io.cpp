@@ -108,6 +108,8 @@ DatasetSummary summarize_file(const std::filesystem::path& path, const ReadOptio
       return io_detail::summarize_vtk_legacy(path, options.progress);
     case FileFormat::Ply:
       return io_detail::summarize_ply(path, options.progress);
+    case FileFormat::Off:
+      return io_detail::summarize_off(path, options.progress);
     case FileFormat::Nrrd:
       return io_detail::summarize_raw_volume(path, options.progress, true);
     case FileFormat::MetaImage:

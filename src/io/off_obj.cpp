@@ -7,10 +7,14 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "detail/scanner.hpp"
+#include "detail/summaries.hpp"
+#include "isoforge/core/summary.hpp"
 #include "isoforge/io/atomic_file.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/off_obj.hpp"
@@ -61,6 +65,30 @@ class OffReader {
     sc_.track(progress, progress_base);
   }
 
+  /// The summary of the file (`info`): parsed and checked as by read(), but the coordinates,
+  /// normals and texture coordinates go into ranges a block of vertices at a time and the
+  /// faces are counted by size, not stored (colours are still read: 4 bytes a vertex).
+  DatasetSummary summarize() {
+    summary_.emplace();
+    const PolyData mesh = read();  // points and faces empty, normals and tcoords too
+    DatasetSummary s = isoforge::summarize(mesh);
+    s.streamed = true;
+    s.points = summary_->points;
+    s.cells = summary_->cells;
+    s.cell_types = summary_->cell_types;
+    if (s.points > 0) {
+      for (int a = 0; a < 3; ++a) {
+        s.bounds.min[a] = summary_->xyz.component(a).first;
+        s.bounds.max[a] = summary_->xyz.component(a).second;
+      }
+    }
+    for (ArraySummary& a : s.point_data.arrays) {
+      if (a.name == "Normals") a = {a.name, a.type, 3, s.points, summary_->normals};
+      if (a.name == "TCoords") a = {a.name, a.type, 2, s.points, summary_->tcoords};
+    }
+    return s;
+  }
+
   PolyData read() {
     // ---- header keyword: [ST][C][N]OFF ----
     const std::string_view magic = next();
@@ -106,13 +134,16 @@ class OffReader {
     }
 
     // ---- vertices ----
-    std::vector<double> xyz(3 * nv);
-    std::vector<float> normals(normals_ ? 3 * nv : 0);
-    std::vector<float> tcoords(texture_ ? 2 * nv : 0);
+    // Summarising, the values go into ranges a block at a time: vertex i at i % block.
+    const std::size_t block = summary_ ? std::min(nv, kSummaryBlock) : nv;
+    std::vector<double> xyz(3 * block);
+    std::vector<float> normals(normals_ ? 3 * block : 0);
+    std::vector<float> tcoords(texture_ ? 2 * block : 0);
     std::vector<std::uint8_t> colors;
     int color_comps = 3;
     bool wide = false;  // a coordinate has more digits than float32 needs
-    for (std::size_t i = 0; i < nv; ++i) {
+    for (std::size_t v = 0; v < nv; ++v) {
+      const std::size_t i = v % std::max<std::size_t>(block, 1);
       for (int a = 0; a < 3; ++a) {
         const auto tok = require("vertex coordinate");
         wide = wide || significant_digits(tok) > 9;
@@ -120,7 +151,7 @@ class OffReader {
       }
       const double* p = &xyz[3 * i];
       if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
-        sc_.fail_line("vertex " + std::to_string(i) + " has a non-finite coordinate");
+        sc_.fail_line("vertex " + std::to_string(v) + " has a non-finite coordinate");
       }
       if (normals_) {
         for (int a = 0; a < 3; ++a) {
@@ -128,12 +159,17 @@ class OffReader {
               sc_.parse<float>(require("vertex normal"), "vertex normal");
         }
       }
-      if (color_) read_color(i, colors, color_comps);
+      if (color_) read_color(v, colors, color_comps);
       if (texture_) {
         for (int a = 0; a < 2; ++a) {
           tcoords[2 * i + static_cast<std::size_t>(a)] =
               sc_.parse<float>(require("texture coordinate"), "texture coordinate");
         }
+      }
+      if (summary_ && (i + 1 == block || v + 1 == nv)) {
+        summary_->xyz.add(ScalarType::Float64, xyz.data(), i + 1);
+        if (normals_) summary_->normals.add(ScalarType::Float32, normals.data(), i + 1);
+        if (texture_) summary_->tcoords.add(ScalarType::Float32, tcoords.data(), i + 1);
       }
     }
 
@@ -155,9 +191,13 @@ class OffReader {
           sc_.fail_line("face " + std::to_string(f) + ": vertex index " + std::to_string(id) +
                         " is out of range (" + std::to_string(nv) + " vertices)");
         }
-        conn.push_back(id);
+        if (!summary_) conn.push_back(id);
       }
-      offsets.push_back(static_cast<Index>(conn.size()));
+      if (summary_) {
+        ++summary_->cell_types[poly_cell_type(2, static_cast<std::size_t>(n))];
+      } else {
+        offsets.push_back(static_cast<Index>(conn.size()));
+      }
       sc_.skip_line();  // optional face colour
     }
     // Anything but comments and whitespace after the faces is an error.
@@ -165,9 +205,16 @@ class OffReader {
       sc_.fail_line("unexpected data after the last face: " + io_detail::quoted(extra));
     }
 
-    mesh.points = Points(nv, wide ? ScalarType::Float64 : ScalarType::Float32);
-    for (std::size_t i = 0; i < nv; ++i)
-      mesh.points.set(i, {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]});
+    if (summary_) {
+      summary_->points = nv;
+      summary_->cells = nf;  // counted, not stored
+      normals.clear();
+      tcoords.clear();
+    } else {
+      mesh.points = Points(nv, wide ? ScalarType::Float64 : ScalarType::Float32);
+      for (std::size_t i = 0; i < nv; ++i)
+        mesh.points.set(i, {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]});
+    }
     if (normals_) {
       mesh.point_data.add(DataArray::from_vector("Normals", 3, std::move(normals)),
                           AttributeRole::Normals);
@@ -250,10 +297,21 @@ class OffReader {
     }
   }
 
+  static constexpr std::size_t kSummaryBlock = 65536;  // vertices summarised at a time
+
+  // What summarize() collects while read() parses.
+  struct Streamed {
+    Streamed() : xyz(3), normals(3), tcoords(2) {}
+    std::uint64_t points = 0, cells = 0;
+    std::map<CellType, std::uint64_t> cell_types;
+    ValueRanges xyz, normals, tcoords;
+  };
+
   Scanner sc_;
   bool texture_ = false;
   bool color_ = false;
   bool normals_ = false;
+  std::optional<Streamed> summary_;
 };
 
 /// Polys followed by the triangles of the strips (alternating orientation).
@@ -295,6 +353,21 @@ PolyData read_off(const std::filesystem::path& path, const ProgressCallback& pro
       path, progress, [&](const io_detail::FileSource& src, io_detail::Progress* p,
                           std::uint64_t base) { return OffReader(src.bytes, path.string(), p, base).read(); });
 }
+
+namespace io_detail {
+
+DatasetSummary summarize_off(const std::filesystem::path& path, const ProgressCallback& progress) {
+  return read_with_progress(path, progress,
+                            [&](const FileSource& src, Progress* p, std::uint64_t base) {
+                              return OffReader(src.bytes, path.string(), p, base).summarize();
+                            });
+}
+
+DatasetSummary summarize_off(std::span<const std::byte> data, std::string_view name) {
+  return OffReader(data, name).summarize();
+}
+
+}  // namespace io_detail
 
 void write_off(const PolyData& mesh, const std::filesystem::path& path) {
   const std::string file = path.string();

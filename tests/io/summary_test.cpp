@@ -335,6 +335,52 @@ TEST(Summary, VtkLegacyArraysLargerThanAPieceAndTheReadersErrors) {
   }
 }
 
+TEST(Summary, OffStreamedAsReadOverSeveralBlocksWithItsErrors) {
+  // 150 001 vertices (three blocks of the summary), triangles, quads and pentagons; NOFF and
+  // COFF variants with normals and colours (one colour with alpha).
+  const fs::path p = scratch("mesh.off");
+  for (const std::string magic : {"OFF", "NOFF", "COFF"}) {
+    std::string text = magic + "\n# a comment\n150001 3 0\n";
+    for (int i = 0; i < 150001; ++i) {
+      text += std::to_string(0.001 * i) + " " + std::to_string(std::sin(i)) + " " +
+              std::to_string(i % 7 - 3);
+      if (magic == "NOFF") text += " 0 0 " + std::to_string(i % 2);
+      if (magic == "COFF") text += i == 5 ? " 10 20 30 40" : " 255 0 " + std::to_string(i % 256);
+      text += "\n";
+    }
+    text += "3 0 1 2\n4 2 3 4 5\n5 5 6 7 8 150000\n";
+    {
+      std::ofstream out(p, std::ios::binary | std::ios::trunc);
+      out << text;
+    }
+    expect_streamed_as_read(p);
+    const DatasetSummary s = summarize_file(p);
+    EXPECT_EQ(s.cell_types.at(CellType::Quad), 1u);
+    EXPECT_EQ(s.bounds.max.x, 150.0);
+  }
+  // Errors: an index out of range, a truncated file.
+  for (const std::string text : {"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n",
+                                 "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1\n"}) {
+    {
+      std::ofstream out(p, std::ios::binary | std::ios::trunc);
+      out << text;
+    }
+    std::string from_read, from_summary;
+    try {
+      (void)read(p);
+    } catch (const Error& e) {
+      from_read = e.what();
+    }
+    try {
+      (void)summarize_file(p);
+    } catch (const Error& e) {
+      from_summary = e.what();
+    }
+    EXPECT_FALSE(from_read.empty());
+    EXPECT_EQ(from_summary, from_read);
+  }
+}
+
 TEST(Summary, BinaryPlyInWindowsOfRecordsWithGroupedProperties) {
   // More vertices than one window holds; normals and colours grouped as the reader does; a
   // face property.

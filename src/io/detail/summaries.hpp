@@ -25,6 +25,11 @@ namespace isoforge::io_detail {
                                                   const ProgressCallback& progress);
 [[nodiscard]] DatasetSummary summarize_vtk_legacy(std::span<const std::byte> data,
                                                   std::string_view name);
+/// OFF: the vertices' values into ranges a block at a time, the faces counted, not stored.
+[[nodiscard]] DatasetSummary summarize_off(const std::filesystem::path& path,
+                                           const ProgressCallback& progress);
+[[nodiscard]] DatasetSummary summarize_off(std::span<const std::byte> data,
+                                           std::string_view name);
 /// NRRD (`nrrd`) or MetaImage: the header, then the samples streamed (raw or inflated).
 [[nodiscard]] DatasetSummary summarize_raw_volume(const std::filesystem::path& path,
                                                   const ProgressCallback& progress, bool nrrd);
