@@ -39,10 +39,9 @@ void add_convert_command(CLI::App& app, Context& ctx) {
   auto* grid_opt = add_grid_option(*cmd, args->grid);
   auto* ascii_opt =
       cmd->add_flag("--ascii", args->ascii, "Write text instead of binary (VTK legacy/XML, PLY)");
-  auto* vtk_xml_opt =
-      cmd->add_flag("--vtk-xml", args->vtk_xml,
-                    "Write VTK XML with the extension that fits the dataset (.vti .vts .vtp .vtu), "
-                    "replacing any extension OUTPUT has");
+  cmd->add_flag("--vtk-xml", args->vtk_xml,
+                "Write VTK XML with the extension that fits the dataset (.vti .vts .vtp .vtu), "
+                "replacing any extension OUTPUT has");
   auto* no_compress_opt = cmd->add_flag("--no-compress", args->no_compress,
                                         "VTK XML: do not zlib-compress binary data");
   auto* legacy_opt =
@@ -86,7 +85,7 @@ void add_convert_command(CLI::App& app, Context& ctx) {
       "view)\n"
       "  isoforge convert data/bunny.ply bunny_c.glb --color-by intensity --colormap plasma\n"
       "  isoforge convert data/post.vtk post.vtu --color-by Pressure --colormap black-body");
-  cmd->callback([cmd, args, draco, &ctx, q_opt, grid_opt, ascii_opt, vtk_xml_opt, no_compress_opt,
+  cmd->callback([cmd, args, draco, &ctx, q_opt, grid_opt, ascii_opt, no_compress_opt,
                  legacy_opt, tolerance_opt, codec_opt] {
     require_plot3d_input(q_opt, args->in);
     require_vdb_input(grid_opt, args->in);
