@@ -1467,10 +1467,13 @@ class LegacyWriter {
 
 namespace {
 
-Dataset read_legacy(const io_detail::FileSource& data, std::string_view name,
-                    io_detail::Progress* progress, std::uint64_t progress_base) {
+// `work` on a reader of `data`; anything it throws but an Error becomes one naming the file.
+template <class Work>
+auto with_reader(const io_detail::FileSource& data, std::string_view name,
+                 io_detail::Progress* progress, std::uint64_t progress_base, Work work) {
   try {
-    return LegacyReader(data, name, progress, progress_base).read();
+    LegacyReader reader(data, name, progress, progress_base);
+    return work(reader);
   } catch (const Error&) {
     throw;
   } catch (const std::bad_alloc&) {
@@ -1478,6 +1481,17 @@ Dataset read_legacy(const io_detail::FileSource& data, std::string_view name,
   } catch (const std::exception& e) {
     throw Error(std::string(name) + ": internal error while reading: " + e.what());
   }
+}
+
+Dataset read_legacy(const io_detail::FileSource& data, std::string_view name,
+                    io_detail::Progress* progress, std::uint64_t progress_base) {
+  return with_reader(data, name, progress, progress_base, [](LegacyReader& r) { return r.read(); });
+}
+
+DatasetSummary summarize_legacy(const io_detail::FileSource& data, std::string_view name,
+                                io_detail::Progress* progress, std::uint64_t progress_base) {
+  return with_reader(data, name, progress, progress_base,
+                     [](LegacyReader& r) { return r.summarize(); });
 }
 
 }  // namespace
@@ -1493,23 +1507,6 @@ Dataset read_vtk_legacy(std::span<const std::byte> data, std::string_view name) 
 }
 
 namespace io_detail {
-
-namespace {
-
-DatasetSummary summarize_legacy(const FileSource& data, std::string_view name, Progress* progress,
-                                std::uint64_t progress_base) {
-  try {
-    return LegacyReader(data, name, progress, progress_base).summarize();
-  } catch (const Error&) {
-    throw;
-  } catch (const std::bad_alloc&) {
-    throw Error(std::string(name) + ": out of memory while reading");
-  } catch (const std::exception& e) {
-    throw Error(std::string(name) + ": internal error while reading: " + e.what());
-  }
-}
-
-}  // namespace
 
 DatasetSummary summarize_vtk_legacy(const std::filesystem::path& path,
                                     const ProgressCallback& progress) {

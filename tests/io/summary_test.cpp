@@ -70,6 +70,23 @@ void expect_streamed_as_read(const fs::path& path) {
   expect_same_attributes(s.field_data, r.field_data);
 }
 
+/// `read` and `summarize_file` reject `path` with the same message.
+void expect_same_error(const fs::path& path) {
+  std::string from_read, from_summary;
+  try {
+    (void)read(path);
+  } catch (const Error& e) {
+    from_read = e.what();
+  }
+  try {
+    (void)summarize_file(path);
+  } catch (const Error& e) {
+    from_summary = e.what();
+  }
+  EXPECT_FALSE(from_read.empty());
+  EXPECT_EQ(from_summary, from_read);
+}
+
 std::vector<WriteOptions> xml_encodings() {
   std::vector<WriteOptions> out(4);
   out[0].xml_compressor = VtkXmlCompressor::Zlib;
@@ -102,6 +119,19 @@ ImageData small_image() {
   for (std::size_t i = 0; i < 6; ++i) f.set(i / 2, static_cast<int>(i % 2), static_cast<double>(7 * i));
   img.field_data.add(std::move(f));
   return img;
+}
+
+// 4 x 3 x 2 points, sheared; an int8 scalar.
+StructuredGrid small_grid() {
+  StructuredGrid sg;
+  sg.dims = {4, 3, 2};
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 4; ++i) sg.points.push_back({i + 0.1 * j, j * 2.0, k - 0.5 * i});
+  DataArray q("q", ScalarType::Int8, 1, 24);
+  for (std::size_t i = 0; i < 24; ++i) q.set(i, 0, static_cast<double>(i) - 12);
+  sg.point_data.add(std::move(q), AttributeRole::Scalars);
+  return sg;
 }
 
 PolyData mixed_polydata() {
@@ -165,14 +195,7 @@ TEST(Summary, OfADatasetCountsCellTypesAndRangesIgnoringNaN) {
 }
 
 TEST(Summary, VtkXmlStreamedAsReadOnEveryEncodingAndDatasetType) {
-  StructuredGrid sg;
-  sg.dims = {4, 3, 2};
-  for (int k = 0; k < 2; ++k)
-    for (int j = 0; j < 3; ++j)
-      for (int i = 0; i < 4; ++i) sg.points.push_back({i + 0.1 * j, j * 2.0, k - 0.5 * i});
-  DataArray q("q", ScalarType::Int8, 1, 24);
-  for (std::size_t i = 0; i < 24; ++i) q.set(i, 0, static_cast<double>(i) - 12);
-  sg.point_data.add(std::move(q));
+  const StructuredGrid sg = small_grid();
   const std::vector<std::pair<std::string, Dataset>> cases = {
       {"image.vti", small_image()},
       {"grid.vts", sg},
@@ -219,31 +242,13 @@ TEST(Summary, VtkXmlErrorsAreTheReadersErrors) {
   const auto size = fs::file_size(p);
   for (std::uintmax_t keep : {size - 40, size / 2, std::uintmax_t{200}}) {
     fs::resize_file(p, keep);
-    std::string from_read, from_summary;
-    try {
-      (void)read(p);
-    } catch (const Error& e) {
-      from_read = e.what();
-    }
-    try {
-      (void)summarize_file(p);
-    } catch (const Error& e) {
-      from_summary = e.what();
-    }
-    EXPECT_FALSE(from_read.empty());
-    EXPECT_EQ(from_summary, from_read) << "kept " << keep << " bytes";
+    SCOPED_TRACE("kept " + std::to_string(keep) + " bytes");
+    expect_same_error(p);
   }
 }
 
 TEST(Summary, VtkLegacyStreamedAsReadInBinaryAndAsciiOnEveryDatasetType) {
-  StructuredGrid sg;
-  sg.dims = {4, 3, 2};
-  for (int k = 0; k < 2; ++k)
-    for (int j = 0; j < 3; ++j)
-      for (int i = 0; i < 4; ++i) sg.points.push_back({i + 0.1 * j, j * 2.0, k - 0.5 * i});
-  DataArray q("q", ScalarType::Int8, 1, 24);
-  for (std::size_t i = 0; i < 24; ++i) q.set(i, 0, static_cast<double>(i) - 12);
-  sg.point_data.add(std::move(q), AttributeRole::Scalars);
+  const StructuredGrid sg = small_grid();
   PolyData pd = mixed_polydata();
   DataArray n("n", ScalarType::Float32, 3, 12);
   for (std::size_t i = 0; i < 12; ++i) n.set(i, 2, 1.0);
@@ -318,19 +323,8 @@ TEST(Summary, VtkLegacyArraysLargerThanAPieceAndTheReadersErrors) {
     const auto size = fs::file_size(small);
     for (std::uintmax_t keep : {size, size - 40, size / 2, std::uintmax_t{200}}) {
       fs::resize_file(small, keep);
-      std::string from_read, from_summary;
-      try {
-        (void)read(small);
-      } catch (const Error& e) {
-        from_read = e.what();
-      }
-      try {
-        (void)summarize_file(small);
-      } catch (const Error& e) {
-        from_summary = e.what();
-      }
-      EXPECT_FALSE(from_read.empty());
-      EXPECT_EQ(from_summary, from_read) << (binary ? "binary" : "ascii") << ", kept " << keep;
+      SCOPED_TRACE(std::string(binary ? "binary" : "ascii") + ", kept " + std::to_string(keep));
+      expect_same_error(small);
     }
   }
 }
@@ -365,19 +359,7 @@ TEST(Summary, OffStreamedAsReadOverSeveralBlocksWithItsErrors) {
       std::ofstream out(p, std::ios::binary | std::ios::trunc);
       out << text;
     }
-    std::string from_read, from_summary;
-    try {
-      (void)read(p);
-    } catch (const Error& e) {
-      from_read = e.what();
-    }
-    try {
-      (void)summarize_file(p);
-    } catch (const Error& e) {
-      from_summary = e.what();
-    }
-    EXPECT_FALSE(from_read.empty());
-    EXPECT_EQ(from_summary, from_read);
+    expect_same_error(p);
   }
 }
 
