@@ -83,8 +83,8 @@ class OffReader {
       }
     }
     for (ArraySummary& a : s.point_data.arrays) {
-      if (a.name == "Normals") a = {a.name, a.type, 3, s.points, summary_->normals};
-      if (a.name == "TCoords") a = {a.name, a.type, 2, s.points, summary_->tcoords};
+      if (a.name == kNormals) a = {a.name, a.type, 3, s.points, summary_->normals};
+      if (a.name == kTCoords) a = {a.name, a.type, 2, s.points, summary_->tcoords};
     }
     return s;
   }
@@ -134,7 +134,7 @@ class OffReader {
     }
 
     // ---- vertices ----
-    // Summarising, the values go into ranges a block at a time: vertex i at i % block.
+    // Summarising, the values go into ranges a block at a time: vertex v at i = v % block.
     const std::size_t block = summary_ ? std::min(nv, kSummaryBlock) : nv;
     std::vector<double> xyz(3 * block);
     std::vector<float> normals(normals_ ? 3 * block : 0);
@@ -142,8 +142,7 @@ class OffReader {
     std::vector<std::uint8_t> colors;
     int color_comps = 3;
     bool wide = false;  // a coordinate has more digits than float32 needs
-    for (std::size_t v = 0; v < nv; ++v) {
-      const std::size_t i = v % std::max<std::size_t>(block, 1);
+    for (std::size_t v = 0, i = 0; v < nv; ++v) {
       for (int a = 0; a < 3; ++a) {
         const auto tok = require("vertex coordinate");
         wide = wide || significant_digits(tok) > 9;
@@ -170,6 +169,9 @@ class OffReader {
         summary_->xyz.add(ScalarType::Float64, xyz.data(), i + 1);
         if (normals_) summary_->normals.add(ScalarType::Float32, normals.data(), i + 1);
         if (texture_) summary_->tcoords.add(ScalarType::Float32, tcoords.data(), i + 1);
+        i = 0;  // the next vertex starts the block again
+      } else {
+        ++i;
       }
     }
 
@@ -216,7 +218,7 @@ class OffReader {
         mesh.points.set(i, {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]});
     }
     if (normals_) {
-      mesh.point_data.add(DataArray::from_vector("Normals", 3, std::move(normals)),
+      mesh.point_data.add(DataArray::from_vector(kNormals, 3, std::move(normals)),
                           AttributeRole::Normals);
     }
     if (color_) {
@@ -224,7 +226,7 @@ class OffReader {
                           AttributeRole::Scalars);
     }
     if (texture_) {
-      mesh.point_data.add(DataArray::from_vector("TCoords", 2, std::move(tcoords)),
+      mesh.point_data.add(DataArray::from_vector(kTCoords, 2, std::move(tcoords)),
                           AttributeRole::TCoords);
     }
     return mesh;
@@ -298,6 +300,9 @@ class OffReader {
   }
 
   static constexpr std::size_t kSummaryBlock = 65536;  // vertices summarised at a time
+  // The names of the point arrays read() makes (summarize() puts the streamed ranges in them).
+  static constexpr const char* kNormals = "Normals";
+  static constexpr const char* kTCoords = "TCoords";
 
   // What summarize() collects while read() parses.
   struct Streamed {
