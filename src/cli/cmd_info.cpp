@@ -35,8 +35,8 @@ void print_vdb_info(const std::filesystem::path& path) {
 void add_info_command(CLI::App& app, Context& ctx) {
   auto* cmd = app.add_subcommand("info", "Print what a file holds: dataset type, dimensions, "
                                          "point/cell counts, bounds, arrays with ranges (VTK XML, "
-                                         "VTK legacy, binary PLY, OFF, NRRD and MetaImage in one "
-                                         "streaming pass without loading their arrays)");
+                                         "VTK legacy, binary PLY, OFF, NRRD, MetaImage and PLOT3D "
+                                         "in one streaming pass without loading their arrays)");
   auto path = std::make_shared<std::string>();
   auto q = std::make_shared<std::string>();
   cmd->add_option("file", *path, "Input file (.vtk .vti .vts .vtp .vtu .ply .off .nhdr .nrrd .mhd "

@@ -92,6 +92,24 @@ std::uint64_t file_size_or_zero(const std::filesystem::path& path) {
 
 }  // namespace io_detail
 
+namespace {
+
+Plot3dOptions plot3d_options(const ReadOptions& options) {
+  Plot3dOptions p;
+  p.progress = options.progress;
+  if (options.plot3d_byte_order == "big") {
+    p.byte_order = Plot3dByteOrder::Big;
+  } else if (options.plot3d_byte_order == "little") {
+    p.byte_order = Plot3dByteOrder::Little;
+  } else if (options.plot3d_byte_order != "auto") {
+    throw Error("plot3d byte order must be auto, big or little, not '" +
+                options.plot3d_byte_order + "'");
+  }
+  return p;
+}
+
+}  // namespace
+
 std::vector<std::byte> read_file_bytes(const std::filesystem::path& path) {
   const io_detail::MappedFile file(path);
   return {file.bytes().begin(), file.bytes().end()};
@@ -114,6 +132,8 @@ DatasetSummary summarize_file(const std::filesystem::path& path, const ReadOptio
       return io_detail::summarize_raw_volume(path, options.progress, true);
     case FileFormat::MetaImage:
       return io_detail::summarize_raw_volume(path, options.progress, false);
+    case FileFormat::Plot3d:
+      return io_detail::summarize_plot3d(path, options.plot3d_q, plot3d_options(options));
     default:
       return summarize(read(path, options));
   }
@@ -131,19 +151,8 @@ Dataset read(const std::filesystem::path& path, const ReadOptions& options) {
     case FileFormat::Obj:
       throw Error(path.string() + ": reading OBJ is not supported (OBJ is an export format here)");
     case FileFormat::Off: return read_off(path, progress);
-    case FileFormat::Plot3d: {
-      Plot3dOptions p;
-      p.progress = progress;
-      if (options.plot3d_byte_order == "big") {
-        p.byte_order = Plot3dByteOrder::Big;
-      } else if (options.plot3d_byte_order == "little") {
-        p.byte_order = Plot3dByteOrder::Little;
-      } else if (options.plot3d_byte_order != "auto") {
-        throw Error("plot3d byte order must be auto, big or little, not '" +
-                    options.plot3d_byte_order + "'");
-      }
-      return read_plot3d(path, options.plot3d_q, p);
-    }
+    case FileFormat::Plot3d:
+      return read_plot3d(path, options.plot3d_q, plot3d_options(options));
     case FileFormat::Draco: return read_draco(path, progress);
     case FileFormat::Nrrd: return read_nrrd(path, progress);
     case FileFormat::MetaImage: return read_metaimage(path, progress);

@@ -5,14 +5,22 @@
 // momentum components and stagnation energy per point. Layout and byte order are detected from
 // the file size (the only unambiguous evidence a binary PLOT3D file carries).
 
+#include <atomic>
 #include <cmath>
+#include <functional>
+#include <limits>
+#include <mutex>
 #include <cstdint>
 #include <cstring>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "detail/progress.hpp"
 #include "detail/scanner.hpp"
+#include "detail/summaries.hpp"
+#include "isoforge/core/parallel.hpp"
+#include "isoforge/core/summary.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/plot3d.hpp"
 
@@ -189,96 +197,250 @@ Layout detect_q(std::span<const std::byte> data, const std::string& name, const 
                           " (expected " + sizes + " bytes)"));
 }
 
-/// Reads `n` reals of the layout's precision as doubles.
-std::vector<double> read_reals(Scanner& sc, std::size_t n, const Layout& l, const char* what) {
-  std::vector<double> out;
-  if (l.prec == 4) {
-    std::vector<float> f;
-    sc.read_array(n, l.endian, f, what);
-    out.assign(f.begin(), f.end());
-  } else {
-    sc.read_array(n, l.endian, out, what);
+// ---- Reading in blocks -------------------------------------------------------------------
+// The planes of a file (x, y, z of the grid; density, momentum and energy of the solution) are
+// read in blocks of points with pread (FileSource::copy: the mapped pages stay untouched),
+// byte-swapped, checked and written straight into the final arrays — or, for a summary, into
+// the ranges. Blocks run on all threads; memory is the arrays plus a block per thread.
+
+constexpr std::size_t kBlock = std::size_t{1} << 16;  // points per task
+constexpr std::size_t kSlice = std::size_t{1} << 18;  // points between progress reports
+
+/// Calls work(first, n) on blocks of at most kBlock points covering [0, count), in parallel,
+/// setting `progress` to `base` + `bytes_per_point` × the points done between slices.
+void for_blocks(std::size_t count, io_detail::Progress* progress, std::uint64_t base,
+                std::uint64_t bytes_per_point,
+                const std::function<void(std::size_t, std::size_t)>& work) {
+  for (std::size_t s = 0; s < count; s += kSlice) {
+    const std::size_t m = std::min(kSlice, count - s);
+    parallel_for_range((m + kBlock - 1) / kBlock, 1, [&](std::size_t b, std::size_t e) {
+      for (std::size_t k = b; k < e; ++k) {
+        const std::size_t first = s + k * kBlock;
+        work(first, std::min(kBlock, s + m - first));
+      }
+    });
+    if (progress) progress->set(base + (s + m) * bytes_per_point);
   }
-  return out;
 }
 
-/// A point array of the layout's precision from doubles.
-DataArray make_array(const std::string& name, int comps, const std::vector<double>& v,
-                     std::size_t prec) {
-  if (prec == 4) {
-    std::vector<float> f(v.begin(), v.end());
-    return DataArray::from_vector(name, comps, std::move(f));
-  }
-  return DataArray::from_vector(name, comps, v);
+/// A block's scratch values: one buffer per thread and slot, reused.
+template <class T, int Slot = 0>
+T* scratch(std::size_t n) {
+  thread_local std::vector<std::byte> buffer;
+  if (buffer.size() < n * sizeof(T)) buffer.resize(n * sizeof(T));
+  return reinterpret_cast<T*>(buffer.data());
 }
 
-void read_q(StructuredGrid& grid, const io_detail::FileSource& q, const std::string& q_name,
-            const Layout& gl, const std::string& grid_name, const Plot3dOptions& options,
-            io_detail::Progress* progress, std::uint64_t progress_base) {
-  const Layout l = detect_q(q.bytes, q_name, gl, grid_name, options.byte_order);
-  Scanner sc(q, q_name);
-  sc.track(progress, progress_base);
-  sc.seek(l.header_bytes);
-  const auto cond = read_reals(sc, 4, l, "fsmach, alpha, re, time");
-  const char* field_names[4] = {"FreeStreamMach", "AngleOfAttack", "ReynoldsNumber", "Time"};
-  for (int i = 0; i < 4; ++i) {
-    grid.field_data.add(make_array(field_names[i], 1, {cond[static_cast<std::size_t>(i)]}, l.prec));
-  }
-  const std::size_t n = l.count;
-  const auto rho = read_reals(sc, n, l, "density");
-  const auto mu = read_reals(sc, n, l, "x momentum");
-  const auto mv = read_reals(sc, n, l, "y momentum");
-  const auto mw = read_reals(sc, n, l, "z momentum");
-  const auto energy = read_reals(sc, n, l, "stagnation energy");
+/// The planes of one file: `planes` arrays of `count` values of T from byte `start`.
+struct PlaneFile {
+  io_detail::FileSource src;
+  std::size_t start = 0;
+  std::size_t count = 0;
+  bool swap = false;
 
-  std::vector<double> momentum(3 * n), velocity(3 * n), pressure(n);
-  const double gm1 = options.gamma - 1.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    momentum[3 * i] = mu[i];
-    momentum[3 * i + 1] = mv[i];
-    momentum[3 * i + 2] = mw[i];
-    const double r = rho[i];
-    double vel[3] = {0, 0, 0};
-    if (r != 0.0) {
-      vel[0] = mu[i] / r;
-      vel[1] = mv[i] / r;
-      vel[2] = mw[i] / r;
+  /// Values [first, first + n) of plane `plane` into `dst`, in host order.
+  template <class T>
+  void load(int plane, std::size_t first, std::size_t n, T* dst) const {
+    const std::byte* from =
+        src.bytes.data() + start + (static_cast<std::size_t>(plane) * count + first) * sizeof(T);
+    src.copy(from, reinterpret_cast<std::byte*>(dst), n * sizeof(T));
+    if (swap) io_detail::swap_elements(reinterpret_cast<std::byte*>(dst), n, sizeof(T));
+  }
+};
+
+/// The lowest key offered (atomic): the first bad value in file order over blocks run in any
+/// order.
+class FirstBad {
+ public:
+  void offer(std::uint64_t key) {
+    std::uint64_t cur = key_.load(std::memory_order_relaxed);
+    while (key < cur && !key_.compare_exchange_weak(cur, key, std::memory_order_relaxed)) {
     }
-    for (int a = 0; a < 3; ++a) velocity[3 * i + static_cast<std::size_t>(a)] = vel[a];
-    const double v2 = vel[0] * vel[0] + vel[1] * vel[1] + vel[2] * vel[2];
-    pressure[i] = gm1 * (energy[i] - 0.5 * r * v2);
   }
-  grid.point_data.add(make_array("Density", 1, rho, l.prec), AttributeRole::Scalars);
-  grid.point_data.add(make_array("Momentum", 3, momentum, l.prec), AttributeRole::Vectors);
-  grid.point_data.add(make_array("StagnationEnergy", 1, energy, l.prec));
-  grid.point_data.add(make_array("Velocity", 3, velocity, l.prec));
-  grid.point_data.add(make_array("Pressure", 1, pressure, l.prec));
+  [[nodiscard]] std::optional<std::uint64_t> get() const {
+    const std::uint64_t k = key_.load();
+    if (k == kNone) return std::nullopt;
+    return k;
+  }
+
+ private:
+  static constexpr std::uint64_t kNone = std::numeric_limits<std::uint64_t>::max();
+  std::atomic<std::uint64_t> key_{kNone};
+};
+
+template <class T>
+bool all_finite(const T* v, std::size_t n) {
+  bool ok = true;
+  for (std::size_t i = 0; i < n; ++i) ok &= std::isfinite(v[i]);
+  return ok;
 }
 
-/// "Valid" cell flags: 1 when every corner of the cell is unblanked.
-DataArray valid_cells(const Dims& dims, std::span<const std::int32_t> iblank) {
-  const std::size_t nc = structured_cell_count(dims);
-  std::vector<std::uint8_t> valid;
-  valid.reserve(nc);
-  const Index ci = dims[0] > 1 ? dims[0] - 1 : 1;
-  const Index cj = dims[1] > 1 ? dims[1] - 1 : 1;
-  const Index ck = dims[2] > 1 ? dims[2] - 1 : 1;
-  const Index di = dims[0] > 1 ? 1 : 0, dj = dims[1] > 1 ? 1 : 0, dk = dims[2] > 1 ? 1 : 0;
-  for (Index k = 0; k < ck; ++k) {
-    for (Index j = 0; j < cj; ++j) {
-      for (Index i = 0; i < ci; ++i) {
-        bool ok = true;
-        for (Index c = 0; c < 8 && ok; ++c) {
-          const Index ii = i + ((c & 1) ? di : 0);
-          const Index jj = j + ((c & 2) ? dj : 0);
-          const Index kk = k + ((c & 4) ? dk : 0);
-          ok = iblank[static_cast<std::size_t>(ii + dims[0] * (jj + dims[1] * kk))] != 0;
+/// Points [first, first + n) of the grid, interleaved into `xyz`; a non-finite coordinate is
+/// offered to `bad` as plane × count + point.
+template <class T>
+void grid_block(const PlaneFile& f, std::size_t first, std::size_t n, T* xyz, FirstBad& bad) {
+  T* c = scratch<T>(3 * n);
+  for (int a = 0; a < 3; ++a) {
+    T* plane = c + static_cast<std::size_t>(a) * n;
+    f.load(a, first, n, plane);
+    if (!all_finite(plane, n)) {
+      for (std::size_t i = 0; i < n; ++i) {
+        if (!std::isfinite(plane[i])) {
+          bad.offer(static_cast<std::uint64_t>(a) * f.count + first + i);
+          break;
         }
-        valid.push_back(ok ? 1 : 0);
       }
     }
   }
-  return DataArray::from_vector("Valid", 1, std::move(valid));
+  for (std::size_t i = 0; i < n; ++i) {
+    xyz[3 * i] = c[i];
+    xyz[3 * i + 1] = c[n + i];
+    xyz[3 * i + 2] = c[2 * n + i];
+  }
+}
+
+[[noreturn]] void fail_non_finite(const std::string& name, const Layout& l, std::uint64_t key) {
+  const std::size_t a = static_cast<std::size_t>(key / l.count);
+  const std::size_t i = static_cast<std::size_t>(key % l.count);
+  const Index ii = static_cast<Index>(i) % l.dims[0];
+  const Index jj = (static_cast<Index>(i) / l.dims[0]) % l.dims[1];
+  const Index kk = static_cast<Index>(i) / (l.dims[0] * l.dims[1]);
+  throw Error(at_byte(name, l.header_bytes + (a * l.count + i) * l.prec,
+                      "point " + std::to_string(i) + " (i, j, k = " + std::to_string(ii) + ", " +
+                          std::to_string(jj) + ", " + std::to_string(kk) +
+                          ") has a non-finite " + std::string(1, "xyz"[a]) + " coordinate"));
+}
+
+/// Where a block of the solution goes: each pointer at the block's first point.
+template <class T>
+struct QBlock {
+  T* density;
+  T* momentum;  // 3 per point
+  T* energy;
+  T* velocity;  // 3 per point
+  T* pressure;
+};
+
+/// Points [first, first + n) of the solution, with the derived velocity and pressure (in double
+/// precision from the stored values).
+template <class T>
+void q_block(const PlaneFile& f, std::size_t first, std::size_t n, double gm1,
+             const QBlock<T>& out) {
+  T* m = scratch<T>(3 * n);
+  f.load(0, first, n, out.density);
+  for (int a = 0; a < 3; ++a) f.load(1 + a, first, n, m + static_cast<std::size_t>(a) * n);
+  f.load(4, first, n, out.energy);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double mom[3] = {m[i], m[n + i], m[2 * n + i]};
+    const double r = out.density[i];
+    double vel[3] = {0, 0, 0};
+    if (r != 0.0) {
+      for (int a = 0; a < 3; ++a) vel[a] = mom[a] / r;
+    }
+    for (int a = 0; a < 3; ++a) {
+      out.momentum[3 * i + static_cast<std::size_t>(a)] = static_cast<T>(mom[a]);
+      out.velocity[3 * i + static_cast<std::size_t>(a)] = static_cast<T>(vel[a]);
+    }
+    const double v2 = vel[0] * vel[0] + vel[1] * vel[1] + vel[2] * vel[2];
+    out.pressure[i] = static_cast<T>(gm1 * (static_cast<double>(out.energy[i]) - 0.5 * r * v2));
+  }
+}
+
+/// "Valid" flags of the cells between two k planes of IBLANK values (`lo`, `hi`; the same plane
+/// for a grid of one k plane): 1 when every corner is unblanked.
+void valid_layer(const Dims& dims, const std::int32_t* lo, const std::int32_t* hi,
+                 std::uint8_t* out) {
+  const Index ci = dims[0] > 1 ? dims[0] - 1 : 1;
+  const Index cj = dims[1] > 1 ? dims[1] - 1 : 1;
+  const Index di = dims[0] > 1 ? 1 : 0, dj = dims[1] > 1 ? 1 : 0;
+  for (Index j = 0; j < cj; ++j) {
+    const auto r0 = static_cast<std::size_t>(dims[0] * j);
+    const auto r1 = static_cast<std::size_t>(dims[0] * (j + dj));
+    for (Index i = 0; i < ci; ++i) {
+      const auto a = static_cast<std::size_t>(i), b = static_cast<std::size_t>(i + di);
+      const bool ok = lo[r0 + a] != 0 && lo[r0 + b] != 0 && lo[r1 + a] != 0 && lo[r1 + b] != 0 &&
+                      hi[r0 + a] != 0 && hi[r0 + b] != 0 && hi[r1 + a] != 0 && hi[r1 + b] != 0;
+      *out++ = ok ? 1 : 0;
+    }
+  }
+}
+
+std::size_t cell_layers(const Dims& dims) { return dims[2] > 1 ? static_cast<std::size_t>(dims[2] - 1) : 1; }
+
+/// "Valid" cell flags of a whole IBLANK array.
+DataArray valid_cells(const Dims& dims, std::span<const std::int32_t> iblank) {
+  const std::size_t nc = structured_cell_count(dims);
+  const std::size_t slab = static_cast<std::size_t>(dims[0] * dims[1]);
+  const std::size_t layers = cell_layers(dims), per_layer = nc / layers;
+  const std::size_t dk = dims[2] > 1 ? slab : 0;
+  DataArray valid = DataArray::uninitialized("Valid", ScalarType::UInt8, 1, nc);
+  std::uint8_t* out = valid.values<std::uint8_t>().data();
+  parallel_for_range(layers, 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t k = b; k < e; ++k) {
+      valid_layer(dims, iblank.data() + k * slab, iblank.data() + k * slab + dk,
+                  out + k * per_layer);
+    }
+  });
+  return valid;
+}
+
+/// The byte offset of the IBLANK plane and of the solution's planes.
+std::size_t iblank_start(const Layout& l) { return l.header_bytes + 3 * l.count * l.prec; }
+std::size_t q_start(const Layout& q) { return q.header_bytes + 4 * q.prec; }
+
+const char* const kFieldNames[4] = {"FreeStreamMach", "AngleOfAttack", "ReynoldsNumber", "Time"};
+const char* const kQNames[5] = {"Density", "Momentum", "StagnationEnergy", "Velocity", "Pressure"};
+constexpr int kQComponents[5] = {1, 3, 1, 3, 1};
+
+/// The four flow conditions of a Q file as field data.
+void read_conditions(const io_detail::FileSource& q, const std::string& q_name, const Layout& l,
+                     Attributes& field_data) {
+  Scanner sc(q, q_name);
+  sc.seek(l.header_bytes);
+  for (const char* field : kFieldNames) {
+    if (l.prec == 4) {
+      const auto v = sc.read<float>(l.endian, "fsmach, alpha, re, time");
+      field_data.add(DataArray::from_vector(field, 1, std::vector<float>{v}));
+    } else {
+      const auto v = sc.read<double>(l.endian, "fsmach, alpha, re, time");
+      field_data.add(DataArray::from_vector(field, 1, std::vector<double>{v}));
+    }
+  }
+}
+
+template <class T>
+void read_points(StructuredGrid& grid, const io_detail::FileSource& xyz, const std::string& name,
+                 const Layout& l, io_detail::Progress* progress, std::uint64_t base) {
+  grid.points = Points(l.count, l.prec == 8 ? ScalarType::Float64 : ScalarType::Float32);
+  T* p = grid.points.array().values<T>().data();
+  const PlaneFile f{xyz, l.header_bytes, l.count, l.endian != io_detail::kHostEndian};
+  FirstBad bad;
+  for_blocks(l.count, progress, base + l.header_bytes, 3 * l.prec,
+             [&](std::size_t first, std::size_t n) { grid_block(f, first, n, p + 3 * first, bad); });
+  if (const auto k = bad.get()) fail_non_finite(name, l, *k);
+}
+
+template <class T>
+void read_solution(StructuredGrid& grid, const io_detail::FileSource& q, const Layout& l,
+                   double gm1, io_detail::Progress* progress, std::uint64_t base) {
+  const ScalarType type = l.prec == 8 ? ScalarType::Float64 : ScalarType::Float32;
+  std::vector<DataArray> arrays;
+  for (int k = 0; k < 5; ++k) {
+    arrays.push_back(DataArray::uninitialized(kQNames[k], type, kQComponents[k], l.count));
+  }
+  const QBlock<T> at{arrays[0].values<T>().data(), arrays[1].values<T>().data(),
+                     arrays[2].values<T>().data(), arrays[3].values<T>().data(),
+                     arrays[4].values<T>().data()};
+  const PlaneFile f{q, q_start(l), l.count, l.endian != io_detail::kHostEndian};
+  for_blocks(l.count, progress, base + q_start(l), 5 * l.prec,
+             [&](std::size_t first, std::size_t n) {
+               q_block(f, first, n, gm1,
+                       QBlock<T>{at.density + first, at.momentum + 3 * first, at.energy + first,
+                                 at.velocity + 3 * first, at.pressure + first});
+             });
+  grid.point_data.add(std::move(arrays[0]), AttributeRole::Scalars);
+  grid.point_data.add(std::move(arrays[1]), AttributeRole::Vectors);
+  for (int k = 2; k < 5; ++k) grid.point_data.add(std::move(arrays[static_cast<std::size_t>(k)]));
 }
 
 // Parses the grid (reporting `progress_base` + its bytes consumed) and then the solution.
@@ -289,49 +451,158 @@ StructuredGrid read_plot3d_impl(const io_detail::FileSource& xyz, std::string_vi
   const std::string name(xyz_name);
   if (!std::isfinite(options.gamma)) throw Error(name + ": PLOT3D gamma is not finite");
   const Layout l = detect_grid(xyz.bytes, name, options.byte_order);
-  Scanner sc(xyz, name);
-  sc.track(progress, progress_base);
-  sc.seek(l.header_bytes);
-  const std::size_t n = l.count;
   StructuredGrid grid;
   grid.dims = l.dims;
-  grid.points = Points(n, l.prec == 8 ? ScalarType::Float64 : ScalarType::Float32);
-  const char* axis_names[3] = {"x coordinates", "y coordinates", "z coordinates"};
-  for (int a = 0; a < 3; ++a) {
-    const std::size_t start = sc.offset();
-    const auto c = read_reals(sc, n, l, axis_names[a]);
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!std::isfinite(c[i])) {
-        const Index ii = static_cast<Index>(i) % l.dims[0];
-        const Index jj = (static_cast<Index>(i) / l.dims[0]) % l.dims[1];
-        const Index kk = static_cast<Index>(i) / (l.dims[0] * l.dims[1]);
-        throw Error(at_byte(name, start + i * l.prec,
-                            "point " + std::to_string(i) + " (i, j, k = " + std::to_string(ii) +
-                                ", " + std::to_string(jj) + ", " + std::to_string(kk) +
-                                ") has a non-finite " + std::string(1, "xyz"[a]) + " coordinate"));
-      }
-    }
-    if (l.prec == 4) {
-      auto p = grid.points.array().values<float>();
-      for (std::size_t i = 0; i < n; ++i)
-        p[3 * i + static_cast<std::size_t>(a)] = static_cast<float>(c[i]);
-    } else {
-      auto p = grid.points.array().values<double>();
-      for (std::size_t i = 0; i < n; ++i) p[3 * i + static_cast<std::size_t>(a)] = c[i];
-    }
+  if (l.prec == 4) {
+    read_points<float>(grid, xyz, name, l, progress, progress_base);
+  } else {
+    read_points<double>(grid, xyz, name, l, progress, progress_base);
   }
   if (l.iblank) {
-    std::vector<std::int32_t> ib;
-    sc.read_array(n, l.endian, ib, "iblank");
+    Scanner sc(xyz, name);
+    sc.track(progress, progress_base);
+    sc.seek(iblank_start(l));
+    Buffer<std::int32_t> ib;
+    sc.read_array(l.count, l.endian, ib, "iblank");
     grid.cell_data.add(valid_cells(l.dims, ib));
-    grid.point_data.add(DataArray::from_vector("IBlank", 1, std::move(ib)));
+    grid.point_data.add(DataArray::from_buffer("IBlank", 1, std::move(ib)));
   }
   if (!q.bytes.empty() || !q_name.empty()) {
-    read_q(grid, q, std::string(q_name), l, name, options, progress,
-           progress_base + xyz.bytes.size());
+    const std::string qn(q_name);
+    const Layout ql = detect_q(q.bytes, qn, l, name, options.byte_order);
+    read_conditions(q, qn, ql, grid.field_data);
+    const std::uint64_t base = progress_base + xyz.bytes.size();
+    if (ql.prec == 4) {
+      read_solution<float>(grid, q, ql, options.gamma - 1.0, progress, base);
+    } else {
+      read_solution<double>(grid, q, ql, options.gamma - 1.0, progress, base);
+    }
   }
   grid.validate();
   return grid;
+}
+
+// ---- Summaries (`info`) ----------------------------------------------------------------------
+
+template <class T>
+ArraySummary stream_points(const io_detail::FileSource& xyz, const std::string& name,
+                           const Layout& l, io_detail::Progress* progress) {
+  const PlaneFile f{xyz, l.header_bytes, l.count, l.endian != io_detail::kHostEndian};
+  const ScalarType type = l.prec == 8 ? ScalarType::Float64 : ScalarType::Float32;
+  FirstBad bad;
+  std::mutex mutex;
+  ValueRanges ranges(3);
+  for_blocks(l.count, progress, l.header_bytes, 3 * l.prec, [&](std::size_t first, std::size_t n) {
+    T* xyz_block = scratch<T, 1>(3 * n);
+    grid_block(f, first, n, xyz_block, bad);
+    ValueRanges r(3);
+    r.add(type, xyz_block, n);
+    const std::lock_guard lock(mutex);
+    ranges.merge(r);
+  });
+  if (const auto k = bad.get()) fail_non_finite(name, l, *k);
+  return {"Points", type, 3, l.count, ranges};
+}
+
+template <class T>
+std::vector<ArraySummary> stream_solution(const io_detail::FileSource& q, const Layout& l,
+                                          double gm1, io_detail::Progress* progress,
+                                          std::uint64_t base) {
+  const ScalarType type = l.prec == 8 ? ScalarType::Float64 : ScalarType::Float32;
+  const PlaneFile f{q, q_start(l), l.count, l.endian != io_detail::kHostEndian};
+  std::vector<ValueRanges> ranges;
+  for (int k = 0; k < 5; ++k) ranges.emplace_back(kQComponents[k]);
+  std::mutex mutex;
+  for_blocks(l.count, progress, base + q_start(l), 5 * l.prec,
+             [&](std::size_t first, std::size_t n) {
+               T* v = scratch<T, 1>(9 * n);
+               const QBlock<T> out{v, v + n, v + 4 * n, v + 5 * n, v + 8 * n};
+               q_block(f, first, n, gm1, out);
+               const T* arrays[5] = {out.density, out.momentum, out.energy, out.velocity,
+                                     out.pressure};
+               std::vector<ValueRanges> r;
+               for (int k = 0; k < 5; ++k) {
+                 r.emplace_back(kQComponents[k]);
+                 r.back().add(type, arrays[k], n);
+               }
+               const std::lock_guard lock(mutex);
+               for (std::size_t k = 0; k < 5; ++k) ranges[k].merge(r[k]);
+             });
+  std::vector<ArraySummary> out;
+  for (std::size_t k = 0; k < 5; ++k) {
+    out.push_back({kQNames[k], type, kQComponents[k], l.count, ranges[k]});
+  }
+  return out;
+}
+
+/// IBLANK and the "Valid" cells streamed a k plane at a time.
+std::pair<ArraySummary, ArraySummary> stream_iblank(const io_detail::FileSource& xyz,
+                                                    const Layout& l) {
+  const std::size_t slab = static_cast<std::size_t>(l.dims[0] * l.dims[1]);
+  const PlaneFile f{xyz, iblank_start(l), slab, l.endian != io_detail::kHostEndian};
+  std::vector<std::int32_t> lo(slab), hi(slab);
+  const std::size_t nc = structured_cell_count(l.dims);
+  std::vector<std::uint8_t> valid(nc / cell_layers(l.dims));
+  ValueRanges ib(1), ok(1);
+  for (Index k = 0; k < l.dims[2]; ++k) {
+    f.load(static_cast<int>(k), 0, slab, hi.data());  // plane k of `slab` values
+    ib.add(ScalarType::Int32, hi.data(), slab);
+    if (k > 0 || l.dims[2] == 1) {
+      valid_layer(l.dims, k > 0 ? lo.data() : hi.data(), hi.data(), valid.data());
+      ok.add(ScalarType::UInt8, valid.data(), valid.size());
+    }
+    std::swap(lo, hi);
+  }
+  return {{"IBlank", ScalarType::Int32, 1, l.count, ib}, {"Valid", ScalarType::UInt8, 1, nc, ok}};
+}
+
+DatasetSummary summarize_impl(const io_detail::FileSource& xyz, std::string_view xyz_name,
+                              const io_detail::FileSource& q, std::string_view q_name,
+                              const Plot3dOptions& options, io_detail::Progress* progress) {
+  const std::string name(xyz_name);
+  if (!std::isfinite(options.gamma)) throw Error(name + ": PLOT3D gamma is not finite");
+  const Layout l = detect_grid(xyz.bytes, name, options.byte_order);
+  // The dataset without values: dims, array names, types and roles (summarize() of it gives
+  // the counts, cell types and the arrays' order); the streamed ranges replace the empty ones.
+  StructuredGrid grid;
+  grid.dims = l.dims;
+  const ScalarType gtype = l.prec == 8 ? ScalarType::Float64 : ScalarType::Float32;
+  grid.points = Points(0, gtype);
+  std::vector<ArraySummary> streamed;
+  const ArraySummary points = l.prec == 4 ? stream_points<float>(xyz, name, l, progress)
+                                          : stream_points<double>(xyz, name, l, progress);
+  if (l.iblank) {
+    grid.cell_data.add(DataArray("Valid", ScalarType::UInt8, 1));
+    grid.point_data.add(DataArray("IBlank", ScalarType::Int32, 1));
+    auto [ib, valid] = stream_iblank(xyz, l);
+    streamed.push_back(std::move(ib));
+    streamed.push_back(std::move(valid));
+  }
+  if (!q.bytes.empty() || !q_name.empty()) {
+    const std::string qn(q_name);
+    const Layout ql = detect_q(q.bytes, qn, l, name, options.byte_order);
+    read_conditions(q, qn, ql, grid.field_data);
+    const ScalarType qtype = ql.prec == 8 ? ScalarType::Float64 : ScalarType::Float32;
+    grid.point_data.add(DataArray(kQNames[0], qtype, 1), AttributeRole::Scalars);
+    grid.point_data.add(DataArray(kQNames[1], qtype, 3), AttributeRole::Vectors);
+    for (int k = 2; k < 5; ++k) grid.point_data.add(DataArray(kQNames[k], qtype, kQComponents[k]));
+    const std::uint64_t base = xyz.bytes.size();
+    auto solution = ql.prec == 4 ? stream_solution<float>(q, ql, options.gamma - 1.0, progress, base)
+                                 : stream_solution<double>(q, ql, options.gamma - 1.0, progress, base);
+    for (ArraySummary& a : solution) streamed.push_back(std::move(a));
+  }
+  DatasetSummary s = isoforge::summarize(grid);
+  s.streamed = true;
+  s.points = points.tuples;
+  for (int a = 0; a < 3; ++a) {
+    s.bounds.min[a] = points.ranges.component(a).first;
+    s.bounds.max[a] = points.ranges.component(a).second;
+  }
+  for (ArraySummary& a : streamed) {
+    AttributesSummary& into = a.name == "Valid" ? s.cell_data : s.point_data;
+    if (ArraySummary* old = into.find(a.name)) *old = std::move(a);
+  }
+  return s;
 }
 
 }  // namespace
@@ -359,5 +630,28 @@ StructuredGrid read_plot3d(const std::filesystem::path& xyz_path,
   progress.finish();
   return grid;
 }
+
+namespace io_detail {
+
+DatasetSummary summarize_plot3d(std::span<const std::byte> xyz, std::string_view xyz_name,
+                                std::span<const std::byte> q, std::string_view q_name,
+                                const Plot3dOptions& options) {
+  return summarize_impl(xyz, xyz_name, q, q_name, options, nullptr);
+}
+
+DatasetSummary summarize_plot3d(const std::filesystem::path& xyz_path,
+                                const std::filesystem::path& q_path, const Plot3dOptions& options) {
+  const MappedFile xyz(xyz_path);
+  std::optional<MappedFile> q;
+  if (!q_path.empty()) q.emplace(q_path);
+  const FileSource q_source = q ? FileSource(*q) : FileSource();
+  Progress progress(options.progress, xyz.bytes().size() + q_source.bytes.size(), "reading");
+  DatasetSummary s = summarize_impl(FileSource(xyz), xyz_path.string(), q_source,
+                                    q_path.string(), options, &progress);
+  progress.finish();
+  return s;
+}
+
+}  // namespace io_detail
 
 }  // namespace isoforge

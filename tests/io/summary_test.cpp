@@ -1,4 +1,4 @@
-// summarize_file: the streaming summaries (VTK XML, VTK legacy, PLY, NRRD) against the summary of the dataset
+// summarize_file: the streaming summaries (VTK XML, VTK legacy, PLY, OFF, NRRD, PLOT3D) against the summary of the dataset
 // read whole, on every encoding, on arrays larger than one streamed piece (tuples straddling
 // pieces), and with the same errors as the readers.
 
@@ -8,6 +8,7 @@
 
 #include <zlib.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -51,10 +52,10 @@ void expect_same_attributes(const AttributesSummary& a, const AttributesSummary&
 }
 
 /// The streamed summary of `path` equals the summary of the dataset read whole.
-void expect_streamed_as_read(const fs::path& path) {
+void expect_streamed_as_read(const fs::path& path, const ReadOptions& options = {}) {
   SCOPED_TRACE(path.string());
-  const DatasetSummary s = summarize_file(path);
-  const DatasetSummary r = summarize(read(path));
+  const DatasetSummary s = summarize_file(path, options);
+  const DatasetSummary r = summarize(read(path, options));
   EXPECT_TRUE(s.streamed);
   EXPECT_EQ(s.kind, r.kind);
   EXPECT_EQ(s.dims, r.dims);
@@ -71,15 +72,15 @@ void expect_streamed_as_read(const fs::path& path) {
 }
 
 /// `read` and `summarize_file` reject `path` with the same message.
-void expect_same_error(const fs::path& path) {
+void expect_same_error(const fs::path& path, const ReadOptions& options = {}) {
   std::string from_read, from_summary;
   try {
-    (void)read(path);
+    (void)read(path, options);
   } catch (const Error& e) {
     from_read = e.what();
   }
   try {
-    (void)summarize_file(path);
+    (void)summarize_file(path, options);
   } catch (const Error& e) {
     from_summary = e.what();
   }
@@ -409,4 +410,102 @@ TEST(Summary, GzipNrrdWithAByteSkipStreamed) {
   std::ofstream(header) << "NRRD0004\ntype: float\ndimension: 3\nsizes: 64 64 40\nendian: big\n"
                            "encoding: gzip\nbyte skip: 100\nspacings: 1 2 3\ndata file: vol.raw.z\n";
   expect_streamed_as_read(header);
+}
+
+namespace {
+
+/// A PLOT3D grid (x, y, z planes, then IBLANK) and solution (fsmach alpha re time, then density,
+/// momentum and energy planes) of `dims`, written with `Real` values in the host's byte order or
+/// swapped; density 0 at one point (velocity 0 there), every 97th point blanked.
+template <class Real>
+void write_plot3d(const fs::path& xyz, const fs::path& q, Dims dims, bool swap, bool iblank) {
+  const std::size_t n = static_cast<std::size_t>(dims[0] * dims[1] * dims[2]);
+  auto put = [swap](std::ofstream& out, auto v) {
+    unsigned char b[sizeof v];
+    std::memcpy(b, &v, sizeof v);
+    if (swap) std::reverse(b, b + sizeof v);
+    out.write(reinterpret_cast<const char*>(b), sizeof v);
+  };
+  std::ofstream g(xyz, std::ios::binary | std::ios::trunc);
+  for (Index d : dims) put(g, static_cast<std::int32_t>(d));
+  for (int a = 0; a < 3; ++a) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const double t = static_cast<double>(i);
+      put(g, static_cast<Real>(a == 0 ? std::sin(1e-3 * t) * t : a == 1 ? -0.5 * t : std::cos(t)));
+    }
+  }
+  if (iblank) {
+    for (std::size_t i = 0; i < n; ++i) put(g, static_cast<std::int32_t>(i % 97 == 3 ? 0 : 1 + i % 2));
+  }
+  std::ofstream s(q, std::ios::binary | std::ios::trunc);
+  for (Index d : dims) put(s, static_cast<std::int32_t>(d));
+  for (double c : {0.8, 5.0, 2e6, 0.25}) put(s, static_cast<Real>(c));
+  for (int var = 0; var < 5; ++var) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const double t = static_cast<double>(i);
+      const double v = var == 0 ? (i == 1000 ? 0.0 : 1.0 + std::sin(t) * 0.5)
+                                : std::cos(t * (var + 1)) * static_cast<double>(var) + 1e-6 * t;
+      put(s, static_cast<Real>(v));
+    }
+  }
+}
+
+}  // namespace
+
+TEST(Summary, Plot3dStreamedAsReadInBlocksWithIblankAndSolution) {
+  // 90 x 60 x 55 = 297 000 points: several blocks and progress slices; float32 in the other
+  // byte order and float64 in the host's, with IBLANK and the Valid cells it gives; a grid of
+  // one k plane; the real combustor.
+  const fs::path xyz = scratch("g.xyz"), q = scratch("g.q");
+  ReadOptions with_q;
+  with_q.plot3d_q = q;
+  write_plot3d<float>(xyz, q, {90, 60, 55}, true, true);
+  expect_streamed_as_read(xyz, with_q);
+  expect_streamed_as_read(xyz);
+  DatasetSummary s = summarize_file(xyz, with_q);
+  EXPECT_EQ(s.cells, 89u * 59u * 54u);
+  ASSERT_NE(s.cell_data.find("Valid"), nullptr);
+  EXPECT_EQ(s.cell_data.find("Valid")->ranges.component(0), (std::pair<double, double>{0, 1}));
+  EXPECT_EQ(s.point_data.active[static_cast<std::size_t>(AttributeRole::Scalars)], "Density");
+  write_plot3d<double>(xyz, q, {90, 60, 55}, false, false);
+  expect_streamed_as_read(xyz, with_q);
+  write_plot3d<float>(xyz, q, {300, 250, 1}, false, true);
+  expect_streamed_as_read(xyz, with_q);
+  ReadOptions comb;
+  comb.plot3d_q = test::data_path("combq.bin");
+  expect_streamed_as_read(test::data_path("combxyz.bin"), comb);
+}
+
+TEST(Summary, Plot3dErrorsAreTheReadersErrors) {
+  const fs::path xyz = scratch("g.xyz"), q = scratch("g.q");
+  ReadOptions with_q;
+  with_q.plot3d_q = q;
+  const Dims dims{90, 60, 55};
+  const std::size_t n = 90 * 60 * 55;
+  // A NaN y alone; then also a NaN x in a later block: the x plane comes first in the file.
+  write_plot3d<float>(xyz, q, dims, false, false);
+  for (const auto& [axis, point] : {std::pair<std::size_t, std::size_t>{1, 150'000},
+                                    std::pair<std::size_t, std::size_t>{0, 200'000}}) {
+    {
+      std::fstream f(xyz, std::ios::binary | std::ios::in | std::ios::out);
+      f.seekp(static_cast<std::streamoff>(12 + 4 * (axis * n + point)));
+      const float nan = std::numeric_limits<float>::quiet_NaN();
+      f.write(reinterpret_cast<const char*>(&nan), 4);
+    }
+    expect_same_error(xyz, with_q);
+    std::string msg;
+    try {
+      (void)summarize_file(xyz, with_q);
+    } catch (const Error& e) {
+      msg = e.what();
+    }
+    EXPECT_NE(msg.find("point " + std::to_string(point) + " "), std::string::npos) << msg;
+    EXPECT_NE(msg.find(std::string("non-finite ") + "xyz"[axis]), std::string::npos) << msg;
+  }
+  // A solution one value short, and one of other dimensions.
+  write_plot3d<float>(xyz, q, dims, false, false);
+  fs::resize_file(q, fs::file_size(q) - 4);
+  expect_same_error(xyz, with_q);
+  write_plot3d<float>(scratch("other.xyz"), q, {90, 60, 54}, false, false);
+  expect_same_error(xyz, with_q);
 }

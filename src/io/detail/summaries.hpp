@@ -11,6 +11,7 @@
 
 #include "isoforge/core/progress.hpp"
 #include "isoforge/core/summary.hpp"
+#include "isoforge/io/plot3d.hpp"
 
 namespace isoforge::io_detail {
 
@@ -38,5 +39,16 @@ namespace isoforge::io_detail {
 [[nodiscard]] DatasetSummary summarize_ply(const std::filesystem::path& path,
                                            const ProgressCallback& progress);
 [[nodiscard]] DatasetSummary summarize_ply(std::span<const std::byte> data, std::string_view name);
+
+/// PLOT3D grid (and solution when `q_path` is not empty): the coordinate, IBLANK and solution
+/// planes streamed in blocks, the derived velocity and pressure computed per block.
+[[nodiscard]] DatasetSummary summarize_plot3d(const std::filesystem::path& xyz_path,
+                                              const std::filesystem::path& q_path,
+                                              const Plot3dOptions& options);
+[[nodiscard]] DatasetSummary summarize_plot3d(std::span<const std::byte> xyz,
+                                              std::string_view xyz_name,
+                                              std::span<const std::byte> q,
+                                              std::string_view q_name,
+                                              const Plot3dOptions& options);
 
 }  // namespace isoforge::io_detail
