@@ -43,6 +43,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <map>
 #include <new>
 #include <optional>
 #include <string>
@@ -218,6 +219,16 @@ struct CellSection {
   int min_size = 1;
 };
 
+/// A cell section counted as it streamed by (summary mode), not stored: what the summary needs,
+/// and where to read it again when a check fails, so that the reader's own code gives the error.
+struct StreamedCells {
+  std::pair<std::size_t, std::int64_t> mark;  // the scanner before the section's counts
+  std::uint64_t cells = 0;
+  std::map<std::int64_t, std::uint64_t> by_size;  // cells of each size (polygonal data)
+  std::vector<std::uint8_t> sizes;  // each cell's size, 255 for 255 or more (unstructured grids)
+  bool suspect = false;  // a point id out of range, or a cell below the section's minimum size
+};
+
 class LegacyReader {
  public:
   LegacyReader(io_detail::FileSource data, std::string_view name,
@@ -244,6 +255,15 @@ class LegacyReader {
     const Dataset ds = read_dataset();
     DatasetSummary s = isoforge::summarize(ds);
     s.streamed = true;
+    if (std::holds_alternative<PolyData>(ds)) {  // (an unstructured grid's types are read)
+      s.cells = cells_of(ds);
+      for (const auto& [kw, sec] : streamed_cells_) {
+        const int k = iequals(kw, "VERTICES") ? 0 : iequals(kw, "LINES") ? 1 : iequals(kw, "POLYGONS") ? 2 : 3;
+        for (const auto& [size, count] : sec.by_size) {
+          s.cell_types[poly_cell_type(k, static_cast<std::size_t>(size))] += count;
+        }
+      }
+    }
     if (points_) {
       s.points = points_->tuples;
       if (s.points > 0) {
@@ -310,6 +330,13 @@ class LegacyReader {
   /// The point count of `ds` (in summary mode, of its streamed points).
   std::size_t points_of(DatasetRef ds) const { return points_ ? points_->tuples : num_points(ds); }
   std::size_t points_of(const Points& p) const { return points_ ? points_->tuples : p.size(); }
+  /// The cell count of `ds` (in summary mode, with its streamed cell sections).
+  std::size_t cells_of(DatasetRef ds) const {
+    if (ds.get_if<PolyData>() == nullptr) return num_cells(ds);
+    std::size_t n = num_cells(ds);
+    for (const auto& [kw, sec] : streamed_cells_) n += static_cast<std::size_t>(sec.cells);
+    return n;
+  }
   // ---- errors and tokens ----
 
   [[nodiscard]] Where here() const { return {s_.line(), s_.offset()}; }
@@ -693,6 +720,132 @@ class LegacyReader {
     }
   }
 
+  /// A cell section after its keyword, as read_cells reads it. In summary mode, once the points
+  /// are known, it is streamed instead (stream_cells) and an empty array returned; a section
+  /// the stream finds malformed is read again by read_cells, which gives the reader's error.
+  CellArray read_cell_section(const std::string& kw, const Where& w, int min_size,
+                              bool keep_sizes) {
+    if (!summary_ || !points_) return read_cells(kw, w);
+    StreamedCells sec;
+    sec.mark = s_.mark();
+    try {
+      stream_cells(kw, sec, points_->tuples, min_size, keep_sizes);
+    } catch (const Cancelled&) {
+      throw;
+    } catch (const Error&) {
+      s_.restore(sec.mark);
+      streamed_cells_.erase(kw);
+      return read_cells(kw, w);
+    }
+    streamed_cells_.insert_or_assign(kw, std::move(sec));
+    return {};
+  }
+
+  /// Streams a cell section (the layouts of read_cells) without storing it: counts its cells
+  /// by size, flags ids outside [0, `np`) and cells below `min_size` as suspect. Throws a bare
+  /// Error on anything read_cells rejects (read_cell_section then lets read_cells say why).
+  void stream_cells(const std::string& kw, StreamedCells& sec, std::size_t np, int min_size,
+                    bool keep_sizes) {
+    const std::size_t a = s_.parse_count(kw + " count", binary_ ? 1 : 2);
+    const std::size_t b = s_.parse_count(kw + " size", binary_ ? 1 : 2);
+    const auto n = static_cast<std::int64_t>(np);
+    std::int64_t last_size = -1;
+    std::uint64_t* last_count = nullptr;
+    auto add_cell = [&](std::int64_t size) {
+      ++sec.cells;
+      if (size < min_size) sec.suspect = true;
+      if (keep_sizes) {
+        sec.sizes.push_back(static_cast<std::uint8_t>(std::min<std::int64_t>(size, 255)));
+      } else {
+        if (size != last_size) {
+          last_size = size;
+          last_count = &sec.by_size[size];
+        }
+        ++*last_count;
+      }
+    };
+    auto check_ids = [&](const auto* v, std::size_t m) {
+      bool ok = true;
+      for (std::size_t i = 0; i < m; ++i) {
+        const auto id = static_cast<std::int64_t>(v[i]);
+        ok &= id >= 0 && id < n;
+      }
+      if (!ok) sec.suspect = true;
+    };
+    const Error malformed("");
+    if (iequals(s_.peek_token(), "OFFSETS")) {
+      (void)s_.token();
+      // Offsets: 0 first, never decreasing, b last; the cells' sizes are their differences.
+      std::int64_t prev = -1;
+      std::size_t seen = 0;
+      stream_index_array(a, kw + " OFFSETS", [&](const auto* v, std::size_t m) {
+        for (std::size_t i = 0; i < m; ++i, ++seen) {
+          const auto o = static_cast<std::int64_t>(v[i]);
+          if (seen == 0 ? o != 0 : o < prev) throw malformed;
+          if (seen > 0) add_cell(o - prev);
+          prev = o;
+        }
+      });
+      (void)skip_to_token();
+      if (!iequals(s_.token(), "CONNECTIVITY")) throw malformed;
+      stream_index_array(b, kw + " CONNECTIVITY", check_ids);
+      if (a == 0 ? b != 0 : prev != static_cast<std::int64_t>(b)) throw malformed;
+      return;
+    }
+    // Classic layout: a count, then that many ids, `a` times in `b` values.
+    if (a > b) throw malformed;
+    std::size_t pos = 0, cells = 0;
+    std::int64_t left = 0;  // ids left in the current cell; 0: a count comes next
+    stream_numbers(ScalarType::Int32, b, 1, kw, [&](const void* values, std::size_t m) {
+      const auto* v = static_cast<const std::int32_t*>(values);
+      for (std::size_t i = 0; i < m;) {
+        if (left == 0) {
+          const std::int64_t k = v[i++];
+          ++pos;
+          if (cells == a || k < 0 || static_cast<std::uint64_t>(k) > b - pos) throw malformed;
+          ++cells;
+          add_cell(k);
+          left = k;
+          continue;
+        }
+        const std::size_t take = std::min<std::size_t>(m - i, static_cast<std::size_t>(left));
+        check_ids(v + i, take);
+        i += take;
+        pos += take;
+        left -= static_cast<std::int64_t>(take);
+      }
+    });
+    if (cells != a) throw malformed;
+  }
+
+  /// Streams `count` values of an integer legacy type (the type token next) to
+  /// `consume(const T* values, std::size_t n)`, as read_index_array reads them.
+  template <class Consume>
+  void stream_index_array(std::size_t count, const std::string& what, Consume&& consume) {
+    const std::string_view type = s_.require_token(what + " data type");
+    const auto lt = legacy_type(type);
+    if (!lt || lt->kind != LegacyType::Kind::Number || is_floating(lt->memory)) {
+      throw Error("");
+    }
+    visit_scalar_type(lt->file, [&](auto tag) {
+      using T = decltype(tag);
+      stream_numbers(lt->file, count, 1, what, [&](const void* v, std::size_t n) {
+        consume(static_cast<const T*>(v), n);
+      });
+    });
+    skip_metadata();
+  }
+
+  /// The cells of a section streamed by read_cell_section, read again (for the checks' errors);
+  /// the scanner is left where it was.
+  CellArray reread_cells(const std::string& kw, const Where& w, const StreamedCells& sec) {
+    const auto back = s_.mark();
+    s_.restore(sec.mark);
+    CellArray cells = read_cells(kw, w);
+    s_.restore(back);
+    return cells;
+  }
+
   /// The classic cell lists (see read_cells) from `raw` (binary), `raw_text` (ASCII, parsed)
   /// or, when not `buffered`, token by token from the scanner.
   CellArray classic_cells(const std::string& kw, const Where& w, std::size_t a, std::size_t b,
@@ -739,8 +892,17 @@ class LegacyReader {
     return cells;
   }
 
-  /// Checks ids against the point count and the minimum cell size, naming the section.
-  void check_cells(const CellSection& sec, std::size_t num_points) const {
+  /// Checks ids against the point count and the minimum cell size, naming the section. A
+  /// streamed section was checked as it went by; when it is suspect, its cells are read again
+  /// and checked here, so that the error is the reader's.
+  void check_cells(const CellSection& sec, std::size_t num_points) {
+    if (const auto it = streamed_cells_.find(sec.keyword);
+        it != streamed_cells_.end() && sec.cells->size() == 0) {
+      if (!it->second.suspect) return;
+      const CellArray cells = reread_cells(sec.keyword, sec.where, it->second);
+      check_cells({sec.keyword, sec.where, &cells, sec.min_size}, num_points);
+      return;
+    }
     try {
       sec.cells->validate(num_points, sec.keyword.c_str());
     } catch (const Error& e) {
@@ -901,7 +1063,7 @@ class LegacyReader {
                         "CELL_DATA");
       }
       std::string name(kw);
-      *cells = read_cells(name, w);
+      *cells = read_cell_section(name, w, min_size, false);
       sections.push_back({std::move(name), w, cells, min_size});
     }
     for (const CellSection& sec : sections) check_cells(sec, points_of(pd.points));
@@ -934,7 +1096,7 @@ class LegacyReader {
       if (iequals(kw, "POINTS")) {
         ug.points = read_points(w);
       } else if (iequals(kw, "CELLS")) {
-        ug.cells = read_cells("CELLS", w);
+        ug.cells = read_cell_section("CELLS", w, 0, true);
         cells_at = w;
       } else if (iequals(kw, "CELL_TYPES")) {
         ug.types = read_cell_types(w);
@@ -945,23 +1107,42 @@ class LegacyReader {
       }
     }
     if (cells_at) check_cells({"CELLS", *cells_at, &ug.cells, 0}, points_of(ug.points));
-    if (ug.types.size() != ug.cells.size()) {
+    const auto streamed = streamed_cells_.find("CELLS");
+    const StreamedCells* sec = streamed != streamed_cells_.end() ? &streamed->second : nullptr;
+    const std::size_t nc = sec ? static_cast<std::size_t>(sec->cells) : ug.cells.size();
+    if (ug.types.size() != nc) {
       fail_at(types_at ? *types_at : (cells_at ? *cells_at : here()),
               "CELL_TYPES lists " + str(static_cast<std::uint64_t>(ug.types.size())) +
-                  " types but CELLS has " + str(static_cast<std::uint64_t>(ug.cells.size())) +
-                  " cells");
+                  " types but CELLS has " + str(static_cast<std::uint64_t>(nc)) + " cells");
     }
-    for (std::size_t c = 0; c < ug.types.size(); ++c) {
+    // Each cell's size fits its type (a streamed section's sizes saturate at 255, more than any
+    // fixed size; on a mismatch its cells are read again for the message).
+    auto check_types = [&](const auto& size_of) {
+      for (std::size_t c = 0; c < ug.types.size(); ++c) {
+        const CellType t = ug.types[c];
+        const int fixed = cell_fixed_size(t);
+        const auto n = static_cast<std::int64_t>(size_of(c));
+        if ((fixed > 0 && n != fixed) || n < cell_min_size(t)) return c;
+      }
+      return ug.types.size();
+    };
+    auto fail_type = [&](std::size_t c, std::int64_t n) {
       const CellType t = ug.types[c];
       const int fixed = cell_fixed_size(t);
-      const auto n = static_cast<std::int64_t>(ug.cells.cell_size(c));
-      if ((fixed > 0 && n != fixed) || n < cell_min_size(t)) {
-        fail_at(*types_at, "cell " + str(static_cast<std::uint64_t>(c)) + " is a " +
-                               std::string(cell_type_name(t)) + " with " + str(n) +
-                               " points (needs " +
-                               (fixed > 0 ? str(fixed) : "at least " + str(cell_min_size(t))) +
-                               ")");
+      fail_at(*types_at, "cell " + str(static_cast<std::uint64_t>(c)) + " is a " +
+                             std::string(cell_type_name(t)) + " with " + str(n) +
+                             " points (needs " +
+                             (fixed > 0 ? str(fixed) : "at least " + str(cell_min_size(t))) + ")");
+    };
+    if (sec) {
+      if (check_types([&](std::size_t c) { return sec->sizes[c]; }) != ug.types.size()) {
+        const CellArray cells = reread_cells("CELLS", *cells_at, *sec);
+        const std::size_t c = check_types([&](std::size_t i) { return cells.cell_size(i); });
+        if (c != ug.types.size()) fail_type(c, static_cast<std::int64_t>(cells.cell_size(c)));
       }
+    } else if (const std::size_t c = check_types([&](std::size_t i) { return ug.cells.cell_size(i); });
+               c != ug.types.size()) {
+      fail_type(c, static_cast<std::int64_t>(ug.cells.cell_size(c)));
     }
     return ug;
   }
@@ -1015,7 +1196,7 @@ class LegacyReader {
 
   void read_attributes(Dataset& ds) {
     const std::size_t np = points_of(ds);
-    const std::size_t nc = num_cells(ds);
+    const std::size_t nc = cells_of(ds);
     Attributes* attrs = nullptr;
     std::size_t tuples = 0;
     std::string section;
@@ -1163,6 +1344,7 @@ class LegacyReader {
   bool summary_ = false;
   std::optional<ArraySummary> points_;
   std::array<std::vector<ArraySummary>, 3> streamed_;
+  std::map<std::string, StreamedCells, std::less<>> streamed_cells_;  // by section keyword
 };
 
 // ---------------------------------------------------------------------------------------------

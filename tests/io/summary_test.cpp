@@ -509,3 +509,93 @@ TEST(Summary, Plot3dErrorsAreTheReadersErrors) {
   write_plot3d<float>(scratch("other.xyz"), q, {90, 60, 54}, false, false);
   expect_same_error(xyz, with_q);
 }
+
+TEST(Summary, VtkLegacyCellSectionsStreamedWithTheReadersErrors) {
+  // Cell lists larger than a streamed piece (8 MiB binary, 64 Ki values of text), cells across
+  // piece boundaries, in both layouts and encodings.
+  PolyData pd;
+  const int n = 200'000;
+  for (int i = 0; i < n; ++i) pd.points.push_back({std::cos(i), std::sin(i), 1e-3 * i});
+  for (Index i = 0; i + 4 < n; i += 3) {
+    pd.polys.add({i, i + 1, i + 2});
+    if (i % 9 == 0) pd.polys.add({i, i + 2, i + 3, i + 4});
+    if (i % 15 == 0) pd.lines.add({i, i + 4});
+  }
+  UnstructuredGrid ug;
+  for (int i = 0; i < n; ++i) ug.points.push_back({double(i % 7), double(i % 11), 1e-3 * i});
+  for (Index i = 0; i + 8 < n; i += 5) {
+    ug.add_cell(CellType::Tetra, {i, i + 1, i + 2, i + 3});
+    if (i % 4 == 0) ug.add_cell(CellType::Hexahedron, {i, i + 1, i + 2, i + 3, i + 4, i + 5, i + 6, i + 7});
+  }
+  for (const bool binary : {true, false}) {
+    for (const std::string version : {"4.2", "5.1"}) {
+      WriteOptions o;
+      o.binary = binary;
+      o.vtk_legacy_version = version;
+      const fs::path p = scratch(std::string(binary ? "b" : "a") + version + ".vtk");
+      write(pd, p, o);
+      expect_streamed_as_read(p);
+      write(ug, p, o);
+      expect_streamed_as_read(p);
+    }
+  }
+
+  // Errors found while streaming (a section's structure), after it (ids, minimum sizes, types
+  // against sizes) and with two errors in a file: the same messages as the reader's.
+  const std::string head = "# vtk DataFile Version 4.2\nt\nASCII\nDATASET ";
+  const std::string points = "POINTS 4 float\n0 0 0 1 0 0 0 1 0 1 1 0\n";
+  const std::vector<std::string> bad = {
+      "POLYDATA\n" + points + "POLYGONS 2 8\n3 0 1 2\n3 1 3 4\n",    // id out of range
+      "POLYDATA\n" + points + "POLYGONS 2 7\n3 0 1 2\n2 1 3\n",      // too few points
+      "POLYDATA\n" + points + "POLYGONS 2 8\n3 0 1 2\n5 1 3 2\n",    // count beyond the size
+      "POLYDATA\n" + points + "POLYGONS 1 8\n3 0 1 2\n3 1 3 2\n",    // values beyond the cells
+      "POLYDATA\n" + points + "POLYGONS 3 8\n3 0 1 2\n3 1 3 2\n",    // cells beyond the size
+      "POLYDATA\n" + points + "POLYGONS 2 8\n3 0 1 2\n3 1 x 2\n",    // a bad token
+      "POLYDATA\n" + points + "POLYGONS 1 4\n3 0 1 9\nLINES 1 3\n5 0 1\n",  // two errors
+      "POLYDATA\n" + points + "POLYGONS 3 6\nOFFSETS vtktypeint64\n0 3 2\n"
+                              "CONNECTIVITY vtktypeint64\n0 1 2 1 3 2\n",  // offsets decrease
+      "POLYDATA\n" + points + "POLYGONS 3 6\nOFFSETS vtktypeint64\n0 3 6\n"
+                              "CONNECTIVITY vtktypeint64\n0 1 2 1 3 7\n",  // id out of range
+      "POLYDATA\n" + points + "POLYGONS 3 5\nOFFSETS vtktypeint64\n0 3 6\n"
+                              "CONNECTIVITY vtktypeint64\n0 1 2 1 3\n",  // last offset
+      "POLYDATA\n" + points + "POLYGONS 3 6\nOFFSETS float\n0 3 6\n"
+                              "CONNECTIVITY vtktypeint64\n0 1 2 1 3 2\n",  // not integers
+      "UNSTRUCTURED_GRID\n" + points + "CELLS 1 5\n4 0 1 2 3\nCELL_TYPES 1\n5\n",  // a 4-point triangle
+      "UNSTRUCTURED_GRID\n" + points + "CELLS 2 8\n3 0 1 2\n3 1 3 2\nCELL_TYPES 1\n5\n",
+      "UNSTRUCTURED_GRID\n" + points + "CELLS 2 7\nOFFSETS vtktypeint64\n0 3\n"
+                                       "CONNECTIVITY vtktypeint64\n0 -1 2\nCELL_TYPES 1\n5\n",
+      "UNSTRUCTURED_GRID\n" + points + "CELL_TYPES 1\n10\nCELLS 1 4\n3 0 1 2\n",  // types first
+  };
+  const fs::path p = scratch("bad.vtk");
+  for (const std::string& body : bad) {
+    SCOPED_TRACE(body);
+    std::ofstream(p, std::ios::binary | std::ios::trunc) << head << body;
+    expect_same_error(p);
+  }
+  // The binary layout: a point id and a cell size changed in place.
+  for (const std::string version : {"4.2", "5.1"}) {
+    WriteOptions o;
+    o.vtk_legacy_version = version;
+    for (int change = 0; change < 2; ++change) {
+      write(mixed_grid(), p, o);
+      std::string text;
+      {
+        std::ifstream in(p, std::ios::binary);
+        text.assign(std::istreambuf_iterator<char>(in), {});
+      }
+      const std::size_t at = text.find('\n', text.find(version == "4.2" ? "CELLS " : "CONNECTIVITY")) + 1;
+      // 4.2: the hexahedron's count (8 -> 7) or its first id; 5.1: the first id (int64).
+      const std::size_t width = version == "4.2" ? 4 : 8;
+      const std::size_t where = at + (change == 1 && version == "4.2" ? 0 : (version == "4.2" ? width : 0));
+      text[where + width - 1] = static_cast<char>(change == 1 && version == "4.2" ? 7 : 99);
+      std::ofstream(p, std::ios::binary | std::ios::trunc) << text;
+      SCOPED_TRACE(version + " change " + std::to_string(change));
+      expect_same_error(p);
+    }
+  }
+  // Points after the cells: the cells are read (their ids can only be checked then).
+  std::ofstream(p, std::ios::binary | std::ios::trunc)
+      << head << "POLYDATA\nPOLYGONS 2 8\n3 0 1 2\n3 1 3 2\n" << points
+      << "CELL_DATA 2\nSCALARS c int 1\nLOOKUP_TABLE default\n4 5\n";
+  expect_streamed_as_read(p);
+}

@@ -96,9 +96,9 @@ struct WriteOptions {
 [[nodiscard]] Dataset read(const std::filesystem::path& path, const ReadOptions& options = {});
 
 /// What a file holds (core/summary.hpp), read in one streaming pass without loading its arrays or
-/// its connectivity: VTK XML (arrays in ascii text are parsed whole), VTK legacy (cells read),
-/// binary PLY, OFF, NRRD, MetaImage and PLOT3D (with `options.plot3d_q`); the other formats are
-/// read and summarised. \throw Error as `read` does.
+/// its connectivity: VTK XML (arrays in ascii text are parsed whole), VTK legacy (cells listed
+/// before the points are read), binary PLY, OFF, NRRD, MetaImage and PLOT3D (with
+/// `options.plot3d_q`); the other formats are read and summarised. \throw Error as `read` does.
 [[nodiscard]] DatasetSummary summarize_file(const std::filesystem::path& path,
                                             const ReadOptions& options = {});
 
