@@ -411,7 +411,9 @@ void read_conditions(const io_detail::FileSource& q, const std::string& q_name, 
 template <class T>
 void read_points(StructuredGrid& grid, const io_detail::FileSource& xyz, const std::string& name,
                  const Layout& l, io_detail::Progress* progress, std::uint64_t base) {
-  grid.points = Points(l.count, l.prec == 8 ? ScalarType::Float64 : ScalarType::Float32);
+  // Not zero-filled: every block writes its points.
+  grid.points = Points(DataArray::uninitialized(
+      "Points", l.prec == 8 ? ScalarType::Float64 : ScalarType::Float32, 3, l.count));
   T* p = grid.points.array().values<T>().data();
   const PlaneFile f{xyz, l.header_bytes, l.count, l.endian != io_detail::kHostEndian};
   FirstBad bad;

@@ -698,7 +698,8 @@ class PlyReader {
       dbl = dbl || vertex_props_[static_cast<std::size_t>(a)].type == ScalarType::Float64;
       used[static_cast<std::size_t>(a)] = true;
     }
-    mesh.points = Points(n, dbl ? ScalarType::Float64 : ScalarType::Float32);
+    mesh.points = Points(  // every point set below
+        DataArray::uninitialized("Points", dbl ? ScalarType::Float64 : ScalarType::Float32, 3, n));
     for (std::size_t i = 0; i < n; ++i) {
       Vec3 p{vertex_arrays_[static_cast<std::size_t>(ix)].get(i),
              vertex_arrays_[static_cast<std::size_t>(iy)].get(i),

@@ -1044,9 +1044,11 @@ std::optional<DataArray> Reader::read_array(pugi::xml_node el, const XmlWhere& w
   std::string storage;
   std::optional<ByteSource> src = payload_source(el, w, *h, dw, storage);
 
+  // Not zero-filled: read_payload writes every byte (a raw payload is read whole, and every
+  // block must decode to exactly its size), and zeroing first doubled the pages' first touch.
   std::optional<DataArray> out;
   WholeTarget target([&](std::uint64_t n) -> std::byte* {
-    out.emplace(name, type, ncomp, static_cast<std::size_t>(n / unit));
+    out.emplace(DataArray::uninitialized(name, type, ncomp, static_cast<std::size_t>(n / unit)));
     return out->bytes();
   });
   read_payload(*src, dw, bytes, unit, target);
