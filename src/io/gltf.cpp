@@ -20,6 +20,7 @@
 #include <set>
 
 #include "detail/draco_codec.hpp"
+#include "detail/file_source.hpp"
 #include "detail/json.hpp"
 #include "isoforge/core/append.hpp"
 #include "isoforge/core/normals.hpp"
@@ -878,8 +879,10 @@ class GlbReader {
     bool normalized = false;
   };
 
-  // Reads accessor `a` as doubles (normalized integers mapped to [0, 1]), `count * components`.
-  std::vector<double> read_accessor(std::size_t a, Accessor& info) {
+  // Calls `start(info)` once the accessor is checked, then put(k, value) for its `count *
+  // components` values in order as doubles (normalized integers mapped to [0, 1]).
+  template <class Start, class Put>
+  void visit_accessor(std::size_t a, Accessor& info, Start&& start, Put&& put) {
     const Json& acc = element("accessors", a);
     const std::string what = "accessors " + std::to_string(a);
     info.component_type = static_cast<int>(index(acc, "componentType", what, 5127));
@@ -911,7 +914,6 @@ class GlbReader {
       default:
         fail(what + ": unknown componentType " + std::to_string(info.component_type));
     }
-    std::vector<double> out;
     if (!acc.find("bufferView")) fail(what + ": accessors without a bufferView are not supported");
     const std::size_t v = index(acc, "bufferView", what, std::size_t{1} << 32);
     const auto bytes = view(v);
@@ -926,7 +928,7 @@ class GlbReader {
       fail(what + ": " + std::to_string(info.count) + " elements run past bufferView " +
            std::to_string(v));
     }
-    out.resize(info.count * static_cast<std::size_t>(info.components));
+    start(info);
     for (std::size_t i = 0; i < info.count; ++i) {
       const std::byte* p = bytes.data() + offset + i * stride;
       for (int c = 0; c < info.components; ++c, p += size) {
@@ -968,9 +970,17 @@ class GlbReader {
             value = x;
           }
         }
-        out[i * static_cast<std::size_t>(info.components) + static_cast<std::size_t>(c)] = value;
+        put(i * static_cast<std::size_t>(info.components) + static_cast<std::size_t>(c), value);
       }
     }
+  }
+
+  // Accessor `a` as doubles, `count * components` of them.
+  std::vector<double> read_accessor(std::size_t a, Accessor& info) {
+    std::vector<double> out;
+    visit_accessor(
+        a, info, [&](const Accessor& i) { out.resize(i.count * static_cast<std::size_t>(i.components)); },
+        [&](std::size_t k, double v) { out[k] = v; });
     return out;
   }
 
@@ -1048,13 +1058,16 @@ class GlbReader {
                          const std::string& scalars_name) {
     PolyData pd;
     Accessor info;
-    const auto positions =
-        read_accessor(index(attributes, "POSITION", what, std::size_t{1} << 32), info);
-    if (info.components != 3) fail(what + ": POSITION is not VEC3");
+    float* floats = nullptr;
+    visit_accessor(
+        index(attributes, "POSITION", what, std::size_t{1} << 32), info,
+        [&](const Accessor& i) {
+          if (i.components != 3) fail(what + ": POSITION is not VEC3");
+          pd.points = Points(DataArray::uninitialized("Points", ScalarType::Float32, 3, i.count));
+          floats = pd.points.floats().data();
+        },
+        [&](std::size_t k, double v) { floats[k] = static_cast<float>(v); });
     const std::size_t n = info.count;
-    pd.points = Points(n);
-    auto floats = pd.points.floats();
-    for (std::size_t i = 0; i < 3 * n; ++i) floats[i] = static_cast<float>(positions[i]);
     for (const auto& [semantic, value] : attributes.as_object()) {
       if (semantic == "POSITION") continue;
       if (!value.is_number()) fail(what + ": attribute " + semantic + " is not an accessor index");
@@ -1148,17 +1161,20 @@ class GlbReader {
       std::vector<std::uint32_t> idx;
       if (prim.find("indices")) {
         Accessor info;
-        const auto values = read_accessor(index(prim, "indices", pw, std::size_t{1} << 32), info);
-        if (info.components != 1 || info.component_type == kFloat)
-          fail(pw + ": indices are not integer scalars");
-        idx.reserve(values.size());
-        for (const double v : values) {
-          if (v >= static_cast<double>(n)) {
-            fail(pw + ": index " + std::to_string(static_cast<std::uint64_t>(v)) +
-                 " >= " + std::to_string(n) + " vertices");
-          }
-          idx.push_back(static_cast<std::uint32_t>(v));
-        }
+        visit_accessor(
+            index(prim, "indices", pw, std::size_t{1} << 32), info,
+            [&](const Accessor& i) {
+              if (i.components != 1 || i.component_type == kFloat)
+                fail(pw + ": indices are not integer scalars");
+              idx.resize(i.count);
+            },
+            [&](std::size_t k, double v) {
+              if (v >= static_cast<double>(n)) {
+                fail(pw + ": index " + std::to_string(static_cast<std::uint64_t>(v)) + " >= " +
+                     std::to_string(n) + " vertices");
+              }
+              idx[k] = static_cast<std::uint32_t>(v);
+            });
       } else {
         idx.resize(n);
         for (std::size_t i = 0; i < n; ++i) idx[i] = static_cast<std::uint32_t>(i);
@@ -1171,6 +1187,15 @@ class GlbReader {
         cells.add(std::span<const Index>(tmp, k));
       };
       const std::size_t c = idx.size();
+      // The cells' room at once (not grown cell by cell: twice the memory while doubling).
+      const auto reserve = [](CellArray& cells, std::size_t more, std::size_t ids) {
+        cells.reserve(cells.size() + more, cells.connectivity().size() + ids * more);
+      };
+      if (mode == kModePoints) reserve(verts[set], c, 1);
+      if (mode == kModeLines) reserve(lines[set], c / 2, 2);
+      if (mode == kModeLineStrip || mode == kModeLineLoop) reserve(lines[set], c, 2);
+      if (mode == kModeTriangles) reserve(polys[set], c / 3, 3);
+      if (mode >= kModeTriangleStrip) reserve(polys[set], c, 3);
       switch (mode) {
         case kModePoints:
           for (const auto i : idx) cell(verts[set], {i});
@@ -1254,8 +1279,8 @@ GltfContent read_gltf(std::span<const std::byte> data, std::string_view name) {
 }
 
 GltfContent read_gltf(const std::filesystem::path& path) {
-  const auto bytes = read_file_bytes(path);
-  return read_gltf(bytes, path.string());
+  const io_detail::MappedFile file(path);  // (not copied: the reader takes views of it)
+  return read_gltf(file.bytes(), path.string());
 }
 
 }  // namespace isoforge
