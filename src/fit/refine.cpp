@@ -30,6 +30,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "isoforge/core/closest_point.hpp"
@@ -262,9 +263,61 @@ struct Measure {
   double rms = 0, hausdorff = 0;
 };
 
+// Nearest-triangle queries that start from a nearby answer: the triangles also sit in a grid
+// of cells about twice their mean edge long, and a query whose ball (about its candidate) fits
+// in a cell looks at the few triangles there instead of walking the tree from its root. The
+// answer is the locator's: the lowest (squared distance, id).
+class NearTriangles {
+ public:
+  NearTriangles(const PrimitiveSet& set, const PrimitiveLocator& locator,
+                const std::vector<Vec3>& v, const std::vector<Tri>& tris)
+      : set_(set), locator_(locator) {
+    if (tris.empty()) return;
+    Bounds b;
+    double edge_sum = 0;
+    for (const Tri& t : tris) {
+      for (int k = 0; k < 3; ++k) b.extend(v[t[k]]);
+      edge_sum += norm(v[t[1]] - v[t[0]]);
+    }
+    grid_ = std::make_unique<TriangleGrid>(
+        b, triangle_grid_cell_size(b, tris.size(), edge_sum / double(tris.size())));
+    for (std::size_t f = 0; f < tris.size(); ++f) {
+      Bounds tb;
+      for (int k = 0; k < 3; ++k) tb.extend(v[tris[f][k]]);
+      grid_->insert(std::uint32_t(f), tb.min, tb.max);
+    }
+  }
+
+  /// The nearest triangle to y given a candidate `c` (an id and its squared distance).
+  void nearest(const Vec3& y, ClosestPrimitive& c) const {
+    // (Enlarged a little: the rounding of the root must not shrink the ball.)
+    const double r = std::sqrt(c.dist2) * (1 + 1e-9) + 1e-300;
+    if (!grid_ || !(r <= grid_->cell_size())) {
+      locator_.nearest(y, c.dist2, c);
+      return;
+    }
+    const std::size_t tb = set_.triangle_begin();
+    const Vec3 d{r, r, r};
+    grid_->for_each_candidate(y - d, y + d, [&](std::uint32_t f) {
+      const auto id = PrimitiveSet::Id(tb + f);
+      const double d2 = set_.dist2(id, y);
+      if (d2 < c.dist2 || (d2 == c.dist2 && id < c.id)) {
+        c.dist2 = d2;
+        c.id = id;
+      }
+    });
+  }
+
+ private:
+  const PrimitiveSet& set_;
+  const PrimitiveLocator& locator_;
+  std::unique_ptr<TriangleGrid> grid_;
+};
+
 struct Original {
   PrimitiveSet set;
   std::unique_ptr<PrimitiveLocator> locator;
+  std::unique_ptr<NearTriangles> near;
   std::vector<Vec3> normals;  // unit normal of each triangle (0 if degenerate)
 };
 
@@ -289,6 +342,8 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
   std::vector<std::array<PrimitiveSet::Id, 3>> t(tris.begin(), tris.end());
   const PrimitiveSet set(pos, {}, {}, std::move(t));
   const PrimitiveLocator loc(set);
+  std::optional<NearTriangles> near;
+  if (prev) near.emplace(set, loc, pos, tris);
   m.fwd.resize(samples.size());
   parallel_for_range(samples.size(), 1024, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
@@ -296,7 +351,7 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
       if (prev) {
         c.id = set.triangle_begin() + prev->fwd[i].tri;
         c.dist2 = set.dist2(c.id, samples[i]);
-        loc.nearest(samples[i], c.dist2, c);
+        near->nearest(samples[i], c);
       } else {
         c = loc.closest(samples[i]);
       }
@@ -318,7 +373,7 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
         if (prev) {
           c.id = PrimitiveSet::Id(tb + prev->rev[nr * f + k].tri);
           c.dist2 = orig.set.dist2(c.id, y);
-          orig.locator->nearest(y, c.dist2, c);
+          orig.near->nearest(y, c);
         } else {
           c = orig.locator->closest(y);
         }
@@ -351,7 +406,7 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
       if (prev) {
         c.id = PrimitiveSet::Id(tb + prev->vert[v].tri);
         c.dist2 = orig.set.dist2(c.id, pos[v]);
-        orig.locator->nearest(pos[v], c.dist2, c);
+        orig.near->nearest(pos[v], c);
       } else {
         c = orig.locator->closest(pos[v]);
       }
@@ -364,6 +419,32 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
   for (const Reverse& r : m.vert) mx = std::max(mx, r.dist2);
   m.hausdorff = std::sqrt(mx);
   return m;
+}
+
+// Adds the sparse energy samples' correspondences to `m`, measured without them at the same
+// positions (what measure(..., true) would add: the rest is the same). Each query starts from
+// the triangle of the face's first dense sample, near by.
+void add_sparse(Measure& m, const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
+                const ReverseSamples& rs, const Original& orig) {
+  const std::size_t nr = rs.bary.size();
+  const std::size_t tb = orig.set.triangle_begin();
+  const auto& ov = orig.set.vertices();
+  parallel_for_range(tris.size(), 256, [&](std::size_t b, std::size_t e) {
+    for (std::size_t f = b; f < e; ++f) {
+      for (std::size_t k = rs.energy_begin; k < rs.measure_begin; ++k) {
+        const Bary& w = rs.bary[k];
+        const Vec3 y = w[0] * pos[tris[f][0]] + w[1] * pos[tris[f][1]] + w[2] * pos[tris[f][2]];
+        ClosestPrimitive c;
+        c.id = PrimitiveSet::Id(tb + m.rev[nr * f + rs.measure_begin].tri);
+        c.dist2 = orig.set.dist2(c.id, y);
+        orig.near->nearest(y, c);
+        const auto& ot = orig.set.triangles()[c.id - tb];
+        const TriangleClosest q = closest_on_triangle(y, ov[ot[0]], ov[ot[1]], ov[ot[2]]);
+        m.rev[nr * f + k] = {q.point, orig.normals[c.id - tb], q.dist2, Id(c.id - tb)};
+      }
+    }
+  });
+  m.sparse = true;
 }
 
 // ---- the linear least-squares terms (analytic derivatives) ----
@@ -747,6 +828,7 @@ RefineResult refine_mesh(const PolyData& original, const PolyData& simplified,
     std::vector<std::array<PrimitiveSet::Id, 3>> t(otris.begin(), otris.end());
     orig.set = PrimitiveSet(overts, {}, {}, std::move(t));
     orig.locator = std::make_unique<PrimitiveLocator>(orig.set);
+    orig.near = std::make_unique<NearTriangles>(orig.set, *orig.locator, overts, otris);
     orig.normals.resize(otris.size());
     for (std::size_t f = 0; f < otris.size(); ++f) {
       const Vec3 n = cross(overts[otris[f][1]] - overts[otris[f][0]],
@@ -804,8 +886,7 @@ RefineResult refine_mesh(const PolyData& original, const PolyData& simplified,
     const double hlimit = plain ? current.hausdorff : stats.hausdorff_before;
     const bool sparse = it % 2 == 0;
     // Trial positions are measured on the dense samples only; the sparse ones when needed.
-    if (sparse && !current.sparse)
-      current = measure(pos, tris, samples, rsamples, used, orig, true, &current);
+    if (sparse && !current.sparse) add_sparse(current, pos, tris, rsamples, orig);
     const auto t0 = Clock::now();
     const std::vector<Vec3> solved =
         solve_positions(pos, tris, edges, samples, rsamples, current, fixed, o, sparse, plain);
