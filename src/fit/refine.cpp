@@ -30,6 +30,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <vector>
 
@@ -269,7 +270,8 @@ struct Measure {
 // answer is the locator's: the lowest (squared distance, id).
 class NearTriangles {
  public:
-  NearTriangles(const PrimitiveSet& set, const PrimitiveLocator& locator,
+  /// `locator` over `set`, or null: then one is built when a query first needs it.
+  NearTriangles(const PrimitiveSet& set, const PrimitiveLocator* locator,
                 const std::vector<Vec3>& v, const std::vector<Tri>& tris)
       : set_(set), locator_(locator) {
     if (tris.empty()) return;
@@ -293,7 +295,7 @@ class NearTriangles {
     // (Enlarged a little: the rounding of the root must not shrink the ball.)
     const double r = std::sqrt(c.dist2) * (1 + 1e-9) + 1e-300;
     if (!grid_ || !(r <= grid_->cell_size())) {
-      locator_.nearest(y, c.dist2, c);
+      locator().nearest(y, c.dist2, c);
       return;
     }
     const std::size_t tb = set_.triangle_begin();
@@ -309,8 +311,16 @@ class NearTriangles {
   }
 
  private:
+  const PrimitiveLocator& locator() const {
+    if (locator_) return *locator_;
+    std::call_once(built_, [this] { own_ = std::make_unique<PrimitiveLocator>(set_); });
+    return *own_;
+  }
+
   const PrimitiveSet& set_;
-  const PrimitiveLocator& locator_;
+  const PrimitiveLocator* locator_;
+  mutable std::once_flag built_;
+  mutable std::unique_ptr<PrimitiveLocator> own_;
   std::unique_ptr<TriangleGrid> grid_;
 };
 
@@ -341,9 +351,14 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
     for (double& a : m.area) a *= double(tris.size()) / area_sum;
   std::vector<std::array<PrimitiveSet::Id, 3>> t(tris.begin(), tris.end());
   const PrimitiveSet set(pos, {}, {}, std::move(t));
-  const PrimitiveLocator loc(set);
+  // From a previous answer through the grid (a tree only if a query needs it), else the tree.
+  std::optional<PrimitiveLocator> loc;
   std::optional<NearTriangles> near;
-  if (prev) near.emplace(set, loc, pos, tris);
+  if (prev) {
+    near.emplace(set, nullptr, pos, tris);
+  } else {
+    loc.emplace(set);
+  }
   m.fwd.resize(samples.size());
   parallel_for_range(samples.size(), 1024, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
@@ -353,7 +368,7 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
         c.dist2 = set.dist2(c.id, samples[i]);
         near->nearest(samples[i], c);
       } else {
-        c = loc.closest(samples[i]);
+        c = loc->closest(samples[i]);
       }
       const Id f = c.id - set.triangle_begin();
       const Tri& tr = tris[f];
@@ -828,7 +843,7 @@ RefineResult refine_mesh(const PolyData& original, const PolyData& simplified,
     std::vector<std::array<PrimitiveSet::Id, 3>> t(otris.begin(), otris.end());
     orig.set = PrimitiveSet(overts, {}, {}, std::move(t));
     orig.locator = std::make_unique<PrimitiveLocator>(orig.set);
-    orig.near = std::make_unique<NearTriangles>(orig.set, *orig.locator, overts, otris);
+    orig.near = std::make_unique<NearTriangles>(orig.set, orig.locator.get(), overts, otris);
     orig.normals.resize(otris.size());
     for (std::size_t f = 0; f < otris.size(); ++f) {
       const Vec3 n = cross(overts[otris[f][1]] - overts[otris[f][0]],
