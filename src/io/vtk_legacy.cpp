@@ -226,7 +226,12 @@ struct StreamedCells {
   std::uint64_t cells = 0;
   std::map<std::int64_t, std::uint64_t> by_size;  // cells of each size (polygonal data)
   std::vector<std::uint8_t> sizes;  // each cell's size, 255 for 255 or more (unstructured grids)
-  bool suspect = false;  // a point id out of range, or a cell below the section's minimum size
+  std::int64_t min_id = 0, max_id = -1;  // of its point ids (checked when the points are known)
+  bool short_cell = false;  // a cell below the section's minimum size
+  /// Whether the reader's checks would fail on it, with `points` points.
+  [[nodiscard]] bool suspect(std::size_t points) const {
+    return short_cell || min_id < 0 || max_id >= static_cast<std::int64_t>(points);
+  }
 };
 
 class LegacyReader {
@@ -720,16 +725,17 @@ class LegacyReader {
     }
   }
 
-  /// A cell section after its keyword, as read_cells reads it. In summary mode, once the points
-  /// are known, it is streamed instead (stream_cells) and an empty array returned; a section
-  /// the stream finds malformed is read again by read_cells, which gives the reader's error.
+  /// A cell section after its keyword, as read_cells reads it. In summary mode it is streamed
+  /// instead (stream_cells) and an empty array returned; a section the stream finds malformed
+  /// is read again by read_cells, which gives the reader's error. Its ids are checked when the
+  /// reader checks them, against the final point count (check_cells).
   CellArray read_cell_section(const std::string& kw, const Where& w, int min_size,
                               bool keep_sizes) {
-    if (!summary_ || !points_) return read_cells(kw, w);
+    if (!summary_) return read_cells(kw, w);
     StreamedCells sec;
     sec.mark = s_.mark();
     try {
-      stream_cells(kw, sec, points_->tuples, min_size, keep_sizes);
+      stream_cells(kw, sec, min_size, keep_sizes);
     } catch (const Cancelled&) {
       throw;
     } catch (const Error&) {
@@ -742,18 +748,16 @@ class LegacyReader {
   }
 
   /// Streams a cell section (the layouts of read_cells) without storing it: counts its cells
-  /// by size, flags ids outside [0, `np`) and cells below `min_size` as suspect. Throws a bare
-  /// Error on anything read_cells rejects (read_cell_section then lets read_cells say why).
-  void stream_cells(const std::string& kw, StreamedCells& sec, std::size_t np, int min_size,
-                    bool keep_sizes) {
+  /// by size, keeps the range of its point ids and whether a cell is below `min_size`. Throws a
+  /// bare Error on anything read_cells rejects (read_cell_section then lets read_cells say why).
+  void stream_cells(const std::string& kw, StreamedCells& sec, int min_size, bool keep_sizes) {
     const std::size_t a = s_.parse_count(kw + " count", binary_ ? 1 : 2);
     const std::size_t b = s_.parse_count(kw + " size", binary_ ? 1 : 2);
-    const auto n = static_cast<std::int64_t>(np);
     std::int64_t last_size = -1;
     std::uint64_t* last_count = nullptr;
     auto add_cell = [&](std::int64_t size) {
       ++sec.cells;
-      if (size < min_size) sec.suspect = true;
+      if (size < min_size) sec.short_cell = true;
       if (keep_sizes) {
         sec.sizes.push_back(static_cast<std::uint8_t>(std::min<std::int64_t>(size, 255)));
       } else {
@@ -765,12 +769,14 @@ class LegacyReader {
       }
     };
     auto check_ids = [&](const auto* v, std::size_t m) {
-      bool ok = true;
+      std::int64_t lo = sec.min_id, hi = sec.max_id;
       for (std::size_t i = 0; i < m; ++i) {
         const auto id = static_cast<std::int64_t>(v[i]);
-        ok &= id >= 0 && id < n;
+        lo = std::min(lo, id);
+        hi = std::max(hi, id);
       }
-      if (!ok) sec.suspect = true;
+      sec.min_id = lo;
+      sec.max_id = hi;
     };
     const Error malformed("");
     if (iequals(s_.peek_token(), "OFFSETS")) {
@@ -898,7 +904,7 @@ class LegacyReader {
   void check_cells(const CellSection& sec, std::size_t num_points) {
     if (const auto it = streamed_cells_.find(sec.keyword);
         it != streamed_cells_.end() && sec.cells->size() == 0) {
-      if (!it->second.suspect) return;
+      if (!it->second.suspect(num_points)) return;
       const CellArray cells = reread_cells(sec.keyword, sec.where, it->second);
       check_cells({sec.keyword, sec.where, &cells, sec.min_size}, num_points);
       return;

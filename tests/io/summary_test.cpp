@@ -593,9 +593,21 @@ TEST(Summary, VtkLegacyCellSectionsStreamedWithTheReadersErrors) {
       expect_same_error(p);
     }
   }
-  // Points after the cells: the cells are read (their ids can only be checked then).
+  // Points after the cells (their ids checked once the points are known), valid and not; two
+  // POINTS sections, the ids checked against the last.
   std::ofstream(p, std::ios::binary | std::ios::trunc)
       << head << "POLYDATA\nPOLYGONS 2 8\n3 0 1 2\n3 1 3 2\n" << points
       << "CELL_DATA 2\nSCALARS c int 1\nLOOKUP_TABLE default\n4 5\n";
+  expect_streamed_as_read(p);
+  std::ofstream(p, std::ios::binary | std::ios::trunc)
+      << head << "POLYDATA\nPOLYGONS 2 8\n3 0 1 2\n3 1 3 4\n" << points;
+  expect_same_error(p);
+  std::ofstream(p, std::ios::binary | std::ios::trunc)
+      << head << "POLYDATA\nPOINTS 5 float\n0 0 0 1 0 0 0 1 0 1 1 0 2 2 2\nPOLYGONS 1 4\n3 0 1 4\n"
+      << points;
+  expect_same_error(p);
+  std::ofstream(p, std::ios::binary | std::ios::trunc)
+      << head << "POLYDATA\n" << points << "POLYGONS 1 4\n3 0 1 4\n"
+      << "POINTS 5 float\n0 0 0 1 0 0 0 1 0 1 1 0 2 2 2\n";
   expect_streamed_as_read(p);
 }
