@@ -5,13 +5,16 @@
 // momentum components and stagnation energy per point. Layout and byte order are detected from
 // the file size (the only unambiguous evidence a binary PLOT3D file carries).
 
+#include <tbb/enumerable_thread_specific.h>
+
+#include <array>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <mutex>
-#include <cstdint>
-#include <cstring>
 #include <optional>
 #include <string>
 #include <vector>
@@ -223,13 +226,20 @@ void for_blocks(std::size_t count, io_detail::Progress* progress, std::uint64_t 
   }
 }
 
-/// A block's scratch values: one buffer per thread and slot, reused.
-template <class T, int Slot = 0>
-T* scratch(std::size_t n) {
-  thread_local std::vector<std::byte> buffer;
-  if (buffer.size() < n * sizeof(T)) buffer.resize(n * sizeof(T));
-  return reinterpret_cast<T*>(buffer.data());
-}
+/// The scratch values of blocks: buffers per thread (two slots), reused by the blocks of one read
+/// and freed with it.
+class Scratch {
+ public:
+  template <class T>
+  T* get(std::size_t slot, std::size_t n) {
+    std::vector<std::byte>& b = local_.local()[slot];
+    if (b.size() < n * sizeof(T)) b.resize(n * sizeof(T));
+    return reinterpret_cast<T*>(b.data());
+  }
+
+ private:
+  tbb::enumerable_thread_specific<std::array<std::vector<std::byte>, 2>> local_;
+};
 
 /// The planes of one file: `planes` arrays of `count` values of T from byte `start`.
 struct PlaneFile {
@@ -278,8 +288,9 @@ bool all_finite(const T* v, std::size_t n) {
 /// Points [first, first + n) of the grid, interleaved into `xyz`; a non-finite coordinate is
 /// offered to `bad` as plane × count + point.
 template <class T>
-void grid_block(const PlaneFile& f, std::size_t first, std::size_t n, T* xyz, FirstBad& bad) {
-  T* c = scratch<T>(3 * n);
+void grid_block(const PlaneFile& f, std::size_t first, std::size_t n, T* xyz, FirstBad& bad,
+                Scratch& scratch) {
+  T* c = scratch.get<T>(0, 3 * n);
   for (int a = 0; a < 3; ++a) {
     T* plane = c + static_cast<std::size_t>(a) * n;
     f.load(a, first, n, plane);
@@ -325,8 +336,8 @@ struct QBlock {
 /// precision from the stored values).
 template <class T>
 void q_block(const PlaneFile& f, std::size_t first, std::size_t n, double gm1,
-             const QBlock<T>& out) {
-  T* m = scratch<T>(3 * n);
+             const QBlock<T>& out, Scratch& scratch) {
+  T* m = scratch.get<T>(0, 3 * n);
   f.load(0, first, n, out.density);
   for (int a = 0; a < 3; ++a) f.load(1 + a, first, n, m + static_cast<std::size_t>(a) * n);
   f.load(4, first, n, out.energy);
@@ -417,8 +428,11 @@ void read_points(StructuredGrid& grid, const io_detail::FileSource& xyz, const s
   T* p = grid.points.array().values<T>().data();
   const PlaneFile f{xyz, l.header_bytes, l.count, l.endian != io_detail::kHostEndian};
   FirstBad bad;
+  Scratch scratch;
   for_blocks(l.count, progress, base + l.header_bytes, 3 * l.prec,
-             [&](std::size_t first, std::size_t n) { grid_block(f, first, n, p + 3 * first, bad); });
+             [&](std::size_t first, std::size_t n) {
+               grid_block(f, first, n, p + 3 * first, bad, scratch);
+             });
   if (const auto k = bad.get()) fail_non_finite(name, l, *k);
 }
 
@@ -434,11 +448,13 @@ void read_solution(StructuredGrid& grid, const io_detail::FileSource& q, const L
                      arrays[2].values<T>().data(), arrays[3].values<T>().data(),
                      arrays[4].values<T>().data()};
   const PlaneFile f{q, q_start(l), l.count, l.endian != io_detail::kHostEndian};
+  Scratch scratch;
   for_blocks(l.count, progress, base + q_start(l), 5 * l.prec,
              [&](std::size_t first, std::size_t n) {
                q_block(f, first, n, gm1,
                        QBlock<T>{at.density + first, at.momentum + 3 * first, at.energy + first,
-                                 at.velocity + 3 * first, at.pressure + first});
+                                 at.velocity + 3 * first, at.pressure + first},
+                       scratch);
              });
   grid.point_data.add(std::move(arrays[0]), AttributeRole::Scalars);
   grid.point_data.add(std::move(arrays[1]), AttributeRole::Vectors);
@@ -494,9 +510,10 @@ ArraySummary stream_points(const io_detail::FileSource& xyz, const std::string& 
   FirstBad bad;
   std::mutex mutex;
   ValueRanges ranges(3);
+  Scratch scratch;
   for_blocks(l.count, progress, l.header_bytes, 3 * l.prec, [&](std::size_t first, std::size_t n) {
-    T* xyz_block = scratch<T, 1>(3 * n);
-    grid_block(f, first, n, xyz_block, bad);
+    T* xyz_block = scratch.get<T>(1, 3 * n);
+    grid_block(f, first, n, xyz_block, bad, scratch);
     ValueRanges r(3);
     r.add(type, xyz_block, n);
     const std::lock_guard lock(mutex);
@@ -515,11 +532,12 @@ std::vector<ArraySummary> stream_solution(const io_detail::FileSource& q, const 
   std::vector<ValueRanges> ranges;
   for (int k = 0; k < 5; ++k) ranges.emplace_back(kQComponents[k]);
   std::mutex mutex;
+  Scratch scratch;
   for_blocks(l.count, progress, base + q_start(l), 5 * l.prec,
              [&](std::size_t first, std::size_t n) {
-               T* v = scratch<T, 1>(9 * n);
+               T* v = scratch.get<T>(1, 9 * n);
                const QBlock<T> out{v, v + n, v + 4 * n, v + 5 * n, v + 8 * n};
-               q_block(f, first, n, gm1, out);
+               q_block(f, first, n, gm1, out, scratch);
                const T* arrays[5] = {out.density, out.momentum, out.energy, out.velocity,
                                      out.pressure};
                std::vector<ValueRanges> r;
