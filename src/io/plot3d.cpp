@@ -206,20 +206,20 @@ Layout detect_q(std::span<const std::byte> data, const std::string& name, const 
 // byte-swapped, checked and written straight into the final arrays — or, for a summary, into
 // the ranges. Blocks run on all threads; memory is the arrays plus a block per thread.
 
-constexpr std::size_t kBlock = std::size_t{1} << 16;  // points per task
-constexpr std::size_t kSlice = std::size_t{1} << 18;  // points between progress reports
+constexpr std::size_t kBlockPoints = std::size_t{1} << 16;  // points per task
+constexpr std::size_t kSlicePoints = std::size_t{1} << 18;  // points between progress reports
 
-/// Calls work(first, n) on blocks of at most kBlock points covering [0, count), in parallel,
+/// Calls work(first, n) on blocks of at most kBlockPoints points covering [0, count), in parallel,
 /// setting `progress` to `base` + `bytes_per_point` × the points done between slices.
 void for_blocks(std::size_t count, io_detail::Progress* progress, std::uint64_t base,
                 std::uint64_t bytes_per_point,
                 const std::function<void(std::size_t, std::size_t)>& work) {
-  for (std::size_t s = 0; s < count; s += kSlice) {
-    const std::size_t m = std::min(kSlice, count - s);
-    parallel_for_range((m + kBlock - 1) / kBlock, 1, [&](std::size_t b, std::size_t e) {
+  for (std::size_t s = 0; s < count; s += kSlicePoints) {
+    const std::size_t m = std::min(kSlicePoints, count - s);
+    parallel_for_range((m + kBlockPoints - 1) / kBlockPoints, 1, [&](std::size_t b, std::size_t e) {
       for (std::size_t k = b; k < e; ++k) {
-        const std::size_t first = s + k * kBlock;
-        work(first, std::min(kBlock, s + m - first));
+        const std::size_t first = s + k * kBlockPoints;
+        work(first, std::min(kBlockPoints, s + m - first));
       }
     });
     if (progress) progress->set(base + (s + m) * bytes_per_point);
@@ -279,7 +279,7 @@ class FirstBad {
 };
 
 template <class T>
-bool all_finite(const T* v, std::size_t n) {
+bool finite_values(const T* v, std::size_t n) {
   bool ok = true;
   for (std::size_t i = 0; i < n; ++i) ok &= std::isfinite(v[i]);
   return ok;
@@ -294,7 +294,7 @@ void grid_block(const PlaneFile& f, std::size_t first, std::size_t n, T* xyz, Fi
   for (int a = 0; a < 3; ++a) {
     T* plane = c + static_cast<std::size_t>(a) * n;
     f.load(a, first, n, plane);
-    if (!all_finite(plane, n)) {
+    if (!finite_values(plane, n)) {
       for (std::size_t i = 0; i < n; ++i) {
         if (!std::isfinite(plane[i])) {
           bad.offer(static_cast<std::uint64_t>(a) * f.count + first + i);
