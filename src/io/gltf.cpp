@@ -979,7 +979,8 @@ class GlbReader {
   std::vector<double> read_accessor(std::size_t a, Accessor& info) {
     std::vector<double> out;
     visit_accessor(
-        a, info, [&](const Accessor& i) { out.resize(i.count * static_cast<std::size_t>(i.components)); },
+        a, info,
+        [&](const Accessor& i) { out.resize(i.count * static_cast<std::size_t>(i.components)); },
         [&](std::size_t k, double v) { out[k] = v; });
     return out;
   }
@@ -1170,8 +1171,8 @@ class GlbReader {
             },
             [&](std::size_t k, double v) {
               if (v >= static_cast<double>(n)) {
-                fail(pw + ": index " + std::to_string(static_cast<std::uint64_t>(v)) + " >= " +
-                     std::to_string(n) + " vertices");
+                fail(pw + ": index " + std::to_string(static_cast<std::uint64_t>(v)) +
+                     " >= " + std::to_string(n) + " vertices");
               }
               idx[k] = static_cast<std::uint32_t>(v);
             });

@@ -102,8 +102,8 @@ Plot3dOptions plot3d_options(const ReadOptions& options) {
   } else if (options.plot3d_byte_order == "little") {
     p.byte_order = Plot3dByteOrder::Little;
   } else if (options.plot3d_byte_order != "auto") {
-    throw Error("plot3d byte order must be auto, big or little, not '" +
-                options.plot3d_byte_order + "'");
+    throw Error("plot3d byte order must be auto, big or little, not '" + options.plot3d_byte_order +
+                "'");
   }
   return p;
 }

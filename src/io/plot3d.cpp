@@ -318,8 +318,8 @@ void grid_block(const PlaneFile& f, std::size_t first, std::size_t n, T* xyz, Fi
   const Index kk = static_cast<Index>(i) / (l.dims[0] * l.dims[1]);
   throw Error(at_byte(name, l.header_bytes + (a * l.count + i) * l.prec,
                       "point " + std::to_string(i) + " (i, j, k = " + std::to_string(ii) + ", " +
-                          std::to_string(jj) + ", " + std::to_string(kk) +
-                          ") has a non-finite " + std::string(1, "xyz"[a]) + " coordinate"));
+                          std::to_string(jj) + ", " + std::to_string(kk) + ") has a non-finite " +
+                          std::string(1, "xyz"[a]) + " coordinate"));
 }
 
 /// Where a block of the solution goes: each pointer at the block's first point.
@@ -335,8 +335,8 @@ struct QBlock {
 /// Points [first, first + n) of the solution, with the derived velocity and pressure (in double
 /// precision from the stored values).
 template <class T>
-void q_block(const PlaneFile& f, std::size_t first, std::size_t n, double gm1,
-             const QBlock<T>& out, Scratch& scratch) {
+void q_block(const PlaneFile& f, std::size_t first, std::size_t n, double gm1, const QBlock<T>& out,
+             Scratch& scratch) {
   T* m = scratch.get<T>(0, 3 * n);
   f.load(0, first, n, out.density);
   for (int a = 0; a < 3; ++a) f.load(1 + a, first, n, m + static_cast<std::size_t>(a) * n);
@@ -376,7 +376,9 @@ void valid_layer(const Dims& dims, const std::int32_t* lo, const std::int32_t* h
   }
 }
 
-std::size_t cell_layers(const Dims& dims) { return dims[2] > 1 ? static_cast<std::size_t>(dims[2] - 1) : 1; }
+std::size_t cell_layers(const Dims& dims) {
+  return dims[2] > 1 ? static_cast<std::size_t>(dims[2] - 1) : 1;
+}
 
 /// "Valid" cell flags of a whole IBLANK array.
 DataArray valid_cells(const Dims& dims, std::span<const std::int32_t> iblank) {
@@ -396,8 +398,12 @@ DataArray valid_cells(const Dims& dims, std::span<const std::int32_t> iblank) {
 }
 
 /// The byte offset of the IBLANK plane and of the solution's planes.
-std::size_t iblank_start(const Layout& l) { return l.header_bytes + 3 * l.count * l.prec; }
-std::size_t q_start(const Layout& q) { return q.header_bytes + 4 * q.prec; }
+std::size_t iblank_start(const Layout& l) {
+  return l.header_bytes + 3 * l.count * l.prec;
+}
+std::size_t q_start(const Layout& q) {
+  return q.header_bytes + 4 * q.prec;
+}
 
 const char* const kFieldNames[4] = {"FreeStreamMach", "AngleOfAttack", "ReynoldsNumber", "Time"};
 const char* const kQNames[5] = {"Density", "Momentum", "StagnationEnergy", "Velocity", "Pressure"};
@@ -533,21 +539,20 @@ std::vector<ArraySummary> stream_solution(const io_detail::FileSource& q, const 
   for (int k = 0; k < 5; ++k) ranges.emplace_back(kQComponents[k]);
   std::mutex mutex;
   Scratch scratch;
-  for_blocks(l.count, progress, base + q_start(l), 5 * l.prec,
-             [&](std::size_t first, std::size_t n) {
-               T* v = scratch.get<T>(1, 9 * n);
-               const QBlock<T> out{v, v + n, v + 4 * n, v + 5 * n, v + 8 * n};
-               q_block(f, first, n, gm1, out, scratch);
-               const T* arrays[5] = {out.density, out.momentum, out.energy, out.velocity,
-                                     out.pressure};
-               std::vector<ValueRanges> r;
-               for (int k = 0; k < 5; ++k) {
-                 r.emplace_back(kQComponents[k]);
-                 r.back().add(type, arrays[k], n);
-               }
-               const std::lock_guard lock(mutex);
-               for (std::size_t k = 0; k < 5; ++k) ranges[k].merge(r[k]);
-             });
+  for_blocks(
+      l.count, progress, base + q_start(l), 5 * l.prec, [&](std::size_t first, std::size_t n) {
+        T* v = scratch.get<T>(1, 9 * n);
+        const QBlock<T> out{v, v + n, v + 4 * n, v + 5 * n, v + 8 * n};
+        q_block(f, first, n, gm1, out, scratch);
+        const T* arrays[5] = {out.density, out.momentum, out.energy, out.velocity, out.pressure};
+        std::vector<ValueRanges> r;
+        for (int k = 0; k < 5; ++k) {
+          r.emplace_back(kQComponents[k]);
+          r.back().add(type, arrays[k], n);
+        }
+        const std::lock_guard lock(mutex);
+        for (std::size_t k = 0; k < 5; ++k) ranges[k].merge(r[k]);
+      });
   std::vector<ArraySummary> out;
   for (std::size_t k = 0; k < 5; ++k) {
     out.push_back({kQNames[k], type, kQComponents[k], l.count, ranges[k]});
@@ -607,8 +612,9 @@ DatasetSummary summarize_impl(const io_detail::FileSource& xyz, std::string_view
     grid.point_data.add(DataArray(kQNames[1], qtype, 3), AttributeRole::Vectors);
     for (int k = 2; k < 5; ++k) grid.point_data.add(DataArray(kQNames[k], qtype, kQComponents[k]));
     const std::uint64_t base = xyz.bytes.size();
-    auto solution = ql.prec == 4 ? stream_solution<float>(q, ql, options.gamma - 1.0, progress, base)
-                                 : stream_solution<double>(q, ql, options.gamma - 1.0, progress, base);
+    auto solution = ql.prec == 4
+                        ? stream_solution<float>(q, ql, options.gamma - 1.0, progress, base)
+                        : stream_solution<double>(q, ql, options.gamma - 1.0, progress, base);
     for (ArraySummary& a : solution) streamed.push_back(std::move(a));
   }
   DatasetSummary s = isoforge::summarize(grid);
@@ -666,8 +672,8 @@ DatasetSummary summarize_plot3d(const std::filesystem::path& xyz_path,
   if (!q_path.empty()) q.emplace(q_path);
   const FileSource q_source = q ? FileSource(*q) : FileSource();
   Progress progress(options.progress, xyz.bytes().size() + q_source.bytes.size(), "reading");
-  DatasetSummary s = summarize_impl(FileSource(xyz), xyz_path.string(), q_source,
-                                    q_path.string(), options, &progress);
+  DatasetSummary s = summarize_impl(FileSource(xyz), xyz_path.string(), q_source, q_path.string(),
+                                    options, &progress);
   progress.finish();
   return s;
 }

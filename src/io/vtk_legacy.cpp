@@ -227,7 +227,7 @@ struct StreamedCells {
   std::map<std::int64_t, std::uint64_t> by_size;  // cells of each size (polygonal data)
   std::vector<std::uint8_t> sizes;  // each cell's size, 255 for 255 or more (unstructured grids)
   std::int64_t min_id = 0, max_id = -1;  // of its point ids (checked when the points are known)
-  bool short_cell = false;  // a cell below the section's minimum size
+  bool short_cell = false;               // a cell below the section's minimum size
   /// Whether the reader's checks would fail on it, with `points` points.
   [[nodiscard]] bool suspect(std::size_t points) const {
     return short_cell || min_id < 0 || max_id >= static_cast<std::int64_t>(points);
@@ -263,7 +263,10 @@ class LegacyReader {
     if (std::holds_alternative<PolyData>(ds)) {  // (an unstructured grid's types are read)
       s.cells = cells_of(ds);
       for (const auto& [kw, sec] : streamed_cells_) {
-        const int k = iequals(kw, "VERTICES") ? 0 : iequals(kw, "LINES") ? 1 : iequals(kw, "POLYGONS") ? 2 : 3;
+        const int k = iequals(kw, "VERTICES")   ? 0
+                      : iequals(kw, "LINES")    ? 1
+                      : iequals(kw, "POLYGONS") ? 2
+                                                : 3;
         for (const auto& [size, count] : sec.by_size) {
           s.cell_types[poly_cell_type(k, static_cast<std::size_t>(size))] += count;
         }
@@ -835,9 +838,8 @@ class LegacyReader {
     }
     visit_scalar_type(lt->file, [&](auto tag) {
       using T = decltype(tag);
-      stream_numbers(lt->file, count, 1, what, [&](const void* v, std::size_t n) {
-        consume(static_cast<const T*>(v), n);
-      });
+      stream_numbers(lt->file, count, 1, what,
+                     [&](const void* v, std::size_t n) { consume(static_cast<const T*>(v), n); });
     });
     skip_metadata();
   }
@@ -1146,7 +1148,8 @@ class LegacyReader {
         const std::size_t c = check_types([&](std::size_t i) { return cells.cell_size(i); });
         if (c != ug.types.size()) fail_type(c, static_cast<std::int64_t>(cells.cell_size(c)));
       }
-    } else if (const std::size_t c = check_types([&](std::size_t i) { return ug.cells.cell_size(i); });
+    } else if (const std::size_t c =
+                   check_types([&](std::size_t i) { return ug.cells.cell_size(i); });
                c != ug.types.size()) {
       fail_type(c, static_cast<std::int64_t>(ug.cells.cell_size(c)));
     }

@@ -1,6 +1,6 @@
-// summarize_file: the streaming summaries (VTK XML, VTK legacy, PLY, OFF, NRRD, PLOT3D) against the summary of the dataset
-// read whole, on every encoding, on arrays larger than one streamed piece (tuples straddling
-// pieces), and with the same errors as the readers.
+// summarize_file: the streaming summaries (VTK XML, VTK legacy, PLY, OFF, NRRD, PLOT3D) against the
+// summary of the dataset read whole, on every encoding, on arrays larger than one streamed piece
+// (tuples straddling pieces), and with the same errors as the readers.
 
 #include "support/scratch.hpp"
 
@@ -435,7 +435,8 @@ void write_plot3d(const fs::path& xyz, const fs::path& q, Dims dims, bool swap, 
     }
   }
   if (iblank) {
-    for (std::size_t i = 0; i < n; ++i) put(g, static_cast<std::int32_t>(i % 97 == 3 ? 0 : 1 + i % 2));
+    for (std::size_t i = 0; i < n; ++i)
+      put(g, static_cast<std::int32_t>(i % 97 == 3 ? 0 : 1 + i % 2));
   }
   std::ofstream s(q, std::ios::binary | std::ios::trunc);
   for (Index d : dims) put(s, static_cast<std::int32_t>(d));
@@ -525,7 +526,8 @@ TEST(Summary, VtkLegacyCellSectionsStreamedWithTheReadersErrors) {
   for (int i = 0; i < n; ++i) ug.points.push_back({double(i % 7), double(i % 11), 1e-3 * i});
   for (Index i = 0; i + 8 < n; i += 5) {
     ug.add_cell(CellType::Tetra, {i, i + 1, i + 2, i + 3});
-    if (i % 4 == 0) ug.add_cell(CellType::Hexahedron, {i, i + 1, i + 2, i + 3, i + 4, i + 5, i + 6, i + 7});
+    if (i % 4 == 0)
+      ug.add_cell(CellType::Hexahedron, {i, i + 1, i + 2, i + 3, i + 4, i + 5, i + 6, i + 7});
   }
   for (const bool binary : {true, false}) {
     for (const std::string version : {"4.2", "5.1"}) {
@@ -545,25 +547,31 @@ TEST(Summary, VtkLegacyCellSectionsStreamedWithTheReadersErrors) {
   const std::string head = "# vtk DataFile Version 4.2\nt\nASCII\nDATASET ";
   const std::string points = "POINTS 4 float\n0 0 0 1 0 0 0 1 0 1 1 0\n";
   const std::vector<std::string> bad = {
-      "POLYDATA\n" + points + "POLYGONS 2 8\n3 0 1 2\n3 1 3 4\n",    // id out of range
-      "POLYDATA\n" + points + "POLYGONS 2 7\n3 0 1 2\n2 1 3\n",      // too few points
-      "POLYDATA\n" + points + "POLYGONS 2 8\n3 0 1 2\n5 1 3 2\n",    // count beyond the size
-      "POLYDATA\n" + points + "POLYGONS 1 8\n3 0 1 2\n3 1 3 2\n",    // values beyond the cells
-      "POLYDATA\n" + points + "POLYGONS 3 8\n3 0 1 2\n3 1 3 2\n",    // cells beyond the size
-      "POLYDATA\n" + points + "POLYGONS 2 8\n3 0 1 2\n3 1 x 2\n",    // a bad token
+      "POLYDATA\n" + points + "POLYGONS 2 8\n3 0 1 2\n3 1 3 4\n",  // id out of range
+      "POLYDATA\n" + points + "POLYGONS 2 7\n3 0 1 2\n2 1 3\n",    // too few points
+      "POLYDATA\n" + points + "POLYGONS 2 8\n3 0 1 2\n5 1 3 2\n",  // count beyond the size
+      "POLYDATA\n" + points + "POLYGONS 1 8\n3 0 1 2\n3 1 3 2\n",  // values beyond the cells
+      "POLYDATA\n" + points + "POLYGONS 3 8\n3 0 1 2\n3 1 3 2\n",  // cells beyond the size
+      "POLYDATA\n" + points + "POLYGONS 2 8\n3 0 1 2\n3 1 x 2\n",  // a bad token
       "POLYDATA\n" + points + "POLYGONS 1 4\n3 0 1 9\nLINES 1 3\n5 0 1\n",  // two errors
-      "POLYDATA\n" + points + "POLYGONS 3 6\nOFFSETS vtktypeint64\n0 3 2\n"
-                              "CONNECTIVITY vtktypeint64\n0 1 2 1 3 2\n",  // offsets decrease
-      "POLYDATA\n" + points + "POLYGONS 3 6\nOFFSETS vtktypeint64\n0 3 6\n"
-                              "CONNECTIVITY vtktypeint64\n0 1 2 1 3 7\n",  // id out of range
-      "POLYDATA\n" + points + "POLYGONS 3 5\nOFFSETS vtktypeint64\n0 3 6\n"
-                              "CONNECTIVITY vtktypeint64\n0 1 2 1 3\n",  // last offset
-      "POLYDATA\n" + points + "POLYGONS 3 6\nOFFSETS float\n0 3 6\n"
-                              "CONNECTIVITY vtktypeint64\n0 1 2 1 3 2\n",  // not integers
-      "UNSTRUCTURED_GRID\n" + points + "CELLS 1 5\n4 0 1 2 3\nCELL_TYPES 1\n5\n",  // a 4-point triangle
+      "POLYDATA\n" + points +
+          "POLYGONS 3 6\nOFFSETS vtktypeint64\n0 3 2\n"
+          "CONNECTIVITY vtktypeint64\n0 1 2 1 3 2\n",  // offsets decrease
+      "POLYDATA\n" + points +
+          "POLYGONS 3 6\nOFFSETS vtktypeint64\n0 3 6\n"
+          "CONNECTIVITY vtktypeint64\n0 1 2 1 3 7\n",  // id out of range
+      "POLYDATA\n" + points +
+          "POLYGONS 3 5\nOFFSETS vtktypeint64\n0 3 6\n"
+          "CONNECTIVITY vtktypeint64\n0 1 2 1 3\n",  // last offset
+      "POLYDATA\n" + points +
+          "POLYGONS 3 6\nOFFSETS float\n0 3 6\n"
+          "CONNECTIVITY vtktypeint64\n0 1 2 1 3 2\n",  // not integers
+      "UNSTRUCTURED_GRID\n" + points +
+          "CELLS 1 5\n4 0 1 2 3\nCELL_TYPES 1\n5\n",  // a 4-point triangle
       "UNSTRUCTURED_GRID\n" + points + "CELLS 2 8\n3 0 1 2\n3 1 3 2\nCELL_TYPES 1\n5\n",
-      "UNSTRUCTURED_GRID\n" + points + "CELLS 2 7\nOFFSETS vtktypeint64\n0 3\n"
-                                       "CONNECTIVITY vtktypeint64\n0 -1 2\nCELL_TYPES 1\n5\n",
+      "UNSTRUCTURED_GRID\n" + points +
+          "CELLS 2 7\nOFFSETS vtktypeint64\n0 3\n"
+          "CONNECTIVITY vtktypeint64\n0 -1 2\nCELL_TYPES 1\n5\n",
       "UNSTRUCTURED_GRID\n" + points + "CELL_TYPES 1\n10\nCELLS 1 4\n3 0 1 2\n",  // types first
   };
   const fs::path p = scratch("bad.vtk");
@@ -583,10 +591,12 @@ TEST(Summary, VtkLegacyCellSectionsStreamedWithTheReadersErrors) {
         std::ifstream in(p, std::ios::binary);
         text.assign(std::istreambuf_iterator<char>(in), {});
       }
-      const std::size_t at = text.find('\n', text.find(version == "4.2" ? "CELLS " : "CONNECTIVITY")) + 1;
+      const std::size_t at =
+          text.find('\n', text.find(version == "4.2" ? "CELLS " : "CONNECTIVITY")) + 1;
       // 4.2: the hexahedron's count (8 -> 7) or its first id; 5.1: the first id (int64).
       const std::size_t width = version == "4.2" ? 4 : 8;
-      const std::size_t where = at + (change == 1 && version == "4.2" ? 0 : (version == "4.2" ? width : 0));
+      const std::size_t where =
+          at + (change == 1 && version == "4.2" ? 0 : (version == "4.2" ? width : 0));
       text[where + width - 1] = static_cast<char>(change == 1 && version == "4.2" ? 7 : 99);
       std::ofstream(p, std::ios::binary | std::ios::trunc) << text;
       SCOPED_TRACE(version + " change " + std::to_string(change));
@@ -596,18 +606,20 @@ TEST(Summary, VtkLegacyCellSectionsStreamedWithTheReadersErrors) {
   // Points after the cells (their ids checked once the points are known), valid and not; two
   // POINTS sections, the ids checked against the last.
   std::ofstream(p, std::ios::binary | std::ios::trunc)
-      << head << "POLYDATA\nPOLYGONS 2 8\n3 0 1 2\n3 1 3 2\n" << points
-      << "CELL_DATA 2\nSCALARS c int 1\nLOOKUP_TABLE default\n4 5\n";
+      << head << "POLYDATA\nPOLYGONS 2 8\n3 0 1 2\n3 1 3 2\n"
+      << points << "CELL_DATA 2\nSCALARS c int 1\nLOOKUP_TABLE default\n4 5\n";
   expect_streamed_as_read(p);
   std::ofstream(p, std::ios::binary | std::ios::trunc)
-      << head << "POLYDATA\nPOLYGONS 2 8\n3 0 1 2\n3 1 3 4\n" << points;
+      << head << "POLYDATA\nPOLYGONS 2 8\n3 0 1 2\n3 1 3 4\n"
+      << points;
   expect_same_error(p);
   std::ofstream(p, std::ios::binary | std::ios::trunc)
       << head << "POLYDATA\nPOINTS 5 float\n0 0 0 1 0 0 0 1 0 1 1 0 2 2 2\nPOLYGONS 1 4\n3 0 1 4\n"
       << points;
   expect_same_error(p);
   std::ofstream(p, std::ios::binary | std::ios::trunc)
-      << head << "POLYDATA\n" << points << "POLYGONS 1 4\n3 0 1 4\n"
+      << head << "POLYDATA\n"
+      << points << "POLYGONS 1 4\n3 0 1 4\n"
       << "POINTS 5 float\n0 0 0 1 0 0 0 1 0 1 1 0 2 2 2\n";
   expect_streamed_as_read(p);
 }

@@ -51,9 +51,12 @@ int main(int argc, char** argv) {
     return 1;
   }
   bool ok = write_header(g, n);
-  ok = ok && write_plane(g, n, [](int i, int j, int) { return float(i + 0.3 * std::sin(j * 0.1)); });
-  ok = ok && write_plane(g, n, [](int, int j, int k) { return float(j + 0.3 * std::sin(k * 0.1)); });
-  ok = ok && write_plane(g, n, [](int i, int, int k) { return float(k + 0.3 * std::sin(i * 0.1)); });
+  ok =
+      ok && write_plane(g, n, [](int i, int j, int) { return float(i + 0.3 * std::sin(j * 0.1)); });
+  ok =
+      ok && write_plane(g, n, [](int, int j, int k) { return float(j + 0.3 * std::sin(k * 0.1)); });
+  ok =
+      ok && write_plane(g, n, [](int i, int, int k) { return float(k + 0.3 * std::sin(i * 0.1)); });
   ok = ok && write_header(q, n);
   for (float c : {0.5f, 0.1f, 1e6f, 0.0f}) {
     const std::uint32_t u = big_endian(c);
@@ -62,7 +65,8 @@ int main(int argc, char** argv) {
   const auto rho = [](int i, int j, int) { return 1 + 0.1 * std::sin(i * 0.05 + j * 0.02); };
   ok = ok && write_plane(q, n, [&](int i, int j, int k) { return float(rho(i, j, k)); });
   for (int a = 1; a <= 3; ++a) {
-    ok = ok && write_plane(q, n, [&](int i, int j, int k) { return float(0.1 * a * rho(i, j, k)); });
+    ok =
+        ok && write_plane(q, n, [&](int i, int j, int k) { return float(0.1 * a * rho(i, j, k)); });
   }
   ok = ok && write_plane(q, n, [](int, int, int k) { return float(2.5 + 0.01 * k); });
   ok = (std::fclose(g) == 0) && ok;
