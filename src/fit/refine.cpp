@@ -329,6 +329,23 @@ struct Original {
   std::unique_ptr<PrimitiveLocator> locator;
   std::unique_ptr<NearTriangles> near;
   std::vector<Vec3> normals;  // unit normal of each triangle (0 if degenerate)
+
+  /// The closest point to y on the original, starting from triangle `*start` when given.
+  [[nodiscard]] Reverse closest(const Vec3& y, const Id* start) const {
+    const std::size_t tb = set.triangle_begin();
+    ClosestPrimitive c;
+    if (start) {
+      c.id = PrimitiveSet::Id(tb + *start);
+      c.dist2 = set.dist2(c.id, y);
+      near->nearest(y, c);
+    } else {
+      c = locator->closest(y);
+    }
+    const auto& ot = set.triangles()[c.id - tb];
+    const auto& ov = set.vertices();
+    const TriangleClosest q = closest_on_triangle(y, ov[ot[0]], ov[ot[1]], ov[ot[2]]);
+    return {q.point, normals[c.id - tb], q.dist2, Id(c.id - tb)};
+  }
 };
 
 // The correspondences and errors for positions `pos`. With `prev` (the correspondences of
@@ -378,24 +395,12 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
   });
   const std::size_t nr = rb.size();
   m.rev.resize(nr * tris.size());
-  const std::size_t tb = orig.set.triangle_begin();
   parallel_for_range(tris.size(), 256, [&](std::size_t b, std::size_t e) {
     for (std::size_t f = b; f < e; ++f) {
       for (std::size_t k = sparse ? rs.energy_begin : rs.measure_begin; k < rs.measure_end; ++k) {
         const Bary& w = rb[k];
         const Vec3 y = w[0] * pos[tris[f][0]] + w[1] * pos[tris[f][1]] + w[2] * pos[tris[f][2]];
-        ClosestPrimitive c;
-        if (prev) {
-          c.id = PrimitiveSet::Id(tb + prev->rev[nr * f + k].tri);
-          c.dist2 = orig.set.dist2(c.id, y);
-          orig.near->nearest(y, c);
-        } else {
-          c = orig.locator->closest(y);
-        }
-        const auto& ot = orig.set.triangles()[c.id - tb];
-        const auto& ov = orig.set.vertices();
-        const TriangleClosest q = closest_on_triangle(y, ov[ot[0]], ov[ot[1]], ov[ot[2]]);
-        m.rev[nr * f + k] = {q.point, orig.normals[c.id - tb], q.dist2, Id(c.id - tb)};
+        m.rev[nr * f + k] = orig.closest(y, prev ? &prev->rev[nr * f + k].tri : nullptr);
       }
     }
   });
@@ -417,18 +422,7 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
   parallel_for_range(pos.size(), 1024, [&](std::size_t b, std::size_t e) {
     for (std::size_t v = b; v < e; ++v) {
       if (!used[v]) continue;
-      ClosestPrimitive c;
-      if (prev) {
-        c.id = PrimitiveSet::Id(tb + prev->vert[v].tri);
-        c.dist2 = orig.set.dist2(c.id, pos[v]);
-        orig.near->nearest(pos[v], c);
-      } else {
-        c = orig.locator->closest(pos[v]);
-      }
-      const auto& ot = orig.set.triangles()[c.id - tb];
-      const auto& ov = orig.set.vertices();
-      const TriangleClosest q = closest_on_triangle(pos[v], ov[ot[0]], ov[ot[1]], ov[ot[2]]);
-      m.vert[v] = {q.point, orig.normals[c.id - tb], q.dist2, Id(c.id - tb)};
+      m.vert[v] = orig.closest(pos[v], prev ? &prev->vert[v].tri : nullptr);
     }
   });
   for (const Reverse& r : m.vert) mx = std::max(mx, r.dist2);
@@ -442,20 +436,13 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
 void add_sparse(Measure& m, const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
                 const ReverseSamples& rs, const Original& orig) {
   const std::size_t nr = rs.bary.size();
-  const std::size_t tb = orig.set.triangle_begin();
-  const auto& ov = orig.set.vertices();
   parallel_for_range(tris.size(), 256, [&](std::size_t b, std::size_t e) {
     for (std::size_t f = b; f < e; ++f) {
+      const Id start = m.rev[nr * f + rs.measure_begin].tri;
       for (std::size_t k = rs.energy_begin; k < rs.measure_begin; ++k) {
         const Bary& w = rs.bary[k];
         const Vec3 y = w[0] * pos[tris[f][0]] + w[1] * pos[tris[f][1]] + w[2] * pos[tris[f][2]];
-        ClosestPrimitive c;
-        c.id = PrimitiveSet::Id(tb + m.rev[nr * f + rs.measure_begin].tri);
-        c.dist2 = orig.set.dist2(c.id, y);
-        orig.near->nearest(y, c);
-        const auto& ot = orig.set.triangles()[c.id - tb];
-        const TriangleClosest q = closest_on_triangle(y, ov[ot[0]], ov[ot[1]], ov[ot[2]]);
-        m.rev[nr * f + k] = {q.point, orig.normals[c.id - tb], q.dist2, Id(c.id - tb)};
+        m.rev[nr * f + k] = orig.closest(y, &start);
       }
     }
   });
