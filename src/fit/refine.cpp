@@ -502,7 +502,8 @@ void gathered_rows(const Gathered& s, Eigen::Matrix<double, Eigen::Dynamic, 10>&
 // rows pad them).
 class TriangleCost final : public ceres::SizedCostFunction<9, 3, 3, 3> {
  public:
-  // `rows`: one row per sample, [√w a | √w n · y].
+  // `rows`: [coefficients of V | right-hand side]: the 9 point-to-point rows (gathered_rows),
+  // then one row per point-to-plane sample, [√w a | √w n · y].
   explicit TriangleCost(Eigen::Matrix<double, Eigen::Dynamic, 10>& rows) {
     const Eigen::HouseholderQR<Eigen::Ref<Eigen::Matrix<double, Eigen::Dynamic, 10>>> qr(rows);
     const auto& r = qr.matrixQR();
