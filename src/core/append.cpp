@@ -126,4 +126,47 @@ PolyData append(std::vector<PolyData> parts) {
   return out;
 }
 
+namespace {
+
+/// The summaries of the arrays every set of `sets` has with equal type and components, merged;
+/// the first set's active roles (append_arrays's rules).
+AttributesSummary append_array_summaries(const std::vector<const AttributesSummary*>& sets) {
+  AttributesSummary out;
+  const AttributesSummary& first = *sets.front();
+  for (const ArraySummary& proto : first.arrays) {
+    bool common = true;
+    for (const AttributesSummary* s : sets) {
+      const ArraySummary* a = s->find(proto.name);
+      if (!a || a->type != proto.type || a->components != proto.components) common = false;
+    }
+    if (!common) continue;
+    for (const AttributesSummary* s : sets) out.merge_array(*s->find(proto.name));
+  }
+  for (std::size_t r = 0; r < kAttributeRoleCount; ++r) {
+    if (!first.active[r].empty() && out.find(first.active[r])) out.active[r] = first.active[r];
+  }
+  return out;
+}
+
+}  // namespace
+
+DatasetSummary append_summaries(const std::vector<DatasetSummary>& parts) {
+  if (parts.size() == 1) return parts.front();
+  if (parts.empty()) return summarize(PolyData{});
+  DatasetSummary out;
+  out.kind = parts.front().kind;
+  std::vector<const AttributesSummary*> point_sets, cell_sets;
+  for (const DatasetSummary& p : parts) {
+    out.points += p.points;
+    out.cells += p.cells;
+    for (const auto& [type, count] : p.cell_types) out.cell_types[type] += count;
+    out.bounds.merge(p.bounds);
+    point_sets.push_back(&p.point_data);
+    cell_sets.push_back(&p.cell_data);
+  }
+  out.point_data = append_array_summaries(point_sets);
+  out.cell_data = append_array_summaries(cell_sets);
+  return out;
+}
+
 }  // namespace isoforge

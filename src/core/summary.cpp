@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <utility>
 
 #include "core/detail/ranges.hpp"
 #include "isoforge/core/parallel.hpp"
@@ -69,11 +70,15 @@ void ValueRanges::merge(const ValueRanges& other) {
   widen(magnitude_, other.magnitude_);
 }
 
-ArraySummary* AttributesSummary::find(const std::string& name) {
-  for (ArraySummary& a : arrays) {
+const ArraySummary* AttributesSummary::find(const std::string& name) const {
+  for (const ArraySummary& a : arrays) {
     if (a.name == name) return &a;
   }
   return nullptr;
+}
+
+ArraySummary* AttributesSummary::find(const std::string& name) {
+  return const_cast<ArraySummary*>(std::as_const(*this).find(name));
 }
 
 void AttributesSummary::merge_array(ArraySummary a) {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "isoforge/core/dataset.hpp"
+#include "isoforge/core/summary.hpp"
 
 namespace isoforge {
 
@@ -15,5 +16,11 @@ namespace isoforge {
 /// the first part's active roles. Points are Float64 if any part's are. One part is returned as
 /// it is (moved).
 [[nodiscard]] PolyData append(std::vector<PolyData> parts);
+
+/// The summary of `append(parts)` from the parts' summaries (polygonal data each), by the same
+/// rules: counts, cell types and bounds added up; the point and cell arrays every part has with
+/// the same type and components, their ranges merged; the first part's active roles. Lets a
+/// reader that appends pieces summarise a file a piece at a time.
+[[nodiscard]] DatasetSummary append_summaries(const std::vector<DatasetSummary>& parts);
 
 }  // namespace isoforge

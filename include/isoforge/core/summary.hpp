@@ -54,6 +54,7 @@ struct AttributesSummary {
 
   /// The array named `name`, or null.
   [[nodiscard]] ArraySummary* find(const std::string& name);
+  [[nodiscard]] const ArraySummary* find(const std::string& name) const;
   /// Adds `a`'s tuples and ranges to the array of its name (appended if new).
   void merge_array(ArraySummary a);
 };
