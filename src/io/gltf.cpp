@@ -12,16 +12,19 @@
 #include <meshoptimizer.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <map>
 #include <set>
+#include <utility>
 
 #include "detail/draco_codec.hpp"
 #include "detail/file_source.hpp"
 #include "detail/json.hpp"
+#include "detail/summaries.hpp"
 #include "isoforge/core/append.hpp"
 #include "isoforge/core/normals.hpp"
 #include "isoforge/core/srgb.hpp"
@@ -708,9 +711,52 @@ namespace {
 
 class GlbReader {
  public:
-  GlbReader(std::span<const std::byte> data, std::string_view name) : data_(data), name_(name) {}
+  /// `file`: the mapping `data` is (its pages are released behind the accessors read), or null.
+  GlbReader(std::span<const std::byte> data, std::string_view name,
+            const io_detail::MappedFile* file = nullptr)
+      : data_(data), name_(name), file_(file) {}
 
   GltfContent read() {
+    GltfContent content;
+    const Json& meshes = open(&content.units);
+    for (std::size_t i = 0; i < meshes.size(); ++i)
+      content.meshes.push_back(read_mesh(meshes.as_array()[i], i, nullptr));
+    return content;
+  }
+
+  /// The summary of what read() gives (all meshes appended), checked as read() checks, one
+  /// vertex set at a time: its points and point arrays summarised and dropped, its cells
+  /// counted from the index accessors (every index checked, none stored).
+  DatasetSummary summarize() {
+    const Json& meshes = open(nullptr);
+    std::vector<DatasetSummary> parts;
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+      const std::size_t before = parts.size();
+      (void)read_mesh(meshes.as_array()[i], i, &parts);
+      // A mesh without primitives is an empty part of read()'s append (which drops every array).
+      if (parts.size() == before) parts.push_back(isoforge::summarize(PolyData{}));
+    }
+    DatasetSummary s = append_summaries(parts);
+    s.streamed = true;
+    return s;
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const { throw Error(name_ + ": " + what); }
+
+  // Drops the mapped pages of the file bytes [from, to) once read (MappedFile::release): the
+  // resident set stays the arrays made, not the file. Nothing for bytes not in the mapping
+  // (decoded meshopt views).
+  void release(const std::byte* from, const std::byte* to) const {
+    if (file_ && from >= data_.data() && to <= data_.data() + data_.size() && to > from) {
+      file_->release(static_cast<std::uint64_t>(from - data_.data()),
+                     static_cast<std::size_t>(to - from));
+    }
+  }
+
+  // The container parsed, the required extensions checked and the units (when `units` is not
+  // null) taken from the first scene that gives them: the 'meshes' array.
+  const Json& open(std::string* units) {
     parse_container();
     if (const Json* required = gltf_.find("extensionsRequired"); required && required->is_array()) {
       for (const Json& e : required->as_array()) {
@@ -720,26 +766,20 @@ class GlbReader {
         }
       }
     }
-    GltfContent content;
-    if (const Json* scenes = gltf_.find("scenes"); scenes && scenes->is_array()) {
+    if (const Json* scenes = gltf_.find("scenes"); units && scenes && scenes->is_array()) {
       for (const Json& scene : scenes->as_array()) {
         const Json* extras = scene.find("extras");
-        const Json* units = extras ? extras->find("units") : nullptr;
-        if (units && units->is_string()) {
-          content.units = units->as_string();
+        const Json* u = extras ? extras->find("units") : nullptr;
+        if (u && u->is_string()) {
+          *units = u->as_string();
           break;
         }
       }
     }
     const Json& meshes = member(gltf_, "meshes", "the glTF");
     if (!meshes.is_array()) fail("'meshes' is not an array");
-    for (std::size_t i = 0; i < meshes.size(); ++i)
-      content.meshes.push_back(read_mesh(meshes.as_array()[i], i));
-    return content;
+    return meshes;
   }
-
- private:
-  [[noreturn]] void fail(const std::string& what) const { throw Error(name_ + ": " + what); }
 
   std::uint32_t u32(std::size_t at) const {
     std::uint32_t v = 0;
@@ -929,8 +969,14 @@ class GlbReader {
            std::to_string(v));
     }
     start(info);
+    constexpr std::size_t kReleaseEvery = std::size_t{8} << 20;  // bytes read between releases
+    const std::byte* unreleased = bytes.data() + offset;
     for (std::size_t i = 0; i < info.count; ++i) {
       const std::byte* p = bytes.data() + offset + i * stride;
+      if (static_cast<std::size_t>(p - unreleased) >= kReleaseEvery) {
+        release(unreleased, p);
+        unreleased = p;
+      }
       for (int c = 0; c < info.components; ++c, p += size) {
         double value = 0;
         switch (info.component_type) {
@@ -973,6 +1019,8 @@ class GlbReader {
         put(i * static_cast<std::size_t>(info.components) + static_cast<std::size_t>(c), value);
       }
     }
+    if (info.count > 0)
+      release(unreleased, bytes.data() + offset + (info.count - 1) * stride + elem);
   }
 
   // Accessor `a` as doubles, `count * components` of them.
@@ -1116,7 +1164,30 @@ class GlbReader {
     return pd;
   }
 
-  GltfContent::Mesh read_mesh(const Json& mesh, std::size_t m) {
+  // The cells primitive mode `mode` makes of `c` indices: their section (0 verts, 1 lines,
+  // 2 polys) and how many.
+  static std::pair<int, std::size_t> mode_cells(int mode, std::size_t c) {
+    switch (mode) {
+      case kModePoints:
+        return {0, c};
+      case kModeLines:
+        return {1, c / 2};
+      case kModeLineStrip:
+        return {1, c > 0 ? c - 1 : 0};
+      case kModeLineLoop:
+        return {1, c > 2 ? c : (c > 0 ? c - 1 : 0)};
+      case kModeTriangles:
+        return {2, c / 3};
+      default:
+        return {2, c > 1 ? c - 2 : 0};  // strip or fan
+    }
+  }
+
+  // Mesh `m`: its primitives, grouped by POSITION accessor into vertex sets, appended. With
+  // `summaries` not null, nothing is returned: each vertex set's summary goes there instead,
+  // made from its points and point arrays and its cells counted (indices checked, not stored).
+  GltfContent::Mesh read_mesh(const Json& mesh, std::size_t m,
+                              std::vector<DatasetSummary>* summaries) {
     const std::string what = "meshes " + std::to_string(m);
     GltfContent::Mesh out;
     if (const Json* nm = mesh.find("name"); nm && nm->is_string()) out.name = nm->as_string();
@@ -1134,15 +1205,17 @@ class GlbReader {
     if (!prims.is_array()) fail(what + ": 'primitives' is not an array");
     std::vector<VertexSet> sets;
     std::vector<CellArray> verts, lines, polys;
+    std::vector<std::array<std::uint64_t, 3>> counted;  // a summary's cells per set and section
     for (std::size_t p = 0; p < prims.size(); ++p) {
       const Json& prim = prims.as_array()[p];
       const std::string pw = what + " primitive " + std::to_string(p);
       if (const Json* ext = prim.find("extensions"); ext && ext->find(kDraco)) {
         sets.push_back({std::numeric_limits<std::size_t>::max(),
                         read_draco_primitive(*ext->find(kDraco), pw, names, scalars_name)});
-        polys.push_back(std::move(sets.back().pd.polys));
+        polys.push_back(std::exchange(sets.back().pd.polys, CellArray{}));
         verts.emplace_back();
         lines.emplace_back();
+        counted.push_back({0, 0, polys.back().size()});
         continue;
       }
       const Json& attributes = member(prim, "attributes", pw);
@@ -1157,9 +1230,11 @@ class GlbReader {
         verts.emplace_back();
         lines.emplace_back();
         polys.emplace_back();
+        counted.push_back({0, 0, 0});
       }
       const std::size_t n = sets[set].pd.num_points();
       std::vector<std::uint32_t> idx;
+      std::size_t c = n;  // indices
       if (prim.find("indices")) {
         Accessor info;
         visit_accessor(
@@ -1167,64 +1242,80 @@ class GlbReader {
             [&](const Accessor& i) {
               if (i.components != 1 || i.component_type == kFloat)
                 fail(pw + ": indices are not integer scalars");
-              idx.resize(i.count);
+              c = i.count;
+              if (!summaries) idx.resize(i.count);
             },
             [&](std::size_t k, double v) {
               if (v >= static_cast<double>(n)) {
                 fail(pw + ": index " + std::to_string(static_cast<std::uint64_t>(v)) +
                      " >= " + std::to_string(n) + " vertices");
               }
-              idx[k] = static_cast<std::uint32_t>(v);
+              if (!summaries) idx[k] = static_cast<std::uint32_t>(v);
             });
-      } else {
+      } else if (!summaries) {
         idx.resize(n);
         for (std::size_t i = 0; i < n; ++i) idx[i] = static_cast<std::uint32_t>(i);
       }
       const int mode = static_cast<int>(optional_index(prim, "mode", pw, 7, kModeTriangles));
-      auto cell = [](CellArray& cells, std::initializer_list<std::uint32_t> ids) {
+      const std::pair<int, std::size_t> made = mode_cells(mode, c);
+      if (summaries) {
+        counted[set][static_cast<std::size_t>(made.first)] += made.second;
+        decoded_.clear();  // the decoded meshopt views: decoded again if another primitive asks
+        continue;
+      }
+      CellArray* sections[3] = {&verts[set], &lines[set], &polys[set]};
+      CellArray& into = *sections[made.first];
+      // The cells' room at once (not grown cell by cell: twice the memory while doubling).
+      into.reserve(
+          into.size() + made.second,
+          into.connectivity().size() + static_cast<std::size_t>(made.first + 1) * made.second);
+      auto cell = [&into](std::initializer_list<std::uint32_t> ids) {
         Index tmp[3];
         std::size_t k = 0;
         for (const auto i : ids) tmp[k++] = static_cast<Index>(i);
-        cells.add(std::span<const Index>(tmp, k));
+        into.add(std::span<const Index>(tmp, k));
       };
-      const std::size_t c = idx.size();
-      // The cells' room at once (not grown cell by cell: twice the memory while doubling).
-      const auto reserve = [](CellArray& cells, std::size_t more, std::size_t ids) {
-        cells.reserve(cells.size() + more, cells.connectivity().size() + ids * more);
-      };
-      if (mode == kModePoints) reserve(verts[set], c, 1);
-      if (mode == kModeLines) reserve(lines[set], c / 2, 2);
-      if (mode == kModeLineStrip || mode == kModeLineLoop) reserve(lines[set], c, 2);
-      if (mode == kModeTriangles) reserve(polys[set], c / 3, 3);
-      if (mode >= kModeTriangleStrip) reserve(polys[set], c, 3);
       switch (mode) {
         case kModePoints:
-          for (const auto i : idx) cell(verts[set], {i});
+          for (const auto i : idx) cell({i});
           break;
         case kModeLines:
-          for (std::size_t k = 0; k + 1 < c; k += 2) cell(lines[set], {idx[k], idx[k + 1]});
+          for (std::size_t k = 0; k + 1 < c; k += 2) cell({idx[k], idx[k + 1]});
           break;
         case kModeLineStrip:
         case kModeLineLoop:
-          for (std::size_t k = 0; k + 1 < c; ++k) cell(lines[set], {idx[k], idx[k + 1]});
-          if (mode == kModeLineLoop && c > 2) cell(lines[set], {idx[c - 1], idx[0]});
+          for (std::size_t k = 0; k + 1 < c; ++k) cell({idx[k], idx[k + 1]});
+          if (mode == kModeLineLoop && c > 2) cell({idx[c - 1], idx[0]});
           break;
         case kModeTriangles:
-          for (std::size_t k = 0; k + 2 < c; k += 3)
-            cell(polys[set], {idx[k], idx[k + 1], idx[k + 2]});
+          for (std::size_t k = 0; k + 2 < c; k += 3) cell({idx[k], idx[k + 1], idx[k + 2]});
           break;
         case kModeTriangleStrip:
           for (std::size_t k = 0; k + 2 < c; ++k) {
             if (k % 2 == 0)
-              cell(polys[set], {idx[k], idx[k + 1], idx[k + 2]});
+              cell({idx[k], idx[k + 1], idx[k + 2]});
             else
-              cell(polys[set], {idx[k + 1], idx[k], idx[k + 2]});
+              cell({idx[k + 1], idx[k], idx[k + 2]});
           }
           break;
         default:
           static_assert(kModeTriangleFan == 6);  // optional_index capped mode at 6
-          for (std::size_t k = 1; k + 1 < c; ++k) cell(polys[set], {idx[0], idx[k], idx[k + 1]});
+          for (std::size_t k = 1; k + 1 < c; ++k) cell({idx[0], idx[k], idx[k + 1]});
       }
+    }
+    if (summaries) {
+      for (std::size_t s = 0; s < sets.size(); ++s) {
+        DatasetSummary summary = isoforge::summarize(sets[s].pd);  // the points, no cells
+        for (int k = 0; k < 3; ++k) {
+          const std::uint64_t count = counted[s][static_cast<std::size_t>(k)];
+          if (count > 0)
+            summary.cell_types[poly_cell_type(k, static_cast<std::size_t>(k) + 1)] += count;
+          summary.cells += count;
+        }
+        summaries->push_back(std::move(summary));
+        sets[s].pd = PolyData{};  // dropped as it is summarised
+      }
+      return out;
     }
     std::vector<PolyData> parts;
     for (std::size_t s = 0; s < sets.size(); ++s) {
@@ -1267,6 +1358,7 @@ class GlbReader {
 
   std::span<const std::byte> data_;
   std::string name_;
+  const io_detail::MappedFile* file_ = nullptr;
   Json gltf_;
   std::span<const std::byte> bin_;
   bool has_bin_ = false;
@@ -1281,7 +1373,22 @@ GltfContent read_gltf(std::span<const std::byte> data, std::string_view name) {
 
 GltfContent read_gltf(const std::filesystem::path& path) {
   const io_detail::MappedFile file(path);  // (not copied: the reader takes views of it)
-  return read_gltf(file.bytes(), path.string());
+  return GlbReader(file.bytes(), path.string(), &file).read();
 }
+
+namespace io_detail {
+
+DatasetSummary summarize_gltf(std::span<const std::byte> data, std::string_view name) {
+  return GlbReader(data, name).summarize();
+}
+
+DatasetSummary summarize_gltf(const std::filesystem::path& path, const ProgressCallback& progress) {
+  const MappedFile file(path);
+  DatasetSummary s = GlbReader(file.bytes(), path.string(), &file).summarize();
+  report_progress(progress, 1.0, "reading");
+  return s;
+}
+
+}  // namespace io_detail
 
 }  // namespace isoforge

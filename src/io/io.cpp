@@ -134,6 +134,8 @@ DatasetSummary summarize_file(const std::filesystem::path& path, const ReadOptio
       return io_detail::summarize_raw_volume(path, options.progress, false);
     case FileFormat::Plot3d:
       return io_detail::summarize_plot3d(path, options.plot3d_q, plot3d_options(options));
+    case FileFormat::Glb:
+      return io_detail::summarize_gltf(path, options.progress);
     default:
       return summarize(read(path, options));
   }

@@ -9,12 +9,15 @@
 #include <array>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "isoforge/contour/contour.hpp"
 #include "isoforge/core/mesh_topology.hpp"
+#include "isoforge/core/summary.hpp"
 #include "isoforge/io/draco.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/ply.hpp"
@@ -433,6 +436,28 @@ TEST(Gltf, CorruptFilesGiveErrorsOnly) {
       const auto bad = isoforge::test::mutate(good, rng, 1 + i % 4, "{}[]\":,0123456789");
       rejected += isoforge::test::rejects_only_with_error(
           [](const std::vector<std::byte>& b) { return read_gltf(b, "fuzz.glb"); }, bad, f);
+      // The summary of `info` (its own pass over the same structure) accepts or rejects the
+      // same files; where both accept, it describes what read() gives.
+      const fs::path damaged = dir / "damaged.glb";
+      {
+        std::ofstream out(damaged, std::ios::binary | std::ios::trunc);
+        out.write(reinterpret_cast<const char*>(bad.data()),
+                  static_cast<std::streamsize>(bad.size()));
+      }
+      std::optional<DatasetSummary> summary, of_read;
+      try {
+        summary = summarize_file(damaged);
+      } catch (const Error&) {
+      }
+      try {
+        of_read = summarize(read(damaged));
+      } catch (const Error&) {
+      }
+      ASSERT_EQ(summary.has_value(), of_read.has_value()) << f << " mutation " << i;
+      if (summary) {
+        EXPECT_EQ(summary->points, of_read->points);
+        EXPECT_EQ(summary->cell_types, of_read->cell_types);
+      }
     }
   }
   EXPECT_GT(rejected, 0);

@@ -1,6 +1,6 @@
-// summarize_file: the streaming summaries (VTK XML, VTK legacy, PLY, OFF, NRRD, PLOT3D) against the
-// summary of the dataset read whole, on every encoding, on arrays larger than one streamed piece
-// (tuples straddling pieces), and with the same errors as the readers.
+// summarize_file: the streaming summaries (VTK XML, VTK legacy, PLY, OFF, NRRD, PLOT3D, glTF)
+// against the summary of the dataset read whole, on every encoding, on arrays larger than one
+// streamed piece (tuples straddling pieces), and with the same errors as the readers.
 
 #include "support/scratch.hpp"
 
@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "isoforge/core/summary.hpp"
+#include "isoforge/io/gltf.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/ply.hpp"
 
@@ -622,4 +623,131 @@ TEST(Summary, VtkLegacyCellSectionsStreamedWithTheReadersErrors) {
       << points << "POLYGONS 1 4\n3 0 1 4\n"
       << "POINTS 5 float\n0 0 0 1 0 0 0 1 0 1 1 0 2 2 2\n";
   expect_streamed_as_read(p);
+}
+
+namespace {
+
+// A .glb of `json` and the binary chunk `bin` (both padded to 4 bytes).
+void write_glb(const fs::path& path, std::string json, std::vector<std::uint8_t> bin) {
+  while (json.size() % 4 != 0) json += ' ';
+  while (bin.size() % 4 != 0) bin.push_back(0);
+  std::string out;
+  auto u32 = [&out](std::size_t v) {
+    for (int i = 0; i < 4; ++i) out += static_cast<char>((v >> (8 * i)) & 0xFF);
+  };
+  out += "glTF";
+  u32(2);
+  u32(12 + 8 + json.size() + 8 + bin.size());
+  u32(json.size());
+  out += "JSON";
+  out += json;
+  u32(bin.size());
+  out += std::string("BIN") + '\0';
+  out.append(reinterpret_cast<const char*>(bin.data()), bin.size());
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << out;
+}
+
+template <class T>
+void put(std::vector<std::uint8_t>& bin, std::initializer_list<T> values) {
+  for (const T v : values) {
+    const auto* b = reinterpret_cast<const std::uint8_t*>(&v);
+    bin.insert(bin.end(), b, b + sizeof(T));
+  }
+}
+
+}  // namespace
+
+TEST(Summary, GltfMeshesOfEveryCodecAppendedAsRead) {
+  // Two meshes with triangles, a polyline and a vertex cell; arrays that both have (kept) and
+  // one that only the first has (dropped by the append, as read() drops it).
+  PolyData a;
+  for (int i = 0; i < 300; ++i)
+    a.points.push_back({std::cos(0.1 * i), std::sin(0.1 * i), 0.01 * i});
+  for (Index i = 0; i + 2 < 300; i += 3) a.polys.add({i, i + 1, i + 2});
+  a.lines.add({0, 5, 9});
+  a.verts.add({7});
+  DataArray e("Elevation", ScalarType::Float32, 1, 300),
+      only("OnlyHere", ScalarType::Int16, 1, 300);
+  DataArray colors("Colors", ScalarType::UInt8, 3, 300);
+  for (std::size_t i = 0; i < 300; ++i) {
+    e.set(i, 0, 0.5 * static_cast<double>(i) - 20);
+    only.set(i, 0, static_cast<double>(i % 17));
+    for (int c = 0; c < 3; ++c) colors.set(i, c, static_cast<double>((i * (c + 3)) % 256));
+  }
+  a.point_data.add(std::move(e));
+  a.point_data.add(std::move(only));
+  a.point_data.add(std::move(colors), AttributeRole::Scalars);
+  PolyData b;
+  for (int i = 0; i < 40; ++i) b.points.push_back({5.0 + i, -1.0 * i, 3});
+  for (Index i = 0; i + 2 < 40; ++i) b.polys.add({i, i + 1, i + 2});
+  DataArray e2("Elevation", ScalarType::Float32, 1, 40), c2("Colors", ScalarType::UInt8, 3, 40);
+  for (std::size_t i = 0; i < 40; ++i) {
+    e2.set(i, 0, 100.0 + static_cast<double>(i));
+    for (int c = 0; c < 3; ++c) c2.set(i, c, static_cast<double>(i + c));
+  }
+  b.point_data.add(std::move(e2));
+  b.point_data.add(std::move(c2), AttributeRole::Scalars);
+  const GltfMesh meshes[] = {{"a", a}, {"b", b}};
+  for (const GltfCodec codec : {GltfCodec::None, GltfCodec::Meshopt, GltfCodec::Draco}) {
+    const fs::path p = scratch("two_" + std::string(gltf_codec_name(codec)) + ".glb");
+    GltfWriteOptions o;
+    o.codec = codec;
+    (void)write_gltf(meshes, p, o);
+    expect_streamed_as_read(p);
+    const DatasetSummary s = summarize_file(p);
+    EXPECT_EQ(s.cell_types.at(CellType::Triangle), 138u);
+    EXPECT_EQ(s.cell_types.at(CellType::Line), 2u);
+    EXPECT_EQ(s.cell_types.at(CellType::Vertex), 1u);
+    EXPECT_TRUE(s.point_data.find("Elevation"));
+    EXPECT_FALSE(s.point_data.find("OnlyHere"));
+  }
+}
+
+TEST(Summary, GltfPrimitiveModesSharedPositionsAndEmptyMeshes) {
+  // Mesh 0: five points shared by a triangle strip, a fan, a line loop, a line strip and a
+  // point primitive without indices; mesh 1: three points, a triangle list; both with _TEMP.
+  std::vector<std::uint8_t> bin;
+  put<float>(bin, {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.5f, 0.5f, 2});  // 0: 60 bytes
+  put<std::uint32_t>(bin, {0, 1, 2, 3, 4, 0});                           // 60: 24 bytes
+  put<float>(bin, {-3, 0, 0, -2, 0, 0, -2, 4, 1});                       // 84: 36 bytes
+  put<float>(bin, {7, 8, 9});                                            // 120: 12 bytes
+  put<float>(bin, {1, 2, 3, 4, -5});                                     // 132: 20 bytes
+  const std::string views =
+      R"("buffers":[{"byteLength":152}],"bufferViews":[{"buffer":0,"byteLength":60},)"
+      R"({"buffer":0,"byteOffset":60,"byteLength":24},{"buffer":0,"byteOffset":84,"byteLength":36},)"
+      R"({"buffer":0,"byteOffset":120,"byteLength":12},{"buffer":0,"byteOffset":132,"byteLength":20}],)"
+      R"("accessors":[{"bufferView":0,"componentType":5126,"count":5,"type":"VEC3"},)"
+      R"({"bufferView":1,"componentType":5125,"count":6,"type":"SCALAR"},)"
+      R"({"bufferView":2,"componentType":5126,"count":3,"type":"VEC3"},)"
+      R"({"bufferView":3,"componentType":5126,"count":3,"type":"SCALAR"},)"
+      R"({"bufferView":4,"componentType":5126,"count":5,"type":"SCALAR"}],)";
+  const std::string shared = R"({"attributes":{"POSITION":0,"_TEMP":4})";
+  const std::string mesh0 = R"({"primitives":[)" + shared + R"(,"indices":1,"mode":5},)" + shared +
+                            R"(,"indices":1,"mode":6},)" + shared + R"(,"indices":1,"mode":2},)" +
+                            shared + R"(,"indices":1,"mode":3},)" + shared + R"(,"mode":0}]})";
+  const std::string mesh1 = R"({"primitives":[{"attributes":{"POSITION":2,"_TEMP":3}}]})";
+  const std::string head = R"({"asset":{"version":"2.0"},)" + views;
+  const fs::path p = scratch("modes.glb");
+  write_glb(p, head + R"("meshes":[)" + mesh0 + "," + mesh1 + "]}", bin);
+  expect_streamed_as_read(p);
+  const DatasetSummary s = summarize_file(p);
+  EXPECT_EQ(s.points, 8u);
+  // Strip and fan: 4 triangles each; the triangle list: 1. Loop: 6 segments; strip: 5. 5 points.
+  EXPECT_EQ(s.cell_types.at(CellType::Triangle), 9u);
+  EXPECT_EQ(s.cell_types.at(CellType::Line), 11u);
+  EXPECT_EQ(s.cell_types.at(CellType::Vertex), 5u);
+  ASSERT_TRUE(s.point_data.find("_TEMP"));
+  EXPECT_EQ(s.point_data.find("_TEMP")->ranges.component(0), (std::pair<double, double>{-5, 9}));
+  // A third mesh without primitives: an empty part, which drops the arrays.
+  write_glb(p, head + R"("meshes":[)" + mesh0 + "," + mesh1 + R"(,{"primitives":[]}]})", bin);
+  expect_streamed_as_read(p);
+  EXPECT_TRUE(summarize_file(p).point_data.arrays.empty());
+  // No meshes at all; an index past the points; a missing POSITION: read()'s errors.
+  write_glb(p, head + R"("meshes":[]})", bin);
+  expect_streamed_as_read(p);
+  bin[60 + 4 * 3] = 9;
+  write_glb(p, head + R"("meshes":[)" + mesh0 + "]}", bin);
+  expect_same_error(p);
+  write_glb(p, head + R"("meshes":[{"primitives":[{"attributes":{}}]}]})", bin);
+  expect_same_error(p);
 }

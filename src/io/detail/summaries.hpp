@@ -51,4 +51,10 @@ namespace isoforge::io_detail {
                                               std::string_view q_name,
                                               const Plot3dOptions& options);
 
+/// glTF binary (.glb): the summary of all meshes appended, one vertex set at a time; the cells
+/// counted from the index accessors (each index checked), not stored.
+[[nodiscard]] DatasetSummary summarize_gltf(const std::filesystem::path& path,
+                                            const ProgressCallback& progress);
+[[nodiscard]] DatasetSummary summarize_gltf(std::span<const std::byte> data, std::string_view name);
+
 }  // namespace isoforge::io_detail
