@@ -21,10 +21,10 @@ seed ply "$data"/bunny.ply
 seed plot3d "$data"/combxyz.bin "$data"/combq.bin
 seed nrrd "$data"/headsq/quarter.nhdr
 seed metaimage "$data"/HeadMRVolume.mhd
-mkdir -p "$corpus/off" "$corpus/vdb" "$corpus/drc"
+mkdir -p "$corpus/off" "$corpus/vdb" "$corpus/drc" "$corpus/glb"
 printf 'OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n3 0 1 2\n3 1 3 2\n' > "$corpus/off/quad.off"
-# Generated seeds: small XML, PLY, VDB and Draco files written by isoforge itself (Draco: a
-# mesh with arrays by Edgebreaker and sequentially, a point cloud).
+# Generated seeds: small XML, PLY, VDB, Draco and glTF files written by isoforge itself (Draco: a
+# mesh with arrays by Edgebreaker and sequentially, a point cloud; glTF: each codec).
 cli=$build/src/isoforge
 if [ -x "$cli" ]; then
   "$cli" -q convert "$data/hello.vtk" "$corpus/vtk_xml/hello.vtp" || true
@@ -39,10 +39,13 @@ if [ -x "$cli" ]; then
   printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty float s\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n0 0 0 1\n1 0 0 2\n0 1 0 3\n0 0 1 4\n' > "$corpus/drc/cloud.ply"
   "$cli" -q convert "$corpus/drc/cloud.ply" "$corpus/drc/cloud.drc" || true
   rm -f "$corpus/drc/cloud.ply"
+  "$cli" -q convert "$data/hello.vtk" "$corpus/glb/hello.glb" --codec none || true
+  "$cli" -q convert "$data/fran_cut.vtk" "$corpus/glb/fran_meshopt.glb" --codec meshopt || true
+  "$cli" -q convert "$data/fran_cut.vtk" "$corpus/glb/fran_draco.glb" --codec draco || true
 fi
 
 status=0
-targets=${FUZZ_TARGETS:-vtk_legacy vtk_xml ply off plot3d nrrd metaimage vdb drc function vtk_xml_block}
+targets=${FUZZ_TARGETS:-vtk_legacy vtk_xml ply off plot3d nrrd metaimage vdb drc glb function vtk_xml_block}
 for target in $targets; do
   echo "== fuzz_$target for ${seconds}s"
   mkdir -p "$build/crashes/$target" "$corpus/$target"
@@ -54,7 +57,7 @@ for target in $targets; do
   # Draco 1.5.5's texture-coordinate prediction decoder loops over a 32-bit count read from the
   # stream before it can fail: up to 2^31 cheap iterations (~10 s, 256 MB), no crash. Such a
   # slow input is Draco's, not isoforge's (docs/formats.md, "Draco").
-  if [ "$target" = drc ]; then timeout=40; fi
+  if [ "$target" = drc ] || [ "$target" = glb ]; then timeout=40; fi
   seeds=()
   if [ -d "$root/tests/fuzz/corpus/$target" ]; then seeds=("$root/tests/fuzz/corpus/$target"); fi
   if ! "$bin/fuzz_$target" -max_total_time="$seconds" -timeout=$timeout -rss_limit_mb=2048 \
