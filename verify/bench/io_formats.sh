@@ -6,12 +6,14 @@
 #   a sphere sampled with `isoforge sample`, as xml_io.sh) and the surface of xml_io.sh (six
 #   spheres contoured, about 1.46M triangles) with gradient normals; converted with
 #   `isoforge convert` to every format: volume .vti (none, zlib, lz4), legacy binary .vtk;
-#   surface .vtp (none, zlib, lz4), legacy binary .vtk, binary .ply. isoforge writes neither
+#   surface .vtp (none, zlib, lz4), legacy binary .vtk, binary .ply, .glb (plain, meshopt and
+#   Draco; VTK 9.1's vtkGLTFReader reads the plain one, and writes .gltf + .bin, not .glb; the
+#   writing row times that). isoforge writes neither
 #   NRRD nor MetaImage (the table says so, with its error): the .mhd (+ .raw) read here is
 #   VTK's (vtkMetaImageWriter, uncompressed) and the .nrrd is a raw attached NRRD made by this
 #   script (a header before the bytes of that .raw).
-#   READ: `isoforge info FILE` (which also computes every array's range; VTK XML, binary PLY,
-#   NRRD and MetaImage in one streaming pass, the others read whole) against VTK's reader.
+#   READ: `isoforge info FILE` (which also computes every array's range; in one streaming pass
+#   but for Draco and ascii PLY) against VTK's reader.
 #   WRITE: `isoforge convert RAW OUT` against VTK reading RAW (the uncompressed .vti/.vtp) and
 #   writing OUT with its writer; each output is then read by the other side (VTK reads ours,
 #   `isoforge info` reads VTK's): a failure is printed in the row, and so are arrays lost.
@@ -76,6 +78,8 @@ converted() {
   case "$out" in
     *_zlib.vti | *_zlib.vtp | *_lz4.vti | *_lz4.vtp)
       c=${out##*_}; iso convert "$raw" "$out" --compressor "${c%%.*}" ;;
+    *_meshopt.glb | *_draco.glb) c=${out##*_}; iso convert "$raw" "$out" --codec "${c%.glb}" ;;
+    *.glb) iso convert "$raw" "$out" --codec none ;;
     *.mhd) vtkpy write "$raw" "$out" mhd >/dev/null ;;
     *.nrrd)
       converted "$raw" "${out%.nrrd}.mhd"
@@ -109,7 +113,8 @@ measure() {
     [ -z "${FRESH:-}" ] || rm -f $FRESH
     if ! /usr/bin/time -f "%e %U %S %M" -o "$work/time.txt" "$@" >"$work/out.txt" 2>"$work/err.txt"
     then
-      echo "FAIL $(grep -v '^ *$' "$work/err.txt" | tail -n 1 | tr '|' '/')"
+      # (the last line without terminal colour codes: VTK's warnings carry them)
+      echo "FAIL $(sed 's/\x1b\[[0-9;]*m//g' "$work/err.txt" | grep -v '^ *$' | tail -n 1 | tr '|' '/')"
       return 0
     fi
     echo "$(tail -n 1 "$work/time.txt") $(awk 'NR == 1 { print ($1 ~ /^[0-9.]+$/ ? $1 : 0) }' \
@@ -120,12 +125,13 @@ measure() {
        END { printf "%s %.2f %s %.0f\n", w, c, k == "" ? 0 : k, m * 1024 / 1e6 }' "$work/runs.txt"
 }
 
-# Megabytes of files (an .mhd with its .raw).
+# Megabytes of files (an .mhd with its .raw, a .gltf with its .bin).
 mb_of() {
   local b=0 f
   for f in "$@"; do
     b=$((b + $(stat -c %s "$f")))
     case "$f" in *.mhd) [ -f "${f%.mhd}.raw" ] && b=$((b + $(stat -c %s "${f%.mhd}.raw"))) ;; esac
+    case "$f" in *.gltf) [ -f "${f%.gltf}.bin" ] && b=$((b + $(stat -c %s "${f%.gltf}.bin"))) ;; esac
   done
   awk -v b="$b" 'BEGIN { printf "%.1f", b / 1e6 }'
 }
@@ -182,7 +188,7 @@ raw_of() { case "$1" in volume_*) echo "$work/vol_${1#volume_}.vti" ;; *) echo "
 formats_of() {
   case "$1" in
     volume_*) echo "vti-none:.vti vti-zlib:_zlib.vti vti-lz4:_lz4.vti vtk-binary:.vtk nrrd-raw:.nrrd mhd-raw:.mhd" ;;
-    *) echo "vtp-none:.vtp vtp-zlib:_zlib.vtp vtp-lz4:_lz4.vtp vtk-binary:.vtk ply-binary:.ply" ;;
+    *) echo "vtp-none:.vtp vtp-zlib:_zlib.vtp vtp-lz4:_lz4.vtp vtk-binary:.vtk ply-binary:.ply glb-none:.glb glb-meshopt:_meshopt.glb glb-draco:_draco.glb" ;;
   esac
 }
 
@@ -218,6 +224,8 @@ for d in $datasets; do
     note "write $d $name"
     ours="$work/w_ours$suffix" theirs="$work/w_vtk$suffix"
     case "$name" in
+      glb-none) opts=(--codec none) vfmt=(gltf) theirs="$work/w_vtk.gltf" ;;  # VTK: .gltf + .bin
+      glb-*) opts=(--codec "${name#glb-}") vfmt=() ;;
       *-zlib | *-lz4 | *-none) opts=(--compressor "${name#*-}") vfmt=(xml "${name#*-}") ;;
       vtk-binary) opts=() vfmt=(legacy) ;;
       ply-binary) opts=() vfmt=(ply) ;;
@@ -226,9 +234,11 @@ for d in $datasets; do
     esac
     i=$(FRESH="$ours ${ours%.mhd}.raw" measure "$bin" -q --threads "$threads" convert "$raw" "$ours" "${opts[@]}")
     if [ ${#vfmt[@]} -gt 0 ]; then
-      v=$(FRESH="$theirs ${theirs%.mhd}.raw" measure "$py" "$peer" write "$raw" "$theirs" "${vfmt[@]}")
-    else
+      v=$(FRESH="$theirs ${theirs%.mhd}.raw ${theirs%.gltf}.bin" measure "$py" "$peer" write "$raw" "$theirs" "${vfmt[@]}")
+    elif [ "$name" = nrrd-raw ]; then
       v="FAIL VTK 9.1 has no NRRD writer"
+    else
+      v="FAIL VTK 9.1 writes neither glTF compression extension"
     fi
     case "$i" in FAIL*) so="—" c1="${i#FAIL }" ;;
       *) so=$(mb_of "$ours") c1=$(check vtk "$ours" "$want" "$np") ;; esac
@@ -236,7 +246,7 @@ for d in $datasets; do
       *) sv=$(mb_of "$theirs") c2=$(check iso "$theirs" "$want" "$np") ;; esac
     case "$i" in FAIL*) i_side="cannot write" ;; *) i_side=$(side "$i") ;; esac
     echo "| $d | $name | $mb | $i_side | $(side "$v") | $(field "$v" 3) | $(rate "$mb" "$i") | $(rate "$mb" "$v") | $(ratio "$i" "$v") | $(rss "$i") / $(rss "$v") | $so / $sv | $c1 | $c2 |"
-    rm -f "$ours" "$theirs" "${ours%.mhd}.raw" "${theirs%.mhd}.raw"
+    rm -f "$ours" "$theirs" "${ours%.mhd}.raw" "${theirs%.mhd}.raw" "${theirs%.gltf}.bin"
   done
 done
 

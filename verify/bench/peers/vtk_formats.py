@@ -9,7 +9,8 @@ dataset read or produced. Exits with 1 if VTK reports an error or reads/produces
       .vti .vtp (vtkXML*Reader), .vtk (vtkStructuredPointsReader / vtkPolyDataReader by the
       DATASET line, else vtkDataSetReader; all attributes read), .nrrd .nhdr (vtkNrrdReader, not
       the MPI vtkPNrrdReader the object factory would give),
-      .mhd .mha (vtkMetaImageReader), .ply (vtkPLYReader)
+      .mhd .mha (vtkMetaImageReader), .ply (vtkPLYReader), .glb (vtkGLTFReader: a multiblock
+      of the meshes; counted over its leaves)
   vtk_formats.py write RAW OUT FORMAT [OPTION]
       read RAW (.vti/.vtp), write OUT; the call time is the Write() alone:
       FORMAT xml, OPTION none|zlib|lz4: vtkXML*Writer, appended raw, UInt64 headers, level 5
@@ -17,6 +18,8 @@ dataset read or produced. Exits with 1 if VTK reports an error or reads/produces
                      header version 5.1)
       FORMAT ply:    vtkPLYWriter, binary
       FORMAT mhd:    vtkMetaImageWriter, compression off (OUT.mhd + OUT.raw)
+      FORMAT gltf:   vtkGLTFWriter (the polydata as one block), OUT.gltf + its .bin: VTK 9.1
+                     writes no .glb
   vtk_formats.py pipeline NAME ARGS   (every writer with VTK's defaults: zlib level 5,
                                        appended data base64-encoded; the time is the whole pipeline)
       contour IN.vti OUT.vtp VALUE normals|nonormals
@@ -30,7 +33,8 @@ dataset read or produced. Exits with 1 if VTK reports an error or reads/produces
                      vtkPLYReader -> vtkImplicitPolyDataDistance (signed, exact everywhere) ->
                      vtkSampleFunction (float, no normals) on [-1,1]^3 -> vtkXMLImageDataWriter
       convert IN OUT.vti|OUT.vtp
-                     the reader of IN (as `read`) -> vtkXMLImageDataWriter / vtkXMLPolyDataWriter
+                     the reader of IN (as `read`; a .glb's blocks through
+                     vtkCompositeDataGeometryFilter) -> vtkXMLImageDataWriter / vtkXMLPolyDataWriter
   vtk_formats.py compare A.vti B.vti
       the largest absolute difference of the active scalars (printed alone)
 VTK's threads: vtkSMPTools.Initialize($VTK_THREADS) when that is set (else TBB's default)."""
@@ -93,25 +97,45 @@ def reader_for(path):
         r = vtk.vtkMetaImageReader()
     elif ext == ".ply":
         r = vtk.vtkPLYReader()
+    elif ext == ".glb":
+        r = vtk.vtkGLTFReader()
     else:
         raise SystemExit("unsupported file " + path)
     r.SetFileName(path)
     return ERRORS.watch(r)
 
 
+def leaves(ds):
+    """The datasets of a composite dataset (a multiblock from vtkGLTFReader), else [ds]."""
+    if not ds.IsA("vtkCompositeDataSet"):
+        return [ds]
+    it = ds.NewIterator()
+    it.InitTraversal()
+    out = []
+    while not it.IsDoneWithTraversal():
+        out.append(it.GetCurrentDataObject())
+        it.GoToNextItem()
+    return out
+
+
 def describe(ds):
     names = []
+    parts = leaves(ds)
+    if not parts:
+        return "points 0 cells 0 arrays -"
+    points = sum(p.GetNumberOfPoints() for p in parts)
+    cells = sum(p.GetNumberOfCells() for p in parts)
+    ds = parts[0]
     for attrs in (ds.GetPointData(), ds.GetCellData()):
         for i in range(attrs.GetNumberOfArrays()):
             names.append(attrs.GetArrayName(i) or "?")
-    return "points %d cells %d arrays %s" % (ds.GetNumberOfPoints(), ds.GetNumberOfCells(),
-                                            ",".join(names) or "-")
+    return "points %d cells %d arrays %s" % (points, cells, ",".join(names) or "-")
 
 
 def checked_output(alg, what):
     ERRORS.check(what)
     out = alg.GetOutputDataObject(0)
-    if out is None or out.GetNumberOfPoints() == 0:
+    if out is None or sum(p.GetNumberOfPoints() for p in leaves(out)) == 0:
         raise SystemExit("VTK read/produced nothing: " + what)
     return out
 
@@ -164,6 +188,12 @@ def write(raw, out, fmt, option):
     elif fmt == "mhd":
         w = ERRORS.watch(vtk.vtkMetaImageWriter())
         w.SetCompression(False)
+    elif fmt == "gltf":
+        w = ERRORS.watch(vtk.vtkGLTFWriter())
+        w.SetInlineData(False)
+        blocks = vtk.vtkMultiBlockDataSet()
+        blocks.SetBlock(0, data)
+        data = blocks
     else:
         raise SystemExit("unknown format " + fmt)
     w.SetInputData(data)
@@ -232,6 +262,10 @@ def pipeline(name, args):
     elif name == "convert":
         src, out = args[0], args[1]
         last = reader_for(src)
+        if src.lower().endswith(".glb"):
+            flat = ERRORS.watch(vtk.vtkCompositeDataGeometryFilter())
+            flat.SetInputConnection(last.GetOutputPort())
+            last = flat
         w = xml_writer_for(out)
         w.SetInputConnection(last.GetOutputPort())
     else:
