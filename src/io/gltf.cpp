@@ -1185,7 +1185,8 @@ class GlbReader {
 
   // Mesh `m`: its primitives, grouped by POSITION accessor into vertex sets, appended. With
   // `summaries` not null, nothing is returned: each vertex set's summary goes there instead,
-  // made from its points and point arrays and its cells counted (indices checked, not stored).
+  // made from its points and point arrays as soon as they are read (then dropped), and its
+  // cells counted (indices checked, not stored).
   GltfContent::Mesh read_mesh(const Json& mesh, std::size_t m,
                               std::vector<DatasetSummary>* summaries) {
     const std::string what = "meshes " + std::to_string(m);
@@ -1205,17 +1206,26 @@ class GlbReader {
     if (!prims.is_array()) fail(what + ": 'primitives' is not an array");
     std::vector<VertexSet> sets;
     std::vector<CellArray> verts, lines, polys;
-    std::vector<std::array<std::uint64_t, 3>> counted;  // a summary's cells per set and section
+    // A summary's vertex sets, each summarised (and its points dropped) as soon as it is read;
+    // its cells are added as the primitives are counted.
+    std::vector<DatasetSummary> sums;
+    const auto summarize_set = [&sums](PolyData& pd) {
+      sums.push_back(isoforge::summarize(pd));
+      pd = PolyData{};
+    };
     for (std::size_t p = 0; p < prims.size(); ++p) {
       const Json& prim = prims.as_array()[p];
       const std::string pw = what + " primitive " + std::to_string(p);
       if (const Json* ext = prim.find("extensions"); ext && ext->find(kDraco)) {
         sets.push_back({std::numeric_limits<std::size_t>::max(),
                         read_draco_primitive(*ext->find(kDraco), pw, names, scalars_name)});
-        polys.push_back(std::exchange(sets.back().pd.polys, CellArray{}));
-        verts.emplace_back();
-        lines.emplace_back();
-        counted.push_back({0, 0, polys.back().size()});
+        if (summaries) {
+          summarize_set(sets.back().pd);  // its triangles counted by summarize
+        } else {
+          polys.push_back(std::exchange(sets.back().pd.polys, CellArray{}));
+          verts.emplace_back();
+          lines.emplace_back();
+        }
         continue;
       }
       const Json& attributes = member(prim, "attributes", pw);
@@ -1227,12 +1237,15 @@ class GlbReader {
       }
       if (set == sets.size()) {
         sets.push_back({position, read_vertices(attributes, pw, names, scalars_name)});
-        verts.emplace_back();
-        lines.emplace_back();
-        polys.emplace_back();
-        counted.push_back({0, 0, 0});
+        if (summaries) {
+          summarize_set(sets.back().pd);
+        } else {
+          verts.emplace_back();
+          lines.emplace_back();
+          polys.emplace_back();
+        }
       }
-      const std::size_t n = sets[set].pd.num_points();
+      const std::size_t n = summaries ? sums[set].points : sets[set].pd.num_points();
       std::vector<std::uint32_t> idx;
       std::size_t c = n;  // indices
       if (prim.find("indices")) {
@@ -1259,7 +1272,11 @@ class GlbReader {
       const int mode = static_cast<int>(optional_index(prim, "mode", pw, 7, kModeTriangles));
       const std::pair<int, std::size_t> made = mode_cells(mode, c);
       if (summaries) {
-        counted[set][static_cast<std::size_t>(made.first)] += made.second;
+        if (made.second > 0) {
+          const auto section = static_cast<std::size_t>(made.first);
+          sums[set].cells += made.second;
+          sums[set].cell_types[poly_cell_type(made.first, section + 1)] += made.second;
+        }
         decoded_.clear();  // the decoded meshopt views: decoded again if another primitive asks
         continue;
       }
@@ -1304,17 +1321,7 @@ class GlbReader {
       }
     }
     if (summaries) {
-      for (std::size_t s = 0; s < sets.size(); ++s) {
-        DatasetSummary summary = isoforge::summarize(sets[s].pd);  // the points, no cells
-        for (int k = 0; k < 3; ++k) {
-          const std::uint64_t count = counted[s][static_cast<std::size_t>(k)];
-          if (count > 0)
-            summary.cell_types[poly_cell_type(k, static_cast<std::size_t>(k) + 1)] += count;
-          summary.cells += count;
-        }
-        summaries->push_back(std::move(summary));
-        sets[s].pd = PolyData{};  // dropped as it is summarised
-      }
+      for (DatasetSummary& sum : sums) summaries->push_back(std::move(sum));
       return out;
     }
     std::vector<PolyData> parts;
