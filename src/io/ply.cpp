@@ -88,12 +88,12 @@ class PlyReader {
     sc_.track(progress, progress_base);
   }
 
-  /// The summary in one streaming pass over binary files whose vertex and face records have a
-  /// fixed size (every face the same vertex count); false, with nothing decided, for the
-  /// others (ascii, list properties, mixed faces), which are read whole instead.
+  /// The summary in one streaming pass, a window of records at a time: binary records of a fixed
+  /// size (every face the same vertex count) decoded in parallel, the others (ascii, list
+  /// properties, mixed faces) value by value as `read` does. False, with nothing decided, for a
+  /// face element without an integer index list, which `read` rejects.
   bool summarize(DatasetSummary& s) {
     parse_header();
-    if (format_ == PlyFormat::Ascii) return false;
     for (const PlyElement& e : elements_) {
       if (e.name == "vertex") check_coordinates(e);
     }
@@ -103,7 +103,7 @@ class PlyReader {
     s.streamed = true;
     for (const PlyElement& e : elements_) {
       if (e.name == "vertex") {
-        if (!summarize_vertices(e, s)) return false;
+        summarize_vertices(e, s);
       } else if (e.name == "face") {
         if (!summarize_faces(e, s)) return false;
       } else {
@@ -370,7 +370,12 @@ class PlyReader {
     }
     num_vertices_ = n;
     if (read_fixed_records(e, vertex_arrays_)) return;
-    for (std::size_t i = 0; i < n; ++i) {
+    read_vertex_records(e, n);
+  }
+
+  /// The next `m` vertex records, value by value, into rows [0, m) of `vertex_arrays_`.
+  void read_vertex_records(const PlyElement& e, std::size_t m) {
+    for (std::size_t i = 0; i < m; ++i) {
       sc_.tick();  // progress, once a record
       for (std::size_t k = 0; k < e.props.size(); ++k) {
         if (e.props[k].is_list) {
@@ -396,20 +401,29 @@ class PlyReader {
 
   /// Vertex records a window at a time: decoded and grouped as `build` does (normals, colours,
   /// texture coordinates), summarised, dropped.
-  bool summarize_vertices(const PlyElement& e, DatasetSummary& s) {
+  void summarize_vertices(const PlyElement& e, DatasetSummary& s) {
     std::vector<std::size_t> offset;
-    const std::size_t rec = record_layout(e, offset);
+    std::size_t rec = format_ == PlyFormat::Ascii ? 0 : record_layout(e, offset);
     const auto n = static_cast<std::size_t>(e.count);
-    if (rec == 0 || n > sc_.remaining() / rec) return false;
+    if (rec != 0 && n > sc_.remaining() / rec) rec = 0;  // short: the value path says where
     have_vertex_ = true;
     vertex_props_ = e.props;
-    const std::size_t window = std::max<std::size_t>(1, io_detail::TupleStream::kPiece / rec);
-    for (std::size_t r0 = 0; r0 < n; r0 += window) {
+    const std::size_t window =
+        rec != 0 ? std::max<std::size_t>(1, io_detail::TupleStream::kPiece / rec) : kValueWindow;
+    std::size_t r0 = 0;
+    do {  // once at least: an empty element still has its arrays
       const std::size_t m = std::min(window, n - r0);
       vertex_arrays_.clear();
-      for (const auto& p : e.props) vertex_arrays_.push_back(DataArray::uninitialized(p.name, p.type, 1, m));
-      decode_columns(e.props, offset, rec, 0, m, vertex_arrays_, -1);
-      sc_.skip(m * rec, "element records");
+      for (const auto& p : e.props) {
+        vertex_arrays_.push_back(DataArray::uninitialized(
+            p.name, p.is_list ? ScalarType::UInt8 : p.type, 1, p.is_list ? 0 : m));
+      }
+      if (rec != 0) {
+        decode_columns(e.props, offset, rec, 0, m, vertex_arrays_, -1);
+        sc_.skip(m * rec, "element records");
+      } else {
+        read_vertex_records(e, m);
+      }
       num_vertices_ = m;
       polys_ = CellArray();  // build() takes it
       const PolyData piece = build();
@@ -417,39 +431,70 @@ class PlyReader {
       const DatasetSummary ps = isoforge::summarize(piece);
       for (const ArraySummary& a : ps.point_data.arrays) s.point_data.merge_array(a);
       s.point_data.active = ps.point_data.active;
-    }
+      r0 += m;
+    } while (r0 < n);
     s.points = n;
-    return true;
   }
 
-  /// Faces of one vertex count: counted, their scalar properties summarised a window at a time;
-  /// the index lists are not read.
+  /// Faces counted by vertex count and their scalar properties summarised, a window at a time:
+  /// windows of one vertex count decoded in parallel without reading their index lists, the
+  /// others (ascii, mixed faces, other lists) read value by value, indices checked, then dropped.
   bool summarize_faces(const PlyElement& e, DatasetSummary& s) {
     int idx = e.find("vertex_indices", true);
     if (idx < 0) idx = e.find("vertex_index", true);
-    if (idx < 0 || e.count == 0) return e.count == 0 && idx >= 0;
+    if (idx < 0) return false;
     const PlyProperty& ip = e.props[static_cast<std::size_t>(idx)];
     if (is_floating(ip.type)) return false;
-    const std::optional<FaceLayout> layout = face_layout(e, idx);
-    if (!layout) return false;
     const auto n = static_cast<std::size_t>(e.count);
-    const std::size_t window = std::max<std::size_t>(1, io_detail::TupleStream::kPiece / layout->rec);
-    for (std::size_t r0 = 0; r0 < n; r0 += window) {
-      const std::size_t m = std::min(window, n - r0);
-      if (!uniform_counts(*layout, ip, m)) return false;
-      std::vector<DataArray> arrays;
+    auto window_arrays = [&](std::size_t m) {
+      face_arrays_.clear();
       for (const auto& p : e.props) {
-        arrays.push_back(DataArray::uninitialized(p.name, p.is_list ? ScalarType::UInt8 : p.type, 1,
-                                                  p.is_list ? 0 : m));
+        face_arrays_.push_back(DataArray::uninitialized(
+            p.name, p.is_list ? ScalarType::UInt8 : p.type, 1, p.is_list ? 0 : m));
       }
-      decode_columns(e.props, layout->offset, layout->rec, 0, m, arrays, idx);
-      sc_.skip(m * layout->rec, "face records");
+    };
+    auto summarize_arrays = [&] {
       for (std::size_t k = 0; k < e.props.size(); ++k) {
-        if (static_cast<int>(k) != idx) s.cell_data.merge_array(isoforge::summarize(arrays[k]));
+        if (static_cast<int>(k) != idx && !e.props[k].is_list) {
+          s.cell_data.merge_array(isoforge::summarize(face_arrays_[k]));
+        }
       }
+    };
+    std::size_t r0 = 0;
+    if (const std::optional<FaceLayout> layout = face_layout(e, idx)) {
+      const std::size_t window =
+          std::max<std::size_t>(1, io_detail::TupleStream::kPiece / layout->rec);
+      while (r0 < n) {
+        const std::size_t m = std::min(window, n - r0);
+        if (!uniform_counts(*layout, ip, m)) break;  // the rest value by value
+        window_arrays(m);
+        decode_columns(e.props, layout->offset, layout->rec, 0, m, face_arrays_, idx);
+        sc_.skip(m * layout->rec, "face records");
+        summarize_arrays();
+        s.cells += m;
+        s.cell_types[poly_cell_type(2, layout->count)] += m;
+        r0 += m;
+      }
+      if (r0 == n) return true;
     }
-    s.cells += n;
-    s.cell_types[poly_cell_type(2, layout->count)] += n;
+    std::uint64_t nverts = 0;
+    for (const auto& el : elements_) {
+      if (el.name == "vertex") nverts = el.count;
+    }
+    do {  // once at least: an empty element still has its arrays
+      const std::size_t m = std::min(kValueWindow, n - r0);
+      window_arrays(m);
+      polys_ = CellArray();
+      read_face_records(e, idx, nverts, r0, m);
+      summarize_arrays();
+      const auto& off = polys_.offsets();
+      for (std::size_t f = 0; f < m; ++f) {
+        s.cell_types[poly_cell_type(2, static_cast<std::size_t>(off[f + 1] - off[f]))] += 1;
+      }
+      s.cells += m;
+      r0 += m;
+    } while (r0 < n);
+    polys_ = CellArray();
     return true;
   }
 
@@ -639,12 +684,21 @@ class PlyReader {
     }
     face_index_prop_ = idx;
     if (read_fixed_faces(e, idx, nverts)) return;
+    read_face_records(e, idx, nverts, 0, n);
+  }
+
+  /// The next `m` face records (faces [first, first + m) of the element, for messages), value
+  /// by value: index lists appended to `polys_` (each index checked against `nverts`), scalar
+  /// properties into rows [0, m) of `face_arrays_`.
+  void read_face_records(const PlyElement& e, int idx, std::uint64_t nverts, std::size_t first,
+                         std::size_t m) {
     auto& offsets = polys_.offsets();
     auto& conn = polys_.connectivity();
-    offsets.reserve(n + 1);
+    offsets.reserve(offsets.size() + m);
     // Most meshes are triangles: room for three indices a face, grown only past that.
-    conn.reserve(std::min<std::size_t>(3 * n, sc_.remaining()));
-    for (std::size_t f = 0; f < n; ++f) {
+    conn.reserve(conn.size() + std::min<std::size_t>(3 * m, sc_.remaining()));
+    for (std::size_t i = 0; i < m; ++i) {
+      const std::size_t f = first + i;
       sc_.tick();  // progress, once a record
       for (std::size_t k = 0; k < e.props.size(); ++k) {
         const PlyProperty& p = e.props[k];
@@ -666,7 +720,7 @@ class PlyReader {
         } else if (p.is_list) {
           skip_property(p);
         } else {
-          read_scalar_into(face_arrays_[k], f, "face property value");
+          read_scalar_into(face_arrays_[k], i, "face property value");
         }
       }
     }
@@ -781,6 +835,8 @@ class PlyReader {
     }
     return mesh;
   }
+
+  static constexpr std::size_t kValueWindow = std::size_t{1} << 16;  // records a summary window
 
   Scanner sc_;
   PlyFormat format_ = PlyFormat::Ascii;

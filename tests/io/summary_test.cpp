@@ -392,6 +392,117 @@ TEST(Summary, BinaryPlyInWindowsOfRecordsWithGroupedProperties) {
   expect_streamed_as_read(p);
 }
 
+TEST(Summary, AsciiPlyInWindowsOfRecordsAsRead) {
+  // 150 001 vertices (more than two windows of records read value by value), a list property
+  // among the vertex properties, an element the reader skips, faces of 3, 4 and 5 vertices with
+  // a face property, then an empty face element alone.
+  const fs::path p = scratch("ascii.ply");
+  const std::size_t n = 150'001;
+  auto header = [](std::size_t verts, std::size_t faces) {
+    return "ply\nformat ascii 1.0\ncomment made by a test\nelement vertex " +
+           std::to_string(verts) +
+           "\nproperty float x\nproperty float y\nproperty float z\nproperty list uchar int "
+           "tags\nproperty float nx\nproperty float ny\nproperty float nz\nproperty uchar "
+           "red\nproperty uchar green\nproperty uchar blue\nproperty double quality\nelement "
+           "edge 2\nproperty int vertex1\nproperty int vertex2\nelement face " +
+           std::to_string(faces) +
+           "\nproperty int material\nproperty list uchar int vertex_indices\nend_header\n";
+  };
+  auto vertices = [&](std::string& text, std::size_t count, const std::string& odd) {
+    for (std::size_t i = 0; i < count; ++i) {
+      const double a = 0.001 * static_cast<double>(i);
+      text += std::to_string(std::cos(a)) + " " + std::to_string(std::sin(a)) + " " +
+              (i == 77'777 && !odd.empty() ? odd : std::to_string(1e-5 * static_cast<double>(i))) +
+              " " + std::to_string(i % 3) + (i % 3 > 0 ? " 7" : "") + (i % 3 > 1 ? " 8" : "") +
+              " 0 0 1 " + std::to_string(i % 256) + " 3 " + std::to_string(255 - i % 200) + " " +
+              std::to_string(0.5 * static_cast<double>(i)) + "\n";
+    }
+    text += "0 1\n1 2\n";
+  };
+  const std::size_t faces = n - 4;
+  auto face_lines = [&](std::string& text, std::int64_t bad) {
+    for (std::size_t f = 0; f < faces; ++f) {
+      const std::size_t k = 3 + f % 3;
+      text += std::to_string(static_cast<int>(f % 11) - 5) + " " + std::to_string(k);
+      for (std::size_t j = 0; j < k; ++j) {
+        text +=
+            " " + std::to_string(f == 70'001 && bad >= 0 ? bad : static_cast<std::int64_t>(f + j));
+      }
+      text += "\n";
+    }
+  };
+  {
+    std::string text = header(n, faces);
+    vertices(text, n, "");
+    face_lines(text, -1);
+    std::ofstream(p, std::ios::binary | std::ios::trunc) << text;
+  }
+  expect_streamed_as_read(p);
+  const DatasetSummary s = summarize_file(p);
+  EXPECT_EQ(s.points, n);
+  EXPECT_EQ(s.cells, faces);
+  EXPECT_EQ(s.cell_types.at(CellType::Triangle), (faces + 2) / 3);
+  EXPECT_EQ(s.cell_types.at(CellType::Quad), (faces + 1) / 3);
+  EXPECT_EQ(s.cell_types.at(CellType::Polygon), faces / 3);
+  ASSERT_NE(s.point_data.find("quality"), nullptr);
+  EXPECT_EQ(s.point_data.find("quality")->ranges.component(0).second,
+            0.5 * static_cast<double>(n - 1));
+  ASSERT_NE(s.cell_data.find("material"), nullptr);
+  EXPECT_EQ(s.cell_data.find("material")->ranges.component(0).first, -5.0);
+
+  // An empty face element still carries its property, as the reader gives it.
+  std::ofstream(p, std::ios::binary | std::ios::trunc)
+      << "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty "
+         "float z\nelement face 0\nproperty list uchar int vertex_indices\nproperty int "
+         "material\nend_header\n1 2 3\n";
+  expect_streamed_as_read(p);
+
+  // Errors past the first window: an index out of range, a non-finite coordinate, a file cut
+  // short. The summary names the same record and line as the reader.
+  for (int k = 0; k < 3; ++k) {
+    std::string text = header(n, faces);
+    vertices(text, n, k == 1 ? "nan" : "");
+    face_lines(text, k == 0 ? static_cast<std::int64_t>(n) : -1);
+    if (k == 2) text.resize(text.size() - 100'000);
+    std::ofstream(p, std::ios::binary | std::ios::trunc) << text;
+    expect_same_error(p);
+  }
+}
+
+TEST(Summary, BinaryPlyWhoseFacesTurnMixedAfterTheFirstWindows) {
+  // 600 000 triangles (windows decoded in parallel), then quads and a pentagon (read value by
+  // value from there on), with a face property; big-endian too.
+  PolyData pd;
+  const Index n = 600'010;
+  for (Index i = 0; i < n; ++i) {
+    pd.points.push_back({static_cast<double>(i % 1000), static_cast<double>(i / 1000), 0.0});
+  }
+  DataArray m("material", ScalarType::Int16, 1, static_cast<std::size_t>(n - 5));
+  for (Index i = 0; i + 5 < n; ++i) {
+    if (i < 600'000) {
+      pd.polys.add({i, i + 1, i + 2});
+    } else if (i == 600'001) {
+      pd.polys.add({i, i + 1, i + 2, i + 3, i + 4});
+    } else {
+      pd.polys.add({i, i + 1, i + 2, i + 3});
+    }
+    m.set(static_cast<std::size_t>(i), 0, static_cast<double>(i % 9) - (i == 600'003 ? 100 : 0));
+  }
+  pd.cell_data.add(std::move(m));
+  const fs::path p = scratch("mixed.ply");
+  write(pd, p);
+  expect_streamed_as_read(p);
+  const DatasetSummary s = summarize_file(p);
+  EXPECT_EQ(s.cell_types.at(CellType::Triangle), 600'000u);
+  EXPECT_EQ(s.cell_types.at(CellType::Polygon), 1u);
+  EXPECT_EQ(s.cell_types.at(CellType::Quad), 4u);
+  EXPECT_EQ(s.cell_data.find("material")->ranges.component(0).first, 600'003 % 9 - 100.0);
+  PlyWriteOptions o;
+  o.encoding = PlyEncoding::BinaryBigEndian;
+  write_ply(pd, p, o);
+  expect_streamed_as_read(p);
+}
+
 TEST(Summary, GzipNrrdWithAByteSkipStreamed) {
   const std::size_t n = 64 * 64 * 40;
   std::vector<unsigned char> raw(100 + 4 * n, 0);

@@ -97,7 +97,7 @@ struct WriteOptions {
 
 /// What a file holds (core/summary.hpp), read in one streaming pass without loading its arrays or
 /// its connectivity: VTK XML (arrays in ascii text are parsed whole), VTK legacy (cells listed
-/// before the points are read), binary PLY, OFF, NRRD, MetaImage, PLOT3D (with
+/// before the points are read), PLY, OFF, NRRD, MetaImage, PLOT3D (with
 /// `options.plot3d_q`) and glTF (one vertex set at a time; Draco-compressed primitives
 /// decoded); the other formats are read and summarised. \throw Error as `read` does.
 [[nodiscard]] DatasetSummary summarize_file(const std::filesystem::path& path,
