@@ -35,7 +35,7 @@ void print_vdb_info(const std::filesystem::path& path) {
 void add_info_command(CLI::App& app, Context& ctx) {
   auto* cmd = app.add_subcommand("info", "Print what a file holds: dataset type, dimensions, "
                                          "point/cell counts, bounds, arrays with ranges (VTK XML, "
-                                         "VTK legacy, binary PLY, OFF, NRRD, MetaImage and PLOT3D "
+                                         "VTK legacy, PLY, OFF, NRRD, MetaImage, PLOT3D and glTF "
                                          "in one streaming pass without loading their arrays)");
   auto path = std::make_shared<std::string>();
   auto q = std::make_shared<std::string>();
