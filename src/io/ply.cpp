@@ -110,7 +110,10 @@ class PlyReader {
         skip_element(e);
       }
     }
-    return have_vertex_ || s.cells == 0;  // faces without vertices: the reader says so
+    if (have_vertex_) return true;
+    if (s.cells > 0) return false;      // faces without vertices: the reader says so
+    s.cell_data = AttributesSummary{};  // no vertex element: the reader's mesh is empty
+    return true;
   }
 
   PolyData read() {

@@ -456,6 +456,11 @@ TEST(Summary, AsciiPlyInWindowsOfRecordsAsRead) {
          "float z\nelement face 0\nproperty list uchar int vertex_indices\nproperty int "
          "material\nend_header\n1 2 3\n";
   expect_streamed_as_read(p);
+  // Without a vertex element the reader's mesh is empty: no arrays either.
+  std::ofstream(p, std::ios::binary | std::ios::trunc)
+      << "ply\nformat ascii 1.0\nelement face 0\nproperty list uchar int vertex_indices\nproperty "
+         "int material\nend_header\n";
+  expect_streamed_as_read(p);
 
   // Errors past the first window: an index out of range, a non-finite coordinate, a file cut
   // short. The summary names the same record and line as the reader.
