@@ -645,6 +645,15 @@ std::vector<std::uint8_t> encode_once(const draco::PointCloud& pc, const Prepare
     enc->SetEncodingMethod(draco::POINT_CLOUD_SEQUENTIAL_ENCODING);
   }
   for (const DracoSource& s : sources) {
+    // At speeds 0 and 1 Draco predicts every quantized attribute of an Edgebreaker mesh with its
+    // constrained multi-parallelogram scheme, whose encoder (libdraco 1.5.5) crashes on some
+    // generic arrays (values of order 1e-7 and below); plain parallelogram prediction there.
+    if (p.mesh && speed <= 1 && s.kind == DracoKind::Generic &&
+        o.method != DracoMethod::Sequential) {
+      const draco::Status st =
+          enc->SetAttributePredictionScheme(s.att_id, draco::MESH_PREDICTION_PARALLELOGRAM);
+      if (!st.ok()) throw Error(std::string(name) + ": Draco: " + st.error_msg());
+    }
     if (!s.quantized || s.bits == 0) continue;
     if (s.kind == DracoKind::Normal) {
       enc->SetAttributeQuantization(s.att_id, s.bits);

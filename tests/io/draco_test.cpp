@@ -300,6 +300,32 @@ TEST(Draco, ArrayBudgets) {
   }
 }
 
+TEST(Draco, TinyValuedArraysAtTheHighestLevels) {
+  // Values of order 1e-10 to 1e-17 (an isosurface's residual field) made libdraco 1.5.5's
+  // constrained multi-parallelogram encoder crash at levels 9 and 10.
+  PolyData m = bunny();
+  for (double scale : {1e-7, 1e-10, 1e-17}) {
+    PolyData a = m;
+    DataArray f("F", ScalarType::Float32, 1, a.points.size());
+    for (std::size_t i = 0; i < a.points.size(); ++i) f.set(i, 0, scale * a.points[i][0]);
+    a.point_data.add(std::move(f));
+    for (int level : {9, 10}) {
+      DracoWriteOptions o;
+      o.level = level;
+      const fs::path path = scratch("tiny") / ("l" + std::to_string(level) + ".drc");
+      const DracoStats st = write_draco(a, path, o);
+      EXPECT_EQ(st.attributes.size(), a.point_data.size() + 1);
+      const PolyData back = read_draco(path);
+      std::vector<char> used(a.points.size(), 0);
+      for (Index id : a.polys.connectivity()) used[static_cast<std::size_t>(id)] = 1;
+      EXPECT_EQ(back.points.size(),
+                static_cast<std::size_t>(std::count(used.begin(), used.end(), 1)));
+      EXPECT_EQ(back.polys.size(), a.polys.size());
+      EXPECT_NE(back.point_data.find("F"), nullptr);
+    }
+  }
+}
+
 TEST(Draco, NormalsBudget) {
   PolyData m = bunny();
   DataArray n("Normals", ScalarType::Float32, 3, m.points.size());
