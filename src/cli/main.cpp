@@ -72,6 +72,22 @@ void install_signal_handlers() {
   }
 }
 
+// No option or argument takes an empty value: `-a ''` is a mistake (an unset shell variable),
+// never "not given". Flags hold no value and are skipped.
+void reject_empty_values(const CLI::App& app) {
+  for (const CLI::App* a = &app; a != nullptr;) {
+    for (const CLI::Option* opt : a->get_options()) {
+      if (opt->count() == 0 || opt->get_type_size_max() == 0) continue;
+      for (const std::string& value : opt->results()) {
+        if (value.empty())
+          throw CLI::ValidationError(opt->get_name(), "an empty value is not allowed");
+      }
+    }
+    const auto subs = a->get_subcommands();
+    a = subs.empty() ? nullptr : subs.front();
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -108,6 +124,7 @@ int main(int argc, char** argv) {
   // which uses TBB) then never runs more than `threads` workers.
   std::optional<tbb::global_control> thread_limit;
   app.parse_complete_callback([&] {
+    reject_empty_values(app);
     if (threads > 0) {
       thread_limit.emplace(tbb::global_control::max_allowed_parallelism,
                            static_cast<std::size_t>(threads));

@@ -21,7 +21,7 @@ expect_ok elev_given_file "'h' +Float32 x1 \[scalars\] +\[10, 1[45](\.[0-9]+)?\]
 expect_ok elev_noclamp_file "'Elevation' +Float32 x1 \[scalars\] +\[[-0-9.e]+, 2\]" "$bin" info "$tmp/x.vts"
 expect_usage elev_same "--low and --high must be different points" "$bin" elevation "$data/bunny.ply" --low 1 1 1 --high 1 1 1 -o "$tmp/b.vtp"
 expect_usage elev_nan "--range: must be a finite number" "$bin" elevation "$data/bunny.ply" --range 0 nan -o "$tmp/b.vtp"
-expect_usage elev_name "--name: the array needs a name" "$bin" elevation "$data/bunny.ply" --name "" -o "$tmp/b.vtp"
+expect_usage elev_name "--name: an empty value is not allowed" "$bin" elevation "$data/bunny.ply" --name "" -o "$tmp/b.vtp"
 expect_usage elev_flat "hello.vtk is flat in z: give --low and --high" "$bin" elevation "$data/hello.vtk" -o "$tmp/b.vtp"
 expect_usage elev_format_obj "writes \.vtk \.vti \.vts \.vtp \.vtu, or \.ply for surfaces, not OBJ" "$bin" elevation "$data/bunny.ply" -o "$tmp/b.obj"
 expect_usage elev_format "unknown file extension '.stl'" "$bin" elevation "$data/bunny.ply" -o "$tmp/b.stl"

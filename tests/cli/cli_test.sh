@@ -129,6 +129,10 @@ expect_usage bad_parameter "'r' \(radius\) is negative" "$bin" sample -f 'sphere
 expect_usage no_values "at least one value" "$bin" contour "$tmp/sphere.vti" -o "$tmp/x.vtp"
 expect_error missing_array "no point array named 'nope'" "$bin" contour "$tmp/sphere.vti" -v 0 -a nope -o "$tmp/x.vtp"
 expect_usage contour_to_vti "holds|not" "$bin" contour "$tmp/sphere.vti" -v 0 -o "$tmp/x.vti"
+# An empty value (an unset shell variable) is never "not given".
+expect_usage empty_array "--array: an empty value is not allowed" "$bin" contour "$tmp/sphere.vti" -v 0 -a '' -o "$tmp/x.vtp"
+expect_usage empty_q "--q: an empty value is not allowed" "$bin" info "$data/combxyz.bin" --q ''
+expect_usage empty_file "file: an empty value is not allowed" "$bin" info ''
 
 # ---- every option value checked: counts (never wrapped), numbers, meaning, contradictions ----
 v=(-f 'sphere()' -b -1 1 -1 1 -1 1)  # a valid sample
@@ -359,7 +363,7 @@ expect_usage colormap_big_color "--below-color: expected .*got '300,0,0'" "$bin"
 expect_usage colormap_opacity_rgb "--opacity: applies to --rgba output only" "$bin" colormap "$data/bunny.ply" -a intensity --opacity 0.5 -o "$tmp/x.vtp"
 expect_usage colormap_bands_zero "--bands: must be an integer in \[1, " "$bin" colormap "$data/bunny.ply" -a intensity --bands 0 -o "$tmp/x.vtp"
 expect_usage colormap_component_negative "--component: must be an integer in \[0, 2147483647\], got -1" "$bin" colormap "$data/bunny.ply" -a intensity --component -1 -o "$tmp/x.vtp"
-expect_usage colormap_empty_name "--name: the colour array needs a name" "$bin" colormap "$data/bunny.ply" -a intensity --name '' -o "$tmp/x.vtp"
+expect_usage colormap_empty_name "--name: an empty value is not allowed" "$bin" colormap "$data/bunny.ply" -a intensity --name '' -o "$tmp/x.vtp"
 expect_ok contour_color_by "coloured by 'Velocity' \(cool-warm, range" "$bin" contour "$data/combxyz.bin" --q "$data/combq.bin" -a Density -v 0.3 --color-by Velocity --colormap cool-warm -o "$tmp/density.vtp"
 expect_ok contour_color_by_back "'Colors' +UInt8 +x3" "$bin" info "$tmp/density.vtp"
 expect_ok contour_color_by_cells "coloured by 'OriginalCellIds' \(rainbow, range" "$bin" contour "$tmp/inside.vtu" -v -0.5 --color-by OriginalCellIds --colormap rainbow -o "$tmp/inside_contour.vtp"

@@ -46,7 +46,7 @@ expect_usage plane_vti "-o: a line or plane probe is polygonal data" "$bin" prob
 expect_usage with_type "-o: the probe .* is structured grid" "$bin" probe "${comb[@]}" --with "$data/combxyz.bin" -o "$tmp/x.vtu"
 expect_usage tolerance "--tolerance: must be a finite number >= 0" "$bin" probe "${comb[@]}" --volume 4 --tolerance -1 -o "$tmp/x.vti"
 expect_usage nil "--nil: must be a finite number" "$bin" probe "${comb[@]}" --volume 4 --nil inf -o "$tmp/x.vti"
-expect_usage mask "--mask-name: the mask array needs a name" "$bin" probe "${comb[@]}" --volume 4 --mask-name "" -o "$tmp/x.vti"
+expect_usage mask "--mask-name: an empty value is not allowed" "$bin" probe "${comb[@]}" --volume 4 --mask-name "" -o "$tmp/x.vti"
 expect_usage q_not_plot3d "--q" "$bin" probe "$data/post.vtk" --q "$data/combq.bin" --volume 4 -o "$tmp/x.vti"
 expect_error missing_with "nothing.vtk" "$bin" probe "${comb[@]}" --with "$tmp/nothing.vtk" -o "$tmp/x.vtk"
 [ -e "$tmp/x.vtp" ] || [ -e "$tmp/x.vti" ] && fail "a failed probe wrote an output"

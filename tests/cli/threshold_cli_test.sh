@@ -58,7 +58,7 @@ expect_usage thr_component_magnitude "--component and --magnitude exclude each o
 expect_usage thr_mode_cell_array "--any-point: applies to a point array; 'OriginalCellIds' is cell data" "$bin" threshold "$tmp/post.vtp" -a OriginalCellIds --above 1 --any-point -o "$tmp/x.vtu"
 expect_usage thr_output "x.vtp: this subcommand writes .vtu .vtk" "$bin" threshold "$data/post.vtk" -a Pressure --above 1 -o "$tmp/x.vtp"
 expect_usage thr_no_array "--array is required" "$bin" threshold "$data/post.vtk" --above 1 -o "$tmp/x.vtu"
-expect_usage thr_empty_array "--array: the array needs a name" "$bin" threshold "$data/post.vtk" -a '' --above 1 -o "$tmp/x.vtu"
+expect_usage thr_empty_array "--array: an empty value is not allowed" "$bin" threshold "$data/post.vtk" -a '' --above 1 -o "$tmp/x.vtu"
 expect_error thr_unknown_array "threshold: no array 'nosuch' \(point arrays: 'Pressure'; cell arrays: none\)" "$bin" threshold "$data/post.vtk" -a nosuch --above 1 -o "$tmp/x.vtu"
 expect_error thr_component_range "threshold: component 3 of 'vectors', which has 3 components" "$bin" threshold "$data/office.binary.vtk" -a vectors --component 3 --above 0 -o "$tmp/x.vtu"
 expect_error thr_bad_input "nosuch.vtk" "$bin" threshold "$tmp/nosuch.vtk" -a s --above 0 -o "$tmp/x.vtu"
