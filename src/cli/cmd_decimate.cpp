@@ -49,8 +49,9 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
       cmd->add_flag("--relative", args->relative, "--max-error is relative to the bbox diagonal");
   cmd->add_option("-m,--method", args->method, "quadric, vertex-removal or cell-collapse")
       ->check(CLI::IsMember({"quadric", "vertex-removal", "cell-collapse"}));
-  cmd->add_flag("--preserve-boundary,!--free-boundary", args->preserve_boundary,
-                "Keep borders in place with constraint planes (default on)");
+  auto* boundary_opt =
+      cmd->add_flag("--preserve-boundary,!--free-boundary", args->preserve_boundary,
+                    "Keep borders in place with constraint planes (default on)");
   cmd->add_flag("--preserve-topology,!--free-topology", args->preserve_topology,
                 "Never change genus, close holes or make non-manifold parts (default on)");
   cmd->add_option("--feature-angle", args->feature_angle,
@@ -60,13 +61,16 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
   cmd->add_option("--max-normal-turn", args->max_turn,
                   "Refuse operations turning a face normal more than this (degrees, default 90)")
       ->check(number_in(0, 180, true));
-  cmd->add_option("--boundary-weight", args->boundary_weight,
-                  "Weight of the border and feature constraint planes (default 10)")
-      ->check(non_negative_number());
-  cmd->add_option("--attribute-weight", args->attribute_weight,
-                  "Weight of point-array differences in the collapse cost, as a fraction of the "
-                  "diagonal per full-range difference (default 0: geometry only)")
-      ->check(non_negative_number());
+  auto* boundary_weight_opt =
+      cmd->add_option("--boundary-weight", args->boundary_weight,
+                      "Weight of the border and feature constraint planes (default 10)")
+          ->check(non_negative_number());
+  auto* attribute_weight_opt =
+      cmd->add_option(
+             "--attribute-weight", args->attribute_weight,
+             "Weight of point-array differences in the collapse cost, as a fraction of the "
+             "diagonal per full-range difference (default 0: geometry only)")
+          ->check(non_negative_number());
   cmd->add_option("--lock", args->lock,
                   "Point array whose non-zero entries lock a vertex in place");
   cmd->add_flag("--no-intersection-check", args->no_intersection_check,
@@ -87,7 +91,8 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
       "bunny5k.vtp\n"
       "  isoforge decimate data/bunny.ply -e 0.001 --relative -o bunny_err.vtp\n"
       "  isoforge decimate data/bunny.ply -r 0.5 --color-by intensity --colormap inferno -o bunny_colored.ply");
-  cmd->callback([args, &ctx, target_opt, reduction_opt, error_opt, relative_opt] {
+  cmd->callback([args, &ctx, target_opt, reduction_opt, error_opt, relative_opt, boundary_opt,
+                 boundary_weight_opt, attribute_weight_opt] {
     const FileFormat format = output_format(args->out, kSurfaceFormats, kSurfaceExtensions);
     exclude_each_other({target_opt, reduction_opt});
     if (target_opt->count() == 0 && reduction_opt->count() == 0 && error_opt->count() == 0) {
@@ -99,6 +104,18 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
       throw UsageError("--reduction: must be below 1 (1 would remove every triangle), got " +
                        fmt::format("{}", args->reduction));
     }
+    // Options the chosen method does not use are errors, not silently ignored.
+    const bool removal = args->method == "vertex-removal";
+    require_meaningful(attribute_weight_opt, args->method == "quadric",
+                       "applies to --method quadric only");
+    require_meaningful(boundary_opt, !removal,
+                       "vertex removal has no border constraint planes (use --method quadric or "
+                       "cell-collapse)");
+    require_meaningful(boundary_weight_opt,
+                       !removal && (args->preserve_boundary || args->feature_angle < 180),
+                       removal ? "vertex removal has no constraint planes"
+                               : "weighs border and feature planes: with --free-boundary it needs "
+                                 "--feature-angle below 180");
     DecimateOptions o;
     o.method = args->method == "vertex-removal"  ? DecimateMethod::VertexRemoval
                : args->method == "cell-collapse" ? DecimateMethod::CellCollapse

@@ -40,9 +40,12 @@ void add_glyph_command(CLI::App& app, Context& ctx) {
   cmd->add_option("--orient", args->orient,
                   "auto (vectors, else normals, else none), vectors, normals or none")
       ->check(CLI::IsMember({"auto", "vectors", "normals", "none"}));
-  cmd->add_option("--vectors", args->vectors, "Point array of vectors (default: active vectors)");
-  cmd->add_option("--normals", args->normals, "Point array of normals (default: active normals)");
-  cmd->add_option("--scalars", args->scalars, "Point array of scalars (default: active scalars)");
+  auto* vectors_opt = cmd->add_option("--vectors", args->vectors,
+                                      "Point array of vectors (default: active vectors)");
+  auto* normals_opt = cmd->add_option("--normals", args->normals,
+                                      "Point array of normals (default: active normals)");
+  auto* scalars_opt = cmd->add_option("--scalars", args->scalars,
+                                      "Point array of scalars (default: active scalars)");
   cmd->add_option("--scale-by", args->scale_by, "scalar, vector (its length) or none (default)")
       ->check(CLI::IsMember({"scalar", "vector", "none"}));
   cmd->add_option("-f,--factor", args->factor,
@@ -92,12 +95,21 @@ void add_glyph_command(CLI::App& app, Context& ctx) {
       "-f 0.004 --mask-voxel 0.01 -o dots.ply\n"
       "  isoforge glyph data/hello.vtk -s data/fran_cut.vtk --orient none -f 2 -o hello_faces.vtp"
       "   (any polydata as the shape)");
-  cmd->callback([args, &ctx, res_opt, clamp_opt, range_opt, every_opt, random_opt, seed_opt,
-                 voxel_opt, q_opt] {
+  cmd->callback([args, &ctx, vectors_opt, normals_opt, scalars_opt, res_opt, clamp_opt, range_opt,
+                 every_opt, random_opt, seed_opt, voxel_opt, q_opt] {
     (void)output_format(args->out, kSurfaceFormats, kSurfaceExtensions);
     require_plot3d_input(q_opt, args->in);
     exclude_each_other({every_opt, random_opt, voxel_opt});
     require_meaningful(seed_opt, random_opt->count() > 0, "applies to --mask-random only");
+    // An array named for a use the other options turn off is an error, not silently unused.
+    const bool orient_vectors = args->orient == "auto" || args->orient == "vectors";
+    const bool orient_normals = args->orient == "auto" || args->orient == "normals";
+    require_meaningful(
+        vectors_opt, orient_vectors || args->scale_by == "vector" || args->color == "magnitude",
+        "unused: give --orient vectors, --scale-by vector or --glyph-color magnitude");
+    require_meaningful(normals_opt, orient_normals, "unused: give --orient normals (or auto)");
+    require_meaningful(scalars_opt, args->scale_by == "scalar" || args->color == "scalar",
+                       "unused: give --scale-by scalar or --glyph-color scalar");
     require_meaningful(range_opt, clamp_opt->count() > 0, "applies with --clamp only");
     require_meaningful(clamp_opt, args->scale_by != "none",
                        "clamps the scale value: give --scale-by scalar or vector");

@@ -5,9 +5,11 @@
 #include <tbb/global_control.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <exception>
+#include <functional>
 #include <new>
 #include <optional>
 #include <string>
@@ -73,12 +75,27 @@ void install_signal_handlers() {
 }
 
 // No option or argument takes an empty value: `-a ''` is a mistake (an unset shell variable),
-// never "not given". Flags hold no value and are skipped.
-void reject_empty_values(const CLI::App& app) {
+// never "not given". A flag given both ways (`--cap --no-cap`) is a contradiction, not "the last
+// one wins".
+void reject_empty_and_contradictory_values(const CLI::App& app) {
   for (const CLI::App* a = &app; a != nullptr;) {
     for (const CLI::Option* opt : a->get_options()) {
-      if (opt->count() == 0 || opt->get_type_size_max() == 0) continue;
-      for (const std::string& value : opt->results()) {
+      if (opt->count() == 0) continue;
+      const auto& results = opt->results();
+      if (!opt->get_fnames().empty() && opt->get_expected_min() == 0) {  // a flag
+        if (std::adjacent_find(results.begin(), results.end(), std::not_equal_to<>()) !=
+            results.end()) {
+          std::string names;  // "--cap, --no-cap": the names without CLI11's "{false}"
+          bool skip = false;
+          for (const char c : opt->get_name(false, true)) {
+            skip = (skip || c == '{') && c != '}';
+            if (!skip && c != '}') names += c == ',' ? std::string(", ") : std::string(1, c);
+          }
+          throw CLI::ValidationError(opt->get_name(), "given both ways (" + names + ")");
+        }
+        continue;
+      }
+      for (const std::string& value : results) {
         if (value.empty())
           throw CLI::ValidationError(opt->get_name(), "an empty value is not allowed");
       }
@@ -124,7 +141,7 @@ int main(int argc, char** argv) {
   // which uses TBB) then never runs more than `threads` workers.
   std::optional<tbb::global_control> thread_limit;
   app.parse_complete_callback([&] {
-    reject_empty_values(app);
+    reject_empty_and_contradictory_values(app);
     if (threads > 0) {
       thread_limit.emplace(tbb::global_control::max_allowed_parallelism,
                            static_cast<std::size_t>(threads));

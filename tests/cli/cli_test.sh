@@ -133,6 +133,13 @@ expect_usage contour_to_vti "holds|not" "$bin" contour "$tmp/sphere.vti" -v 0 -o
 expect_usage empty_array "--array: an empty value is not allowed" "$bin" contour "$tmp/sphere.vti" -v 0 -a '' -o "$tmp/x.vtp"
 expect_usage empty_q "--q: an empty value is not allowed" "$bin" info "$data/combxyz.bin" --q ''
 expect_usage empty_file "file: an empty value is not allowed" "$bin" info ''
+# A flag given both ways, and options the other options make unused, are errors.
+expect_usage flag_both_ways "--cap: given both ways \(--cap, --no-cap\)" "$bin" tube "$data/hello.vtk" -r 0.1 --cap --no-cap -o "$tmp/x.vtp"
+expect_usage decimate_free_preserve "given both ways" "$bin" decimate "$data/bunny.ply" -r 0.5 --free-boundary --preserve-boundary -o "$tmp/x.ply"
+expect_usage decimate_attr_weight "--attribute-weight: applies to --method quadric only" "$bin" decimate "$data/bunny.ply" -r 0.5 -m vertex-removal --attribute-weight 1 -o "$tmp/x.ply"
+expect_usage decimate_boundary_weight "--boundary-weight: .*--feature-angle" "$bin" decimate "$data/bunny.ply" -r 0.5 --free-boundary --boundary-weight 5 -o "$tmp/x.ply"
+expect_usage glyph_unused_vectors "--vectors: unused" "$bin" glyph "$data/bunny.ply" --orient none --vectors v -o "$tmp/x.vtp"
+expect_usage glyph_unused_normals "--normals: unused" "$bin" glyph "$data/bunny.ply" --orient vectors --normals n -o "$tmp/x.vtp"
 
 # ---- every option value checked: counts (never wrapped), numbers, meaning, contradictions ----
 v=(-f 'sphere()' -b -1 1 -1 1 -1 1)  # a valid sample
