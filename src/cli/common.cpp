@@ -4,12 +4,13 @@
 
 #include <algorithm>
 #include <charconv>
-#include <filesystem>
-#include <cstdlib>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <limits>
 #include <span>
 #include <string>
+#include <type_traits>
 
 #include "isoforge/core/error.hpp"
 #include "isoforge/core/memory.hpp"
@@ -275,6 +276,18 @@ PolyData read_polydata(const std::string& path, ProgressBar& bar, std::string_vi
 
 void write_output(DatasetRef ds, const std::filesystem::path& path, ProgressBar& bar,
                   WriteOptions options) {
+  // A result whose coordinates overflowed (an option's value near the largest double, e.g. a
+  // glyph factor of 1e308) could be read back by no reader: refused, nothing written.
+  ds.visit([&](const auto& d) {
+    if constexpr (!std::is_same_v<std::decay_t<decltype(d)>, ImageData>) {
+      if (const std::size_t bad = d.points.first_non_finite(); bad < d.points.size()) {
+        throw Error(
+            fmt::format("{}: not written: point {} of the result has a non-finite "
+                        "coordinate (an option's value overflows)",
+                        path.string(), bad));
+      }
+    }
+  });
   bar.stage("writing");
   options.progress = bar.callback();
   if (is_vtk_xml(format_from_path(path))) apply_xml_compression(options);

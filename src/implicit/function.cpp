@@ -106,9 +106,12 @@ void check_finite(double v, const char* fn, const char* param) {
 
 Vec3 unit(const Vec3& v, const char* fn, const char* param) {
   check_finite(v, fn, param);
-  const double len = norm(v);
-  if (!(len > 0)) throw Error(std::string(fn) + ": parameter '" + param + "' has zero length");
-  return v / len;
+  // Scaled by the largest component first: |(1e308, 1e308, 0)| overflows and |(0, 0, 1e-320)|
+  // underflows, yet both have a direction.
+  const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+  if (!(m > 0)) throw Error(std::string(fn) + ": parameter '" + param + "' has zero length");
+  const Vec3 w = v / m;
+  return w / norm(w);
 }
 
 void put(std::array<double, 16>& p, int at, const Vec3& v) {

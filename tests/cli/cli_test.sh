@@ -139,6 +139,7 @@ expect_usage decimate_free_preserve "given both ways" "$bin" decimate "$data/bun
 expect_usage decimate_attr_weight "--attribute-weight: applies to --method quadric only" "$bin" decimate "$data/bunny.ply" -r 0.5 -m vertex-removal --attribute-weight 1 -o "$tmp/x.ply"
 expect_usage decimate_boundary_weight "--boundary-weight: .*--feature-angle" "$bin" decimate "$data/bunny.ply" -r 0.5 --free-boundary --boundary-weight 5 -o "$tmp/x.ply"
 expect_usage glyph_unused_vectors "--vectors: unused" "$bin" glyph "$data/bunny.ply" --orient none --vectors v -o "$tmp/x.vtp"
+expect_error overflowing_result "not written: point 0 of the result has a non-finite coordinate" "$bin" tube "$data/hello.vtk" -r 1e308 -o "$tmp/x.vtp"
 expect_usage glyph_unused_normals "--normals: unused" "$bin" glyph "$data/bunny.ply" --orient vectors --normals n -o "$tmp/x.vtp"
 
 # ---- every option value checked: counts (never wrapped), numbers, meaning, contradictions ----

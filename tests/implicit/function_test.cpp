@@ -197,6 +197,16 @@ TEST(Implicit, BadParametersNameTheParameter) {
   EXPECT_THROW((void)F::union_of({}), Error);
 }
 
+TEST(Implicit, HugeAndTinyDirectionsAreNormalisedWithoutOverflow) {
+  // |(1e308, 1e308, 0)| overflows and |(0, 0, 1e-320)| underflows; both are directions.
+  const F a = F::plane({0, 0, 0}, {1e308, 1e308, 0});
+  EXPECT_NEAR(a.value({1, 1, 0}), std::sqrt(2.0), 1e-15);
+  const F b = F::plane({0, 0, 0}, {0, 0, 1e-320});
+  EXPECT_DOUBLE_EQ(b.value({0, 0, 2}), 2.0);
+  const F c = F::cylinder({0, 0, 0}, {0, 1e308, 0}, 1);
+  EXPECT_DOUBLE_EQ(c.value({0, 5, 0}), -1.0);
+}
+
 TEST(Affine, InverseAndComposition) {
   const Affine m = Affine::translation({1, 2, 3}) * Affine::rotation({1, 1, 0}, 40) * Affine::scaling({2, 3, 0.5});
   const Affine inv = m.inverse();
