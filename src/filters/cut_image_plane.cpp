@@ -262,9 +262,12 @@ std::optional<PolyData> cut_image_plane(const ImageData& image, const LinearFiel
         std::size_t e = 0;
         for (int l = 0; l < loops; ++l) {
           const int sz = table.sizes[cs][static_cast<std::size_t>(l)];
+          // Polygons are written straight into the connectivity (a copy through `loop` became
+          // a `rep movs`, slow for 3 to 6 ids); triangles fan out of `loop`.
+          Index* const ids = options.triangulate ? loop : conn.data() + at;
           for (int q = 0; q < sz; ++q, ++e) {
             const auto code = static_cast<std::size_t>(table.edges[cs][e]);
-            loop[q] = code < 4 ? base[code] : base[code] + i - start[code];
+            ids[q] = code < 4 ? base[code] : base[code] + i - start[code];
           }
           if (options.triangulate) {
             for (int t = 1; t + 1 < sz; ++t) {
@@ -273,7 +276,7 @@ std::optional<PolyData> cut_image_plane(const ImageData& image, const LinearFiel
               if (cell_arrays) interp.copy_cell(p - 1, static_cast<std::size_t>(cell));
             }
           } else {
-            for (int q = 0; q < sz; ++q) conn[at++] = loop[q];
+            at += static_cast<std::size_t>(sz);
             offsets[++p] = static_cast<Index>(at);
             if (cell_arrays) interp.copy_cell(p - 1, static_cast<std::size_t>(cell));
           }
