@@ -81,6 +81,9 @@ void add_elevation_command(CLI::App& app, Context& ctx) {
       throw UsageError(fmt::format("{} is flat in z: give --low and --high", args->in));
     }
     if (o.low_point == o.high_point) throw UsageError("--low and --high must be different points");
+    for (int c = 0; c < 3; ++c)
+      require_finite_width("--low/--high", o.low_point[c], o.high_point[c]);
+    require_finite_width("--range", args->range[0], args->range[1]);
     o.range = {args->range[0], args->range[1]};
     o.clamp = !args->no_clamp;
     o.name = args->name;

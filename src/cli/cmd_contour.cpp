@@ -84,6 +84,7 @@ void add_contour_command(CLI::App& app, Context& ctx) {
     if (!args->range.empty()) {
       const double first = args->range[0], last = args->range[1];
       const auto n = static_cast<std::int64_t>(args->range[2]);  // an integer (checked)
+      require_finite_width("--range", first, last);
       if (first == last && n > 1) throw UsageError("--range: FIRST equals LAST, so N must be 1");
       for (std::int64_t i = 0; i < n; ++i) {
         o.values.push_back(n == 1 ? first : first + (last - first) * static_cast<double>(i) / static_cast<double>(n - 1));

@@ -81,6 +81,10 @@ void add_cut_command(CLI::App& app, Context& ctx) {
     o.values = args->values;
     if (!args->range.empty()) {
       const auto n = static_cast<int>(args->range[2]);  // an integer (checked)
+      require_finite_width("--range", args->range[0], args->range[1]);
+      if (args->range[0] == args->range[1] && n > 1) {
+        throw UsageError("--range: FIRST equals LAST, so N must be 1");
+      }
       try {
         o.values = generate_values(n, args->range[0], args->range[1]);
       } catch (const Error& e) {

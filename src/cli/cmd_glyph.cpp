@@ -122,6 +122,7 @@ void add_glyph_command(CLI::App& app, Context& ctx) {
       throw UsageError("--source: '" + args->source +
                        "' is neither cone, arrow, sphere, cube, line nor an existing file");
     }
+    if (!args->range.empty()) require_finite_width("--range", args->range[0], args->range[1]);
     if (!args->range.empty() && !(args->range[0] < args->range[1])) {
       throw UsageError(fmt::format("--range: MIN must be below MAX, got {} {}", args->range[0],
                                    args->range[1]));

@@ -61,6 +61,7 @@ void add_tube_command(CLI::App& app, Context& ctx) {
     require_plot3d_input(q_opt, args->in);
     require_meaningful(max_opt, by_opt->count() > 0, "applies with --radius-by only");
     require_meaningful(range_opt, by_opt->count() > 0, "applies with --radius-by only");
+    if (!args->range.empty()) require_finite_width("--range", args->range[0], args->range[1]);
     if (!args->range.empty() && !(args->range[0] < args->range[1])) {
       throw UsageError(fmt::format("--range: MIN must be below MAX, got {} {}", args->range[0],
                                    args->range[1]));

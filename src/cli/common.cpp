@@ -476,9 +476,17 @@ CLI::Option* add_color_range_option(CLI::App& cmd, const std::string& name,
       ->check(finite_number());
 }
 
+void require_finite_width(const char* option, double lo, double hi) {
+  if (!std::isfinite(hi - lo)) {
+    throw UsageError(
+        fmt::format("{}: {:g} .. {:g} is too wide (its width overflows a double)", option, lo, hi));
+  }
+}
+
 std::optional<std::array<double, 2>> parse_color_range(const std::vector<double>& range,
                                                        const char* option, bool log) {
   if (range.empty()) return std::nullopt;
+  require_finite_width(option, range[0], range[1]);
   if (!(range[0] < range[1])) {
     throw UsageError(fmt::format("{}: MIN must be below MAX, got {:g} {:g}", option, range[0],
                                  range[1]));

@@ -164,6 +164,10 @@ Bounds grown(const Bounds& b, double pad);
 
 /// "--colormap NAME": one of the colour maps (colormap_names()), viridis by default.
 CLI::Option* add_colormap_option(CLI::App& cmd, std::string& map);
+/// \throw UsageError naming `option` when `hi - lo` overflows a double (±1e308 given as a range):
+/// every use of a range divides by its width or steps along it.
+void require_finite_width(const char* option, double lo, double hi);
+
 /// A colour-map range option `name` taking MIN MAX (two finite numbers).
 CLI::Option* add_color_range_option(CLI::App& cmd, const std::string& name,
                                     std::vector<double>& range);
