@@ -469,6 +469,19 @@ struct UnstructuredPiece {
   XmlWhere where;
 };
 
+/// Drops the pieces that hold no point and no cell (parallel writers emit them, often without the
+/// arrays of the others), as VTK's readers do; the first piece stays when all are empty.
+template <class Piece, class Empty>
+void drop_empty_pieces(std::vector<Piece>& pieces, Empty empty) {
+  if (pieces.size() < 2) return;
+  std::vector<Piece> kept;
+  for (Piece& p : pieces) {
+    if (!empty(p)) kept.push_back(std::move(p));
+  }
+  if (kept.empty()) kept.push_back(std::move(pieces.front()));
+  pieces = std::move(kept);
+}
+
 /// Appends tuples [first, first + count) of src to dst (same type and components).
 void append_tuples(DataArray& dst, const DataArray& src, std::size_t first, std::size_t count) {
   dst.visit([&](auto& v) {
@@ -1473,6 +1486,15 @@ PolyData Reader::read_poly(pugi::xml_node ds, const XmlWhere& w) {
   read_attributes(ds.child("FieldData"), w.child(ds.child("FieldData"), "FieldData"), std::nullopt,
                   out.field_data);
   if (pieces.empty()) return out;  // a PolyData without pieces is an empty dataset
+  drop_empty_pieces(pieces, [](const PolyPiece& p) {
+    return p.points.size() == 0 && std::all_of(p.cells.begin(), p.cells.end(),
+                                               [](const CellArray& c) { return c.empty(); });
+  });
+  counts.resize(pieces.size());
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    for (int c = 0; c < 4; ++c)
+      counts[i][static_cast<std::size_t>(c)] = pieces[i].cells[static_cast<std::size_t>(c)].size();
+  }
   for (std::size_t i = 1; i < pieces.size(); ++i) {
     check_same_arrays(pieces[0].pd, pieces[i].pd, pieces[i].where, "PointData");
     check_same_arrays(pieces[0].cd, pieces[i].cd, pieces[i].where, "CellData");
@@ -1581,6 +1603,8 @@ UnstructuredGrid Reader::read_unstructured(pugi::xml_node ds, const XmlWhere& w)
   read_attributes(ds.child("FieldData"), w.child(ds.child("FieldData"), "FieldData"), std::nullopt,
                   out.field_data);
   if (pieces.empty()) return out;
+  drop_empty_pieces(
+      pieces, [](const UnstructuredPiece& p) { return p.points.size() == 0 && p.cells.empty(); });
   for (std::size_t i = 1; i < pieces.size(); ++i) {
     check_same_arrays(pieces[0].pd, pieces[i].pd, pieces[i].where, "PointData");
     check_same_arrays(pieces[0].cd, pieces[i].cd, pieces[i].where, "CellData");

@@ -813,6 +813,48 @@ TEST(VtkXmlRead, MultipleUnstructuredPiecesAreMerged) {
   EXPECT_EQ(ug.points[8].z, 2.0);
 }
 
+TEST(VtkXmlRead, EmptyPiecesWithoutTheArraysAreSkipped) {
+  // Parallel writers emit pieces with no point and no cell, often without the arrays of the
+  // others; VTK reads past them, and so does the reader (first, middle and last).
+  const std::string full = R"(
+  <Piece NumberOfPoints="3" NumberOfPolys="1">
+    <PointData><DataArray type="Float32" Name="p" format="ascii">1 2 3</DataArray></PointData>
+    <CellData><DataArray type="Int32" Name="c" format="ascii">7</DataArray></CellData>
+    <Points><DataArray type="Float32" NumberOfComponents="3" format="ascii">0 0 0 1 0 0 0 1 0</DataArray></Points>
+    <Polys><DataArray type="Int32" Name="connectivity" format="ascii">0 1 2</DataArray>
+           <DataArray type="Int32" Name="offsets" format="ascii">3</DataArray></Polys>
+  </Piece>)";
+  const std::string empty = R"(<Piece NumberOfPoints="0" NumberOfPolys="0"></Piece>)";
+  const std::string f = "<VTKFile type=\"PolyData\"><PolyData>" + empty + full + empty + full +
+                        empty + "</PolyData></VTKFile>";
+  const auto pd = std::get<PolyData>(read_string(f, "empty_pieces.vtp"));
+  EXPECT_EQ(pd.points.size(), 6u);
+  EXPECT_EQ(pd.polys.connectivity(), (std::vector<Index>{0, 1, 2, 3, 4, 5}));
+  EXPECT_EQ(pd.point_data.get("p").get(5), 3.0);
+  EXPECT_EQ(pd.cell_data.get("c").size(), 2u);
+  // Only empty pieces: an empty dataset.
+  const auto none = std::get<PolyData>(read_string(
+      "<VTKFile type=\"PolyData\"><PolyData>" + empty + empty + "</PolyData></VTKFile>", "e.vtp"));
+  EXPECT_EQ(none.points.size(), 0u);
+  // Unstructured grids likewise.
+  const std::string cell = R"(
+  <Piece NumberOfPoints="3" NumberOfCells="1">
+    <CellData><DataArray type="UInt8" Name="m" format="ascii">4</DataArray></CellData>
+    <Points><DataArray type="Float32" NumberOfComponents="3" format="ascii">0 0 0 1 0 0 0 1 0</DataArray></Points>
+    <Cells><DataArray type="Int32" Name="connectivity" format="ascii">0 1 2</DataArray>
+           <DataArray type="Int32" Name="offsets" format="ascii">3</DataArray>
+           <DataArray type="UInt8" Name="types" format="ascii">5</DataArray></Cells>
+  </Piece>)";
+  const auto ug = std::get<UnstructuredGrid>(
+      read_string("<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid>" + cell +
+                      R"(<Piece NumberOfPoints="0" NumberOfCells="0"></Piece>)" + cell +
+                      "</UnstructuredGrid></VTKFile>",
+                  "empty_pieces.vtu"));
+  EXPECT_EQ(ug.points.size(), 6u);
+  EXPECT_EQ(ug.types.size(), 2u);
+  EXPECT_EQ(ug.cell_data.get("m").get(1), 4.0);
+}
+
 TEST(VtkXmlRead, ImageExtentNotStartingAtZero) {
   const std::string f =
       R"(<VTKFile type="ImageData" version="2.2" byte_order="LittleEndian" header_type="UInt64">
