@@ -371,6 +371,10 @@ Bounds parse_bounds(const std::vector<double>& b, const char* option, bool solid
       throw UsageError(fmt::format("{}: {} {:g} .. {:g}: min must not exceed max", option, kAxis[a],
                                    out.min[a], out.max[a]));
     }
+    if (!std::isfinite(out.max[a] - out.min[a])) {
+      throw UsageError(fmt::format("{}: {} {:g} .. {:g} is too wide (its width overflows a double)",
+                                   option, kAxis[a], out.min[a], out.max[a]));
+    }
     if (solid && out.min[a] == out.max[a]) {
       throw UsageError(fmt::format("{}: {} {:g} .. {:g}: the box must have a positive extent",
                                    option, kAxis[a], out.min[a], out.max[a]));

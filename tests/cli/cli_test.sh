@@ -143,6 +143,7 @@ expect_error overflowing_result "not written: point 0 of the result has a non-fi
 expect_usage range_too_wide "--range: -1e\+308 .. 1e\+308 is too wide" "$bin" contour "$tmp/sphere.vti" --range -1e308 1e308 3 -o "$tmp/x.vtp"
 expect_usage color_range_too_wide "--range: .* is too wide" "$bin" colormap "$data/bunny.ply" -a intensity --range -1e308 1e308 -o "$tmp/x.vtp"
 expect_usage cut_range_same "--range: FIRST equals LAST" "$bin" cut "$tmp/sphere.vti" --plane 0 0 0 0 0 1 --range 0 0 3 -o "$tmp/x.vtp"
+expect_usage bounds_too_wide "--bounds: x -1e\+308 .. 1e\+308 is too wide" "$bin" sample -f 'sphere()' -b -1e308 1e308 -1 1 -1 1 -o "$tmp/x.vti"
 expect_usage glyph_unused_normals "--normals: unused" "$bin" glyph "$data/bunny.ply" --orient vectors --normals n -o "$tmp/x.vtp"
 
 # ---- every option value checked: counts (never wrapped), numbers, meaning, contradictions ----
