@@ -1094,8 +1094,11 @@ ImageData read_metaimage_impl(const io_detail::FileSource& data, const std::stri
     spec.attached = data;
     spec.attached_offset = sc.offset();
   } else if (iequals(w[0], "LIST")) {
+    // MetaIO writes the files' dimension as "LIST 2D" (and reads it with atof): the D is dropped.
+    std::string_view sub = w.size() > 1 ? w[1] : std::string_view{};
+    if (sub.size() > 1 && (sub.back() == 'D' || sub.back() == 'd')) sub.remove_suffix(1);
     const std::int64_t subdim =
-        w.size() > 1 ? int_value(w[1], name, df.line, "subdimension") : nd - 1;
+        w.size() > 1 ? int_value(sub, name, df.line, "subdimension") : nd - 1;
     const auto need = files_for_subdim(sizes, subdim, name, df.line);
     if (list_files.size() != need) {
       fail_at(name, df.line,

@@ -544,6 +544,9 @@ TEST(MetaImage, CompressedLocalAndFileLists) {
   EXPECT_EQ(a.point_data.scalars()->get(7), 8);
   write_file(dir / "h.mhd", head + "ElementDataFile = LIST 2\ns1.raw\ns2.raw\n");
   EXPECT_EQ(read_metaimage(dir / "h.mhd"), a);
+  // MetaIO's own spelling of the files' dimension.
+  write_file(dir / "h2d.mhd", head + "ElementDataFile = LIST 2D\ns1.raw\ns2.raw\n");
+  EXPECT_EQ(read_metaimage(dir / "h2d.mhd"), a);
 }
 
 // ---------------------------------------------------------------------------------------------
