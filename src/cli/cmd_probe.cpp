@@ -98,8 +98,12 @@ void add_probe_command(CLI::App& app, Context& ctx) {
     std::optional<Dataset> generated;
     if (line_opt->count()) {
       const auto& v = args->line;
-      generated = probe_line(vec_at(v, 0, "--line", "P0"), vec_at(v, 3, "--line", "P1"),
-                             integer_at(v, 6, "--line", "N", 1));
+      const Vec3 p0 = vec_at(v, 0, "--line", "P0"), p1 = vec_at(v, 3, "--line", "P1");
+      const Index n = integer_at(v, 6, "--line", "N", 1);
+      if (p0 == p1 && n > 1) {
+        throw UsageError("--line", "P0 equals P1: N points would all be the same (give N = 1)");
+      }
+      generated = probe_line(p0, p1, n);
     } else if (plane_opt->count()) {
       const auto& v = args->plane;
       const Vec3 o = vec_at(v, 0, "--plane", "ORIGIN"), p1 = vec_at(v, 3, "--plane", "P1"),

@@ -29,8 +29,12 @@ std::optional<PolyData> generated_seeds(const std::vector<std::string>& v) {
   };
   if (kind == "line") {
     count(7, "X0 Y0 Z0 X1 Y1 Z1 N");
-    return probe_line(vec_at(v, 1, "--seeds", "P0"), vec_at(v, 4, "--seeds", "P1"),
-                      integer_at(v, 7, "--seeds", "N", 1));
+    const Vec3 p0 = vec_at(v, 1, "--seeds", "P0"), p1 = vec_at(v, 4, "--seeds", "P1");
+    const Index n = integer_at(v, 7, "--seeds", "N", 1);
+    if (p0 == p1 && n > 1) {
+      throw UsageError("--seeds", "line P0 equals P1: N seeds would all be the same (give N = 1)");
+    }
+    return probe_line(p0, p1, n);
   }
   if (kind == "plane") {
     count(11, "OX OY OZ X1 Y1 Z1 X2 Y2 Z2 NU NV");
