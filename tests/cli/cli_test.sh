@@ -144,6 +144,7 @@ expect_usage range_too_wide "--range: -1e\+308 .. 1e\+308 is too wide" "$bin" co
 expect_usage color_range_too_wide "--range: .* is too wide" "$bin" colormap "$data/bunny.ply" -a intensity --range -1e308 1e308 -o "$tmp/x.vtp"
 expect_usage cut_range_same "--range: FIRST equals LAST" "$bin" cut "$tmp/sphere.vti" --plane 0 0 0 0 0 1 --range 0 0 3 -o "$tmp/x.vtp"
 expect_usage bounds_too_wide "--bounds: x -1e\+308 .. 1e\+308 is too wide" "$bin" sample -f 'sphere()' -b -1e308 1e308 -1 1 -1 1 -o "$tmp/x.vti"
+expect_error normals_of_lines "has no polygons or strips" "$bin" normals "$data/hello.vtk" -o "$tmp/x.vtp"
 expect_usage glyph_unused_normals "--normals: unused" "$bin" glyph "$data/bunny.ply" --orient vectors --normals n -o "$tmp/x.vtp"
 
 # ---- every option value checked: counts (never wrapped), numbers, meaning, contradictions ----
