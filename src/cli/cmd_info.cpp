@@ -33,10 +33,11 @@ void print_vdb_info(const std::filesystem::path& path) {
 }  // namespace
 
 void add_info_command(CLI::App& app, Context& ctx) {
-  auto* cmd = app.add_subcommand("info", "Print what a file holds: dataset type, dimensions, "
-                                         "point/cell counts, bounds, arrays with ranges (VTK XML, "
-                                         "VTK legacy, PLY, OFF, NRRD, MetaImage, PLOT3D and glTF "
-                                         "in one streaming pass without loading their arrays)");
+  auto* cmd = app.add_subcommand("info",
+                                 "Print what a file holds: dataset type, dimensions, "
+                                 "point/cell counts, bounds, arrays with ranges (VTK XML, "
+                                 "VTK legacy, PLY, OFF, NRRD, MetaImage, PLOT3D and glTF "
+                                 "in one streaming pass without loading their arrays)");
   auto path = std::make_shared<std::string>();
   auto q = std::make_shared<std::string>();
   cmd->add_option("file", *path, "Input file (.vtk .vti .vts .vtp .vtu .ply .off .nhdr .nrrd .mhd "

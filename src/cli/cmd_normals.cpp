@@ -73,9 +73,10 @@ void add_normals_command(CLI::App& app, Context& ctx) {
     const PolyData input =
         read_polydata(args->in, bar, "normals: only polygonal data has surface normals", ro);
     if (input.polys.empty() && input.strips.empty()) {
-      throw Error(fmt::format("normals: {} has no polygons or strips ({} vertices, {} lines): no "
-                              "surface to take normals of",
-                              args->in, input.verts.size(), input.lines.size()));
+      throw Error(
+          fmt::format("normals: {} has no polygons or strips ({} vertices, {} lines): no "
+                      "surface to take normals of",
+                      args->in, input.verts.size(), input.lines.size()));
     }
     bar.stage("normals");
     o.progress = bar.callback();
