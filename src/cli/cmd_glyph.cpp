@@ -122,11 +122,7 @@ void add_glyph_command(CLI::App& app, Context& ctx) {
       throw UsageError("--source: '" + args->source +
                        "' is neither cone, arrow, sphere, cube, line nor an existing file");
     }
-    if (!args->range.empty()) require_finite_width("--range", args->range[0], args->range[1]);
-    if (!args->range.empty() && !(args->range[0] < args->range[1])) {
-      throw UsageError(fmt::format("--range: MIN must be below MAX, got {} {}", args->range[0],
-                                   args->range[1]));
-    }
+    const auto range = parse_color_range(args->range, "--range");  // MIN < MAX, finite width
     GlyphOptions o;
     o.orient = args->orient == "vectors"   ? GlyphOrient::Vectors
                : args->orient == "normals" ? GlyphOrient::Normals
@@ -141,7 +137,7 @@ void add_glyph_command(CLI::App& app, Context& ctx) {
                                            : GlyphColor::None;
     o.factor = args->factor;
     o.clamp = args->clamp;
-    if (!args->range.empty()) o.range = std::array<double, 2>{args->range[0], args->range[1]};
+    o.range = range;
     o.vectors = args->vectors;
     o.normals = args->normals;
     o.scalars = args->scalars;

@@ -61,17 +61,13 @@ void add_tube_command(CLI::App& app, Context& ctx) {
     require_plot3d_input(q_opt, args->in);
     require_meaningful(max_opt, by_opt->count() > 0, "applies with --radius-by only");
     require_meaningful(range_opt, by_opt->count() > 0, "applies with --radius-by only");
-    if (!args->range.empty()) require_finite_width("--range", args->range[0], args->range[1]);
-    if (!args->range.empty() && !(args->range[0] < args->range[1])) {
-      throw UsageError(fmt::format("--range: MIN must be below MAX, got {} {}", args->range[0],
-                                   args->range[1]));
-    }
+    const auto range = parse_color_range(args->range, "--range");  // MIN < MAX, finite width
     TubeOptions o;
     o.radius = args->radius;
     o.sides = static_cast<int>(args->sides);
     o.radius_array = args->radius_by;
     o.max_radius = args->max_radius;
-    if (!args->range.empty()) o.scalar_range = std::array<double, 2>{args->range[0], args->range[1]};
+    o.scalar_range = range;
     o.capping = args->cap;
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
     bar.stage("reading");
