@@ -87,6 +87,7 @@ void add_elevation_command(CLI::App& app, Context& ctx) {
     o.range = {args->range[0], args->range[1]};
     o.clamp = !args->no_clamp;
     o.name = args->name;
+    require_new_array_name(point_data(ds), o.name, "--name", args->in);
     bar.stage("elevation");
     o.progress = bar.callback();
     point_data(ds).add(elevation(ds, o), AttributeRole::Scalars);
@@ -224,6 +225,7 @@ void add_gradient_command(CLI::App& app, Context& ctx) {
     ReadOptions ro;
     ro.plot3d_q = args->q;
     Dataset ds = read_input(args->in, bar, ro);
+    if (!args->no_gradient) require_new_array_name(point_data(ds), args->name, "--name", args->in);
     bar.stage("gradient");
     GradientOptions o;
     o.array = args->array;

@@ -129,6 +129,7 @@ void add_colormap_command(CLI::App& app, Context& ctx) {
     ro.plot3d_q = args->q;
     Dataset ds = read_input(args->in, bar, ro);
     const bool on_points = point_data(ds).has(args->array);
+    require_new_array_name(on_points ? point_data(ds) : cell_data(ds), o.name, "--name", args->in);
     const ColormapStats s = add_colors(ds, args->array, o);
     write_output(ds, args->out, bar);
     bar.finish();

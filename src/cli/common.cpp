@@ -480,6 +480,15 @@ CLI::Option* add_color_range_option(CLI::App& cmd, const std::string& name,
       ->check(finite_number());
 }
 
+void require_new_array_name(const Attributes& attributes, const std::string& name,
+                            const char* option, const std::string& input) {
+  if (attributes.find(name) != nullptr) {
+    throw Error(fmt::format("{} already has an array '{}', which the new array would replace: give "
+                            "{} another name",
+                            input, name, option));
+  }
+}
+
 void require_finite_width(const char* option, double lo, double hi) {
   if (!std::isfinite(hi - lo)) {
     throw UsageError(

@@ -164,6 +164,11 @@ Bounds grown(const Bounds& b, double pad);
 
 /// "--colormap NAME": one of the colour maps (colormap_names()), viridis by default.
 CLI::Option* add_colormap_option(CLI::App& cmd, std::string& map);
+/// \throw Error when `attributes` (the input's) already hold an array `name`, which the new array
+/// would replace: the commands keep every array of their input.
+void require_new_array_name(const Attributes& attributes, const std::string& name,
+                            const char* option, const std::string& input);
+
 /// \throw UsageError naming `option` when `hi - lo` overflows a double (±1e308 given as a range):
 /// every use of a range divides by its width or steps along it.
 void require_finite_width(const char* option, double lo, double hi);

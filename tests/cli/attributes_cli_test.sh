@@ -22,6 +22,8 @@ expect_ok elev_noclamp_file "'Elevation' +Float32 x1 \[scalars\] +\[[-0-9.e]+, 2
 expect_usage elev_same "--low and --high must be different points" "$bin" elevation "$data/bunny.ply" --low 1 1 1 --high 1 1 1 -o "$tmp/b.vtp"
 expect_usage elev_nan "--range: must be a finite number" "$bin" elevation "$data/bunny.ply" --range 0 nan -o "$tmp/b.vtp"
 expect_usage elev_name "--name: an empty value is not allowed" "$bin" elevation "$data/bunny.ply" --name "" -o "$tmp/b.vtp"
+# A new array never replaces one of the input's (the commands keep every input array).
+expect_error elev_name_taken "office.binary.vtk already has an array 'scalars', which the new array would replace: give --name another name" "$bin" elevation "$data/office.binary.vtk" --name scalars -o "$tmp/b.vts"
 expect_usage elev_flat "hello.vtk is flat in z: give --low and --high" "$bin" elevation "$data/hello.vtk" -o "$tmp/b.vtp"
 expect_usage elev_format_obj "writes \.vtk \.vti \.vts \.vtp \.vtu, or \.ply for surfaces, not OBJ" "$bin" elevation "$data/bunny.ply" -o "$tmp/b.obj"
 expect_usage elev_format "unknown file extension '.stl'" "$bin" elevation "$data/bunny.ply" -o "$tmp/b.stl"
@@ -54,6 +56,7 @@ expect_fail 1 warp_disp_no_normals "displacement: the input has no active point 
 # components, and the curl and divergence come with it.
 expect_ok grad_image "added point arrays 'Gradient'" "$bin" gradient "$tmp/z.vti" -o "$tmp/g.vti"
 expect_ok grad_image_file "'Gradient' +Float64 x3 +\[0, 0\], \[0, 0\], \[1, 1\]" "$bin" info "$tmp/g.vti"
+expect_error grad_name_taken "already has an array 'vectors', which the new array would replace" "$bin" gradient "$data/office.binary.vtk" -a scalars --name vectors -o "$tmp/o.vts"
 expect_ok grad_office "added point arrays 'Gradient', 'Divergence', 'Vorticity'" "$bin" gradient "$data/office.binary.vtk" -a vectors --divergence --vorticity -o "$tmp/o.vts"
 expect_ok grad_office_file "'Gradient' +Float64 x9" "$bin" info "$tmp/o.vts"
 expect_ok grad_only_curl "added point arrays 'Vorticity'$" "$bin" gradient "$data/combxyz.bin" --q "$data/combq.bin" -a Velocity --vorticity --no-gradient -o "$tmp/c.vts"

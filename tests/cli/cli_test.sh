@@ -353,6 +353,7 @@ expect_ok colormap_stats "range 0 .. 10 \(given\); 1 NaN, 0 below and 1 above th
 expect_ok colormap_rainbow_colours "'Colors' +UInt8 +x3 .*\[0, 255\], \[0, 128\], \[0, 255\]" "$bin" info "$tmp/ramp_rainbow.vtp"
 # The data's range (0 .. 20, NaN ignored) with viridis: 0, 10, 20 take 68 1 84, 33 144 140 and
 # 253 231 37, NaN the given 0 0 0; RGBA with opacity 0.5 -> alpha 128 (the NaN colour keeps 255).
+expect_error colormap_name_taken "ramp.vtk already has an array 's', which the new array would replace: give --name another name" "$bin" colormap "$tmp/ramp.vtk" -a s --name s -o "$tmp/ramp_x.vtp"
 expect_ok colormap_auto "range 0 .. 20 \(of the data\); 1 NaN" "$bin" colormap "$tmp/ramp.vtk" -a s --nan-color 0,0,0 --rgba --opacity 0.5 -o "$tmp/ramp_viridis.vtp"
 expect_ok colormap_viridis_colours "'Colors' +UInt8 +x4 .*\[0, 253\], \[0, 231\], \[0, 140\], \[128, 255\]" "$bin" info "$tmp/ramp_viridis.vtp"
 expect_ok colormap_above_color "1 above" "$bin" colormap "$tmp/ramp.vtk" -a s --colormap grayscale --range 0 10 --above-color 0,255,0 --nan-color 9,9,9 -o "$tmp/ramp_above.vtp"
