@@ -3,6 +3,8 @@
 
 #include "isoforge/contour/contour.hpp"
 
+#include <fmt/format.h>
+
 #include "contour_internal.hpp"
 #include "contour_output.hpp"
 
@@ -12,12 +14,25 @@ using namespace contour_detail;
 
 namespace {
 
+/// Triangle normals are the normals of a surface; the contour of cells of dimension 1 or 2 is
+/// lines or vertices, whose normals would all be zero.
+void require_surface_for_triangle_normals(bool gives_surface, const ContourOptions& options,
+                                          const char* caller) {
+  if (options.normals == ContourNormals::Triangles && !gives_surface) {
+    throw Error(fmt::format("{}: normals from triangles need a surface, and the contour of this "
+                            "input (no 3D cells) is lines or vertices: ask for gradient normals "
+                            "or none",
+                            caller));
+  }
+}
+
 /// Image data and structured grids: marching cubes on 3D lattices, marching squares on 2D ones.
 template <class Lattice>
 ContourResult contour_lattice(const Lattice& input, const ContourOptions& options,
                               const char* caller) {
   input.validate();
   const DataArray& scalars = contour_scalars(input.point_data, options, caller);
+  require_surface_for_triangle_normals(structured_dimension(input.dims) == 3, options, caller);
   ContourResult r;
   r.output = structured_dimension(input.dims) == 3
                  ? marching_cubes(input, scalars, options, r.stats)
@@ -29,6 +44,13 @@ ContourResult contour_unstructured_grid(const UnstructuredGrid& grid,
                                         const ContourOptions& options) {
   grid.validate();
   const DataArray& scalars = contour_scalars(grid.point_data, options, "contour");
+  if (options.normals == ContourNormals::Triangles) {
+    bool has_3d = false;
+    for (std::size_t c = 0; c < grid.num_cells() && !has_3d; ++c) {
+      has_3d = cell_dimension(grid.types[c]) == 3;
+    }
+    require_surface_for_triangle_normals(has_3d, options, "contour");
+  }
   const CellRun run{&grid.cells, &grid.types, CellType::Empty, 0};
   ContourResult r;
   r.output = marching_cells(grid.points, grid.point_data, grid.cell_data,
@@ -39,6 +61,7 @@ ContourResult contour_unstructured_grid(const UnstructuredGrid& grid,
 ContourResult contour_polydata(const PolyData& input, const ContourOptions& options) {
   input.validate();
   const DataArray& scalars = contour_scalars(input.point_data, options, "contour");
+  require_surface_for_triangle_normals(false, options, "contour");
   const std::size_t nv = input.verts.size(), nl = input.lines.size(), np = input.polys.size();
   const CellRun runs[] = {
       {&input.lines, nullptr, CellType::PolyLine, nv},

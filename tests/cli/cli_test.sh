@@ -129,6 +129,7 @@ expect_usage bad_parameter "'r' \(radius\) is negative" "$bin" sample -f 'sphere
 expect_usage no_values "at least one value" "$bin" contour "$tmp/sphere.vti" -o "$tmp/x.vtp"
 expect_error missing_array "no point array named 'nope'" "$bin" contour "$tmp/sphere.vti" -v 0 -a nope -o "$tmp/x.vtp"
 expect_usage contour_to_vti "holds|not" "$bin" contour "$tmp/sphere.vti" -v 0 -o "$tmp/x.vti"
+expect_error contour_lines_triangle_normals "contour: normals from triangles need a surface" "$bin" contour "$data/bunny.ply" -a intensity -v 0.5 --normals triangles -o "$tmp/x.vtp"
 # An empty value (an unset shell variable) is never "not given".
 expect_usage empty_array "--array: an empty value is not allowed" "$bin" contour "$tmp/sphere.vti" -v 0 -a '' -o "$tmp/x.vtp"
 expect_usage empty_q "--q: an empty value is not allowed" "$bin" info "$data/combxyz.bin" --q ''

@@ -518,6 +518,18 @@ TEST(ContourLines, BadInputIsAClearError) {
   o.array = "";
   expect_error(pd, o, "no active point scalars");
   pd.point_data.add(DataArray("s", ScalarType::Float32, 1, 3), AttributeRole::Scalars);
+  // Normals from triangles ask for a surface; these contours are lines (their normals were zero).
+  o.normals = ContourNormals::Triangles;
+  expect_error(pd, o, "normals from triangles need a surface");
+  expect_error(img, o, "normals from triangles need a surface");
+  UnstructuredGrid tri;
+  tri.points = Points(3);
+  tri.add_cell(CellType::Triangle, {0, 1, 2});
+  tri.point_data.add(DataArray("s", ScalarType::Float32, 1, 3), AttributeRole::Scalars);
+  expect_error(tri, o, "normals from triangles need a surface");
+  o.normals = ContourNormals::Gradient;
+  EXPECT_NO_THROW((void)contour(pd, o));
+  o.normals = ContourNormals::None;
   pd.polys.add({0, 1, 7});
   EXPECT_THROW((void)contour(pd, o), Error);
 }

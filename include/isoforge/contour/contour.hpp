@@ -60,7 +60,8 @@ using ContourResult = Result<PolyData, ContourStats>;
 /// give vertices. The output holds the point array "IsovalueIndex" (Int32: which of
 /// `options.values` each point belongs to), the interpolated input point arrays and, with
 /// normals, "Normals". \throw Error if the array is missing or has more than one component, the
-/// values are empty or not finite, or the dataset is invalid.
+/// values are empty or not finite, normals from triangles are asked of an input without 3D cells
+/// (its contour has no triangles), or the dataset is invalid.
 [[nodiscard]] ContourResult contour(DatasetRef input, const ContourOptions& options = {});
 
 /// `contour` of image data: marching cubes on 3D images (Flying Edges' multi-pass organisation
