@@ -26,11 +26,13 @@
 #include <draco/mesh/mesh.h>
 #include <draco/metadata/geometry_metadata.h>
 #include <draco/point_cloud/point_cloud.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <memory>
@@ -127,6 +129,7 @@ struct DracoSource {
   double step = 0;
   std::vector<float> origin;
   float range = 0;
+  bool explicit_grid = false;  // origin and range given to Draco (else it computes its own)
   int unique_id = -1;
   int att_id = -1;
 
@@ -478,19 +481,52 @@ Grid grid_of(int bits, float range) {
   return {max_q / range, range / max_q};
 }
 
-// Sets bits/origin/range so that the grid step is `step` (or as close above as float allows)
-// and covers the source's range. Returns false if more than 30 bits would be needed.
+// Draco's encoder takes an explicit grid through its options, which hold numbers as text
+// written with std::to_string (six decimals) and read back with strtof/atof (libdraco 1.5.5,
+// draco/core/options.cc): an origin of 1e-7 arrives as 0 and a range of 1e-7 as 0. The value
+// Draco reads back for `v`:
+float draco_option_value(float v) { return std::strtof(std::to_string(v).c_str(), nullptr); }
+
+// The value nearest `v` on the side `up` (>= v) or down (<= v) that Draco's options read back
+// unchanged. \throw Error (internal) if none is found, which no finite float causes.
+float draco_option_float(float v, bool up) {
+  float f = draco_option_value(v);
+  for (int i = 0; i < 16; ++i) {
+    const bool side = up ? f >= v : f <= v;
+    if (side && draco_option_value(f) == f) return f;
+    if (side) {
+      f = draco_option_value(f);  // not yet read back unchanged
+      continue;
+    }
+    const float a = std::abs(f);
+    const float step =
+        std::max(std::nextafter(a, std::numeric_limits<float>::infinity()) - a, 1e-6f);
+    f = draco_option_value(up ? f + step : f - step);
+  }
+  throw Error("draco: internal: no quantization parameter near " + std::to_string(v) +
+              " survives Draco's options");
+}
+
+// Sets bits/origin/range so that the grid step is `step` (or as close above as float and
+// Draco's options allow) and covers the source's range. Returns false if more than 30 bits
+// would be needed.
 bool set_step(DracoSource& s, double step) {
-  const double extent = s.extent();
+  s.origin.resize(s.lo.size());
+  double extent = 0;
+  for (std::size_t c = 0; c < s.lo.size(); ++c) {
+    s.origin[c] = draco_option_float(s.lo[c], false);
+    extent = std::max(extent, double(s.hi[c]) - double(s.origin[c]));
+  }
   int bits = 1;
   while (bits < 30 && step * double((std::uint32_t{1} << bits) - 1) < extent) ++bits;
   if (step * double((std::uint32_t{1} << bits) - 1) < extent) return false;
   s.bits = bits;
-  s.origin.assign(s.lo.begin(), s.lo.end());
-  s.range = static_cast<float>(step * double((std::uint32_t{1} << bits) - 1));
-  if (double(s.range) < extent) s.range = std::nextafter(static_cast<float>(extent), 1e38f);
-  if (!(s.range > 0)) s.range = 1.f;
+  const double want = std::max(step * double((std::uint32_t{1} << bits) - 1), extent);
+  if (!(want < double(std::numeric_limits<float>::max()))) return false;
+  s.range = draco_option_float(std::nextafter(static_cast<float>(want), 3e38f), true);
+  if (!(s.range > 0)) s.range = draco_option_float(1e-6f, true);
   s.step = double(s.range) / double((std::uint32_t{1} << bits) - 1);
+  s.explicit_grid = true;
   return true;
 }
 
@@ -502,6 +538,7 @@ void set_bits(DracoSource& s, int bits) {
   for (int c = 0; c < s.components; ++c) r = std::max(r, s.hi[c] - s.lo[c]);
   s.range = r > 0 ? r : 1.f;
   s.step = double(s.range) / double((std::uint32_t{1} << bits) - 1);
+  s.explicit_grid = false;
 }
 
 // The largest error the grid of `s` gives on its tuples (replayed, before encoding).
@@ -533,20 +570,33 @@ void choose_step(DracoSource& s, const std::vector<char>* only, double shrink, s
     magnitude = std::max({magnitude, std::abs(double(s.lo[k])), std::abs(double(s.hi[k]))});
   }
   const double slack = 2 * c * magnitude * std::numeric_limits<float>::epsilon();
+  const auto meets = [&] { return predicted_error(s, only) + slack <= e; };
+  // Draco's own grid (origin the minimum, range the extent) with the fewest bits that meet the
+  // budget: the fallback where the explicit grid cannot (Draco's options hold its origin and
+  // range to six decimals, so a range below 1e-6 cannot be given).
+  int auto_bits = 0;
+  const double guess = std::ceil(std::log2(s.extent() * c / (2 * e) + 1));
+  for (int b = std::clamp(int(std::isfinite(guess) ? guess : 30) - 1, 1, 30); b <= 30; ++b) {
+    set_bits(s, b);
+    if (meets()) {
+      auto_bits = b;
+      break;
+    }
+  }
+  // The explicit grid whose step is the largest that meets the budget.
   double lo = 2 * e / c;  // guaranteed: every tuple moves at most step·√c/2
-  const auto ok = [&](double step) {
-    return set_step(s, step) && predicted_error(s, only) + slack <= e;
-  };
+  const auto ok = [&](double step) { return set_step(s, step) && meets(); };
   int tries = 0;
+  bool found = true;
   while (!ok(lo)) {
     // Float32 rounding adds to the grid's error: shrink until it fits.
     lo *= 0.97;
     if (++tries > 300 || !set_step(s, lo)) {
-      throw Error(std::string(name) + ": the error budget " + std::to_string(s.budget) + " of '" +
-                  s.name + "' is below what float32 values with 30-bit quantization can meet");
+      found = false;
+      break;
     }
   }
-  if (tries == 0) {
+  if (found && tries == 0) {
     double hi = 2 * e * 1.0001;  // no grid can do better than step/2 on one component
     for (int i = 0; i < 12; ++i) {
       const double mid = 0.5 * (lo + hi);
@@ -557,7 +607,13 @@ void choose_step(DracoSource& s, const std::vector<char>* only, double shrink, s
       }
     }
   }
-  set_step(s, lo);
+  if (found) set_step(s, lo);
+  if (auto_bits > 0 && (!found || s.bits > auto_bits)) set_bits(s, auto_bits);
+  if (!found && auto_bits == 0) {
+    throw Error(fmt::format("{}: the error budget {:g} of '{}' is below what float32 values with "
+                            "30-bit quantization can meet",
+                            name, s.budget, s.name));
+  }
 }
 
 // Octahedral coding error of unit normals with `bits` (replayed by encoding is costly; this
@@ -655,7 +711,7 @@ std::vector<std::uint8_t> encode_once(const draco::PointCloud& pc, const Prepare
       if (!st.ok()) throw Error(std::string(name) + ": Draco: " + st.error_msg());
     }
     if (!s.quantized || s.bits == 0) continue;
-    if (s.kind == DracoKind::Normal) {
+    if (s.kind == DracoKind::Normal || !s.explicit_grid) {
       enc->SetAttributeQuantization(s.att_id, s.bits);
     } else {
       enc->SetAttributeExplicitQuantization(s.att_id, s.bits, s.components, s.origin.data(),
@@ -1171,9 +1227,8 @@ DracoEncodedMesh encode_draco_mesh(const PolyData& mesh, const DracoWriteOptions
     if (!again || attempt >= kMaxEncodes || !any_budget) {
       for (std::size_t k = 0; k < sources.size(); ++k) {
         if (sources[k].budget > 0 && m.arrays[k] > sources[k].budget) {
-          throw Error(std::string(name) + ": could not meet the error budget of '" +
-                      sources[k].name + "' (" + std::to_string(sources[k].budget) +
-                      "): measured " + std::to_string(m.arrays[k]));
+          throw Error(fmt::format("{}: could not meet the error budget of '{}' ({:g}): measured {:g}",
+                                  name, sources[k].name, sources[k].budget, m.arrays[k]));
         }
       }
       if (st.lost_triangles > p.degenerate_input) {

@@ -13,6 +13,7 @@
 #include <limits>
 #include <map>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -322,6 +323,48 @@ TEST(Draco, TinyValuedArraysAtTheHighestLevels) {
                 static_cast<std::size_t>(std::count(used.begin(), used.end(), 1)));
       EXPECT_EQ(back.polys.size(), a.polys.size());
       EXPECT_NE(back.point_data.find("F"), nullptr);
+    }
+  }
+}
+
+TEST(Draco, TinyAndOffsetArraysKeepTheirGrid) {
+  // Draco takes an explicit grid through options written with six decimals: an origin or range
+  // of 1e-7 arrived as 0, and every value decoded as the origin. Each array must decode within
+  // half a step of its bits (Draco's own grid) or within its budget (an explicit grid).
+  const PolyData m = bunny();
+  const Bounds b = m.bounds();
+  for (const auto& [scale, offset] : std::vector<std::pair<double, double>>{
+           {1e-7, 0}, {1e-10, 0}, {1e-17, 0}, {1e-4, 0.123456789}, {-0.1, -7.654321}}) {
+    PolyData a = m;
+    DataArray f("F", ScalarType::Float32, 1, a.points.size());
+    for (std::size_t i = 0; i < a.points.size(); ++i) {
+      f.set(i, 0, offset + scale * (a.points[i][0] - b.min[0]) / (b.max[0] - b.min[0]));
+    }
+    double lo = 1e300, hi = -1e300;
+    for (std::size_t i = 0; i < f.tuples(); ++i) {
+      lo = std::min(lo, f.get(i));
+      hi = std::max(hi, f.get(i));
+    }
+    a.point_data.add(std::move(f));
+    std::ostringstream what;
+    what << "scale " << scale << " offset " << offset;
+    for (const bool budget : {false, true}) {
+      DracoWriteOptions o;
+      o.method = DracoMethod::Sequential;  // keeps the order: values compare point by point
+      const double allowed = budget ? (hi - lo) / 1000 : (hi - lo) / 255 / 2 * 1.001;
+      if (budget) o.max_array_errors = {{"F", allowed}};
+      const fs::path path = scratch("tiny_grid") / "f.drc";
+      const DracoStats st = write_draco(a, path, o);
+      const PolyData back = read_draco(path);
+      ASSERT_EQ(back.points.size(), a.points.size()) << what.str();
+      double worst = 0;
+      for (std::size_t i = 0; i < a.points.size(); ++i) {
+        worst = std::max(worst, std::abs(back.point_data.get("F").get(i) -
+                                         a.point_data.get("F").get(i)));
+      }
+      EXPECT_LE(worst, allowed + 4 * std::numeric_limits<float>::epsilon() * std::abs(offset))
+          << what.str() << (budget ? " (budget)" : " (bits)");
+      EXPECT_DOUBLE_EQ(worst, st.attributes.back().max_error) << what.str();
     }
   }
 }
