@@ -23,6 +23,7 @@
 #include "detail/summaries.hpp"
 #include "detail/tuple_stream.hpp"
 #include "isoforge/core/parallel.hpp"
+#include "isoforge/core/subset.hpp"
 #include "isoforge/io/atomic_file.hpp"
 #include "isoforge/io/io.hpp"
 #include "isoforge/io/ply.hpp"
@@ -448,6 +449,8 @@ class PlyReader {
     if (idx < 0) return false;
     const PlyProperty& ip = e.props[static_cast<std::size_t>(idx)];
     if (is_floating(ip.type)) return false;
+    // Corner texture coordinates duplicate points (build): the summary is that of the mesh read.
+    if (corner_texcoord_prop(e) >= 0) return false;
     const auto n = static_cast<std::size_t>(e.count);
     auto window_arrays = [&](std::size_t m) {
       face_arrays_.clear();
@@ -686,6 +689,8 @@ class PlyReader {
                                 p.is_list ? 0 : n);
     }
     face_index_prop_ = idx;
+    face_texcoord_prop_ = corner_texcoord_prop(e);
+    corner_uv_.clear();
     if (read_fixed_faces(e, idx, nverts)) return;
     read_face_records(e, idx, nverts, 0, n);
   }
@@ -700,12 +705,19 @@ class PlyReader {
     offsets.reserve(offsets.size() + m);
     // Most meshes are triangles: room for three indices a face, grown only past that.
     conn.reserve(conn.size() + std::min<std::size_t>(3 * m, sc_.remaining()));
+    const int tc = corner_texcoord_prop(e);
+    std::vector<double> uv;  // this face's corner texture coordinates
     for (std::size_t i = 0; i < m; ++i) {
       const std::size_t f = first + i;
+      const std::size_t corners_before = conn.size();
       sc_.tick();  // progress, once a record
       for (std::size_t k = 0; k < e.props.size(); ++k) {
         const PlyProperty& p = e.props[k];
-        if (static_cast<int>(k) == idx) {
+        if (static_cast<int>(k) == tc) {
+          const std::uint64_t count = read_list_count(p);
+          uv.resize(static_cast<std::size_t>(count));
+          for (double& v : uv) v = read_as_double(p.type, "texcoord value");
+        } else if (static_cast<int>(k) == idx) {
           const std::uint64_t count = read_list_count(p);
           if (count < 3) {
             fail("face " + std::to_string(f) + " has " + std::to_string(count) +
@@ -726,7 +738,84 @@ class PlyReader {
           read_scalar_into(face_arrays_[k], i, "face property value");
         }
       }
+      if (tc >= 0) {
+        const std::size_t corners = conn.size() - corners_before;
+        if (uv.empty()) uv.assign(2 * corners, std::numeric_limits<double>::quiet_NaN());
+        if (uv.size() != 2 * corners) {
+          fail("face " + std::to_string(f) + ": 'texcoord' has " + std::to_string(uv.size()) +
+               " values; a face of " + std::to_string(corners) + " vertices needs " +
+               std::to_string(2 * corners) + " (u, v per vertex)");
+        }
+        corner_uv_.insert(corner_uv_.end(), uv.begin(), uv.end());
+      }
     }
+  }
+
+  /// The face element's list "texcoord" (or "texcoords"): texture coordinates per face corner,
+  /// u v for each vertex of the index list (MeshLab's wedge texture coordinates); -1 if none.
+  [[nodiscard]] static int corner_texcoord_prop(const PlyElement& e) {
+    int k = e.find("texcoord", true);
+    if (k < 0) k = e.find("texcoords", true);
+    return k;
+  }
+
+  /// Corner texture coordinates to "TCoords" per point: a vertex whose corners have different
+  /// coordinates is duplicated, with its point arrays, once per distinct pair (as VTK's reader
+  /// does); vertices in no face, or only in faces with an empty list, get (0, 0). Faces are
+  /// renumbered to the copies.
+  void split_corner_texcoords(PolyData& mesh) {
+    const std::size_t n = mesh.points.size();
+    auto& conn = mesh.polys.connectivity();
+    std::vector<float> uv(2 * n, 0.f);      // per point, copies appended
+    std::vector<Index> next(n, -1);         // per point: the next copy of its vertex, or -1
+    std::vector<std::uint8_t> given(n, 0);  // per vertex: its coordinates set by a corner
+    std::vector<Index> source;              // per copy: the vertex copied
+    for (std::size_t c = 0; c < conn.size(); ++c) {
+      const auto u = static_cast<float>(corner_uv_[2 * c]);
+      const auto v = static_cast<float>(corner_uv_[2 * c + 1]);
+      const auto v0 = static_cast<std::size_t>(conn[c]);
+      if (std::isnan(u) && std::isnan(v)) continue;  // a face with an empty list: on its vertex
+      if (!given[v0]) {
+        given[v0] = 1;
+        uv[2 * v0] = u;
+        uv[2 * v0 + 1] = v;
+        continue;
+      }
+      // The copy with the same bits (so a NaN component matches itself), else a new one.
+      std::size_t p = v0, last = v0;
+      bool found = false;
+      for (Index q = conn[c]; q >= 0; q = next[static_cast<std::size_t>(q)]) {
+        p = static_cast<std::size_t>(q);
+        last = p;
+        if (std::memcmp(&uv[2 * p], &u, sizeof u) == 0 &&
+            std::memcmp(&uv[2 * p + 1], &v, sizeof v) == 0) {
+          found = true;
+          break;
+        }
+      }
+      if (!found) {
+        p = n + source.size();
+        source.push_back(static_cast<Index>(v0));
+        uv.push_back(u);
+        uv.push_back(v);
+        next.push_back(-1);
+        next[last] = static_cast<Index>(p);
+      }
+      conn[c] = static_cast<Index>(p);
+    }
+    const std::size_t total = n + source.size();
+    DataArray tcoords("TCoords", ScalarType::Float32, 2, total);
+    std::copy(uv.begin(), uv.end(), tcoords.values<float>().begin());
+    if (!source.empty()) {
+      mesh.points.resize(total);
+      for (DataArray& a : mesh.point_data) a.resize(total);
+      for (std::size_t i = 0; i < source.size(); ++i) {
+        const auto from = static_cast<std::size_t>(source[i]);
+        mesh.points.set(n + i, mesh.points[from]);
+        copy_tuple(mesh.point_data, from, mesh.point_data, n + i);
+      }
+    }
+    mesh.point_data.add(std::move(tcoords), AttributeRole::TCoords);
   }
 
   // Index of the scalar vertex property `name`, or -1.
@@ -836,6 +925,9 @@ class PlyReader {
         mesh.cell_data.add(std::move(face_arrays_[k]));
       }
     }
+    if (face_texcoord_prop_ >= 0 && mesh.point_data.tcoords() == nullptr) {
+      split_corner_texcoords(mesh);
+    }
     return mesh;
   }
 
@@ -853,6 +945,8 @@ class PlyReader {
   std::vector<PlyProperty> face_props_;
   std::vector<DataArray> face_arrays_;
   int face_index_prop_ = -1;
+  int face_texcoord_prop_ = -1;   // the face element's corner texture coordinates, or -1
+  std::vector<double> corner_uv_;  // u, v per corner of polys_, in order
   CellArray polys_;
 };
 

@@ -36,6 +36,7 @@ if [ -x "$cli" ]; then
   "$cli" -q convert "$data/bunny.ply" "$corpus/ply/bunny_ascii.ply" --ascii && head -c 65536 "$corpus/ply/bunny_ascii.ply" > "$corpus/ply/bunny_ascii_head.ply" && rm "$corpus/ply/bunny_ascii.ply" || true
   # Ascii, mixed faces, a list among the vertex properties, an element skipped, a face property.
   printf 'ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\nproperty list uchar int tags\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nelement edge 1\nproperty int a\nproperty int b\nelement face 2\nproperty list uchar int vertex_indices\nproperty short material\nend_header\n0 0 0 0 1 2 3\n1 0 0 2 5 6 4 5 6\n0 1 0 1 7 8 9 10\n1 1 0 0 11 12 13\n0 0 1 0 14 15 16\n0 1\n3 0 1 2 -1\n4 1 3 2 4 7\n' > "$corpus/ply/mixed_ascii.ply"
+  printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty float q\nelement face 2\nproperty list uchar float texcoord\nproperty list uchar int vertex_indices\nproperty int texnumber\nend_header\n0 0 0 1\n1 0 0 2\n1 1 0 3\n0 1 0 4\n6 0 0 1 0 1 1 3 0 1 2 0\n6 0 0 0.5 0.5 0 1 3 0 2 3 1\n' > "$corpus/ply/corner_texcoord.ply"
   "$cli" -q convert "$data/HeadMRVolume.mhd" "$corpus/vdb/head.vdb" || true
   "$cli" -q convert "$data/fran_cut.vtk" "$corpus/drc/fran.drc" --bits 12 || true
   "$cli" -q convert "$data/fran_cut.vtk" "$corpus/drc/fran_seq.drc" --sequential || true

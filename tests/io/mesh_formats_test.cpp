@@ -392,6 +392,13 @@ TEST(Ply, AllScalarTypeNamesAndSkippedElements) {
   EXPECT_EQ(m.cell_data.get("flags").get(0), 9);
   EXPECT_EQ(m.cell_data.get("flags").get(1), 8);
   EXPECT_FALSE(m.cell_data.has("texcoord"));
+  // Corner texture coordinates; the second face's list is empty: its corners stay on their
+  // vertices, so no point is added.
+  const DataArray* tc = m.point_data.tcoords();
+  ASSERT_NE(tc, nullptr);
+  EXPECT_EQ(tc->get(1, 0), 1.0);
+  EXPECT_EQ(tc->get(2, 1), 1.0);
+  EXPECT_EQ(tc->get(3, 0), 0.0);
 }
 
 namespace {
@@ -464,6 +471,118 @@ TEST(Ply, BinaryBothEndiansWithSkippedElementsAndFacesFirst) {
     EXPECT_EQ(m.point_data.tcoords()->get(2, 1), 0.0);
     EXPECT_EQ(m.point_data.size(), 2u);
   }
+}
+
+namespace {
+/// A quad and a triangle over 5 vertices with texture coordinates per face corner (MeshLab's
+/// `property list uchar float texcoord`), the list before or after the index list; vertex 1 and
+/// 2 are shared with the same coordinates, vertex 3 with different ones; vertex 4 is in no face.
+std::string corner_texcoord_ply(const char* format, bool texcoord_first) {
+  const bool ascii = std::string(format) == "ascii";
+  std::string s = std::string("ply\nformat ") + format +
+                  " 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
+                  "property float q\nelement face 2\n";
+  const std::string idx = "property list uchar int vertex_indices\n";
+  const std::string tc = "property list uchar float texcoord\n";
+  s += (texcoord_first ? tc + idx : idx + tc) + "property int texnumber\nend_header\n";
+  const float pts[5][4] = {{0, 0, 0, 10}, {1, 0, 0, 11}, {1, 1, 0, 12}, {0, 1, 0, 13}, {5, 5, 5, 14}};
+  struct Face {
+    std::vector<int> ids;
+    std::vector<float> uv;
+    int tex;
+  };
+  const Face f[2] = {{{0, 1, 2, 3}, {0, 0, 0.5f, 0, 0.5f, 0.5f, 0, 0.5f}, 0},
+                     {{1, 3, 2}, {0.5f, 0, 0.75f, 1, 0.5f, 0.5f}, 1}};
+  auto put = [&](auto v) {
+    char b[sizeof(v)];
+    std::memcpy(b, &v, sizeof(v));
+    s.append(b, sizeof(v));
+  };
+  for (const auto& p : pts) {
+    if (ascii) {
+      s += std::to_string(p[0]) + " " + std::to_string(p[1]) + " " + std::to_string(p[2]) + " " +
+           std::to_string(p[3]) + "\n";
+    } else {
+      for (float v : p) put(v);
+    }
+  }
+  for (const Face& face : f) {
+    auto put_idx = [&] {
+      if (ascii) {
+        s += std::to_string(face.ids.size());
+        for (int i : face.ids) s += " " + std::to_string(i);
+        s += " ";
+      } else {
+        put(static_cast<std::uint8_t>(face.ids.size()));
+        for (int i : face.ids) put(std::int32_t{i});
+      }
+    };
+    auto put_tc = [&] {
+      if (ascii) {
+        s += std::to_string(face.uv.size());
+        for (float v : face.uv) s += " " + std::to_string(v);
+        s += " ";
+      } else {
+        put(static_cast<std::uint8_t>(face.uv.size()));
+        for (float v : face.uv) put(v);
+      }
+    };
+    if (texcoord_first) {
+      put_tc();
+      put_idx();
+    } else {
+      put_idx();
+      put_tc();
+    }
+    if (ascii) {
+      s += std::to_string(face.tex) + "\n";
+    } else {
+      put(std::int32_t{face.tex});
+    }
+  }
+  return s;
+}
+}  // namespace
+
+TEST(Ply, CornerTextureCoordinatesDuplicateThePointsWhereTheyDiffer) {
+  for (const char* format : {"ascii", "binary_little_endian"}) {
+    for (const bool first : {false, true}) {
+      SCOPED_TRACE(std::string(format) + (first ? " texcoord first" : " indices first"));
+      const std::string text = corner_texcoord_ply(format, first);
+      const PolyData m = read_ply(bytes_of(text), "tc.ply");
+      // Vertex 3 has (0, 0.5) in the quad and (0.75, 1) in the triangle: one copy, point 5.
+      ASSERT_EQ(m.num_points(), 6u);
+      EXPECT_EQ(m.polys.connectivity(), (std::vector<Index>{0, 1, 2, 3, 1, 5, 2}));
+      const DataArray* tc = m.point_data.tcoords();
+      ASSERT_NE(tc, nullptr);
+      EXPECT_EQ(tc->name(), "TCoords");
+      const double want[6][2] = {{0, 0}, {0.5, 0}, {0.5, 0.5}, {0, 0.5}, {0, 0}, {0.75, 1}};
+      for (std::size_t i = 0; i < 6; ++i) {
+        EXPECT_EQ(tc->get(i, 0), want[i][0]) << i;
+        EXPECT_EQ(tc->get(i, 1), want[i][1]) << i;
+      }
+      // The copy carries its vertex's position and point arrays; face properties stay.
+      EXPECT_EQ(m.points[5].x, 0.0);
+      EXPECT_EQ(m.points[5].y, 1.0);
+      EXPECT_EQ(m.point_data.get("q").get(5), 13.0);
+      EXPECT_EQ(m.point_data.get("q").get(4), 14.0);
+      EXPECT_EQ(m.cell_data.get("texnumber").get(1), 1.0);
+      // info's summary is that of the mesh read.
+      const fs::path path = scratch("corner_tc") / "tc.ply";
+      std::ofstream(path, std::ios::binary) << text;
+      const DatasetSummary sum = summarize_file(path);
+      EXPECT_EQ(sum.points, 6u);
+      EXPECT_EQ(sum.cells, 2u);
+      ASSERT_EQ(sum.point_data.arrays.size(), 2u);
+      EXPECT_EQ(sum.point_data.arrays[1].name, "TCoords");
+    }
+  }
+  // A list whose length is not two per vertex is an error naming the face.
+  std::string bad = corner_texcoord_ply("ascii", false);
+  const std::size_t at = bad.find("3 1 3 2 6 ");
+  ASSERT_NE(at, std::string::npos);
+  bad.replace(at, bad.find('\n', at) - at, "3 1 3 2 4 0.5 0 0.75 1 1");
+  expect_error(ply_reader(), bad, {"bad.ply:", "face 1", "'texcoord' has 4 values", "needs 6"});
 }
 
 TEST(Ply, TruncatedAndMutatedBinaryOnlyThrowsError) {

@@ -4,8 +4,9 @@
 ///
 /// Vertex properties beyond x, y, z become point arrays: nx/ny/nz → "Normals" (active normals),
 /// red/green/blue[/alpha] → "Colors" (uint8, active scalars), u/v or s/t or texture_u/texture_v
-/// → "TCoords", anything else → a 1-component array of that name. Face properties beyond the
-/// index list become cell arrays the same way.
+/// → "TCoords", anything else → a 1-component array of that name. Scalar face properties beyond
+/// the index list become cell arrays the same way; a face list "texcoord" (u v per corner) becomes
+/// "TCoords" per point, vertices duplicated where their corners differ (docs/formats.md).
 
 #include <cstddef>
 #include <filesystem>
