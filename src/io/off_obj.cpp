@@ -90,7 +90,12 @@ class OffReader {
   }
 
   PolyData read() {
-    // ---- header keyword: [ST][C][N]OFF ----
+    // ---- header keyword: [ST][C][N]OFF, after a UTF-8 byte order mark (Windows editors) ----
+    const auto d = sc_.data();
+    if (sc_.offset() == 0 && d.size() >= 3 && d[0] == std::byte{0xEF} && d[1] == std::byte{0xBB} &&
+        d[2] == std::byte{0xBF}) {
+      sc_.seek(3);
+    }
     const std::string_view magic = next();
     if (magic.empty()) sc_.fail_line("empty file, expected the OFF header keyword");
     std::string_view m = magic;

@@ -810,6 +810,11 @@ TEST(Off, ReadsCoffAndNoff) {
       read_off(bytes_of("NOFF\n3 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 -1\n3 0 1 2\n"), "n.off");
   ASSERT_NE(n.point_data.normals(), nullptr);
   EXPECT_EQ(n.point_data.normals()->get(2, 2), -1.0);
+  // A UTF-8 byte order mark before the keyword (Windows editors) is skipped; only there.
+  const PolyData b = read_off(bytes_of("\xEF\xBB\xBFOFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), "b.off");
+  EXPECT_EQ(b.num_points(), 3u);
+  EXPECT_EQ(b.polys.size(), 1u);
+  expect_error(off_reader(), "OFF\n\xEF\xBB\xBF" "3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", {"bad.off"});
 }
 
 TEST(Off, RoundTripIsExact) {
