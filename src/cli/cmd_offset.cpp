@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "commands.hpp"
 #include "common.hpp"
@@ -127,6 +128,12 @@ void add_offset_command(CLI::App& app, Context& ctx) {
           throw UsageError(fmt::format(
               "--max-distance: {:g} must exceed the largest |distance| {:g}, or the band does "
               "not reach the surface", args->max_distance, dmax));
+        }
+        // The field is Float32; samples beyond the band hold the maximum distance.
+        if (args->max_distance > std::numeric_limits<float>::max()) {
+          throw UsageError(fmt::format("--max-distance: {:g} does not fit the Float32 distance "
+                                       "field (largest {:g})",
+                                       args->max_distance, std::numeric_limits<float>::max()));
         }
         const Dims dims = parse_dims(args->dims, "--dims");
         const Bounds ib = pd->bounds();

@@ -166,6 +166,11 @@ expect_usage sample_dims_negative "--dims: must be an integer >= 1, got -5" "$bi
 expect_usage sample_dims_zero "--dims: must be an integer >= 1, got 0" "$bin" sample "${v[@]}" -d 4 0 4 -o "$tmp/x.vti"
 expect_usage distance_dims_1 "--dims: must be an integer >= 2" "$bin" distance "$data/hello.vtk" -d 1 -o "$tmp/x.vti"
 expect_usage offset_dims_negative "--dims: must be an integer >= 2" "$bin" offset "$data/hello.vtk" -d 0.2 --dims -64 -o "$tmp/x.vtp"
+# Values beyond what the box (double) or the Float32 field can hold name their option.
+expect_usage distance_max_huge "--max-distance: 1e\+308 grows the box of .*hello.vtk beyond the range of a double" "$bin" distance "$data/hello.vtk" -m 1e308 -o "$tmp/x.vti"
+expect_usage distance_max_float "--max-distance: 1e\+300 does not fit the Float32 distances" "$bin" distance "$data/hello.vtk" -m 1e300 --bounds 0 1 0 1 0 1 -o "$tmp/x.vti"
+expect_usage distance_cap_float "--cap-value: -1e\+39 does not fit the Float32 distances" "$bin" distance "$data/hello.vtk" --cap --cap-value -1e39 -o "$tmp/x.vti"
+expect_usage offset_max_float "--max-distance: 1e\+308 does not fit the Float32 distance field" "$bin" offset "$data/hello.vtk" -d 0.2 -m 1e308 -o "$tmp/x.vtp"
 expect_ok dims_decimal "10 x 10 x 10 samples" "$bin" sample "${v[@]}" -d 010 -o "$tmp/x.vti"  # not octal 8
 # numbers: non-finite, zero or negative where a positive value is needed, out of range
 expect_usage shrink_nan "--shrink: must be a finite number in \[0, 1\], got 'nan'" "$bin" select "$tmp/sphere.vti" -f 'sphere()' --shrink nan -o "$tmp/x.vtu"
