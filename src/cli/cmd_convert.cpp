@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include "commands.hpp"
@@ -52,7 +53,7 @@ void add_convert_command(CLI::App& app, Context& ctx) {
   auto* tolerance_opt =
       cmd->add_option("--vdb-tolerance", args->vdb_tolerance,
                       "OpenVDB output: values within this of the background stay inactive (>= 0)")
-          ->check(non_negative_number());
+          ->check(number_in(0, std::numeric_limits<float>::max()));
   auto* codec_opt =
       cmd->add_option("--codec", args->codec,
                       "glTF output: how meshes are stored: draco, meshopt (lossless, fast to "

@@ -450,8 +450,10 @@ class Tracer {
   Tracer(const Field& field, const VectorValues& values, const Config& config)
       : field_(field), values_(values), c_(config) {}
 
-  /// The velocity at x (times `sign`), false outside the domain or where it is not finite.
+  /// The velocity at x (times `sign`), false outside the domain or where it is not finite. A
+  /// step long enough to overflow the coordinates (a huge step option) leaves the domain.
   bool eval(const Vec3& x, double sign, Vec3& v) {
+    if (!finite(x)) return false;
     if constexpr (std::is_same_v<Field, ImageField>) {
       if (field_.solid()) {
         if (!field_.velocity(x, values_, v)) return false;

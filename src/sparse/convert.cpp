@@ -82,7 +82,7 @@ openvdb::FloatGrid::Ptr image_to_vdb(const ImageData& image, const ImageToVdbOpt
   }
   if (!std::isfinite(options.background)) throw Error("image_to_vdb: background is not finite");
   if (!std::isfinite(options.tolerance) || options.tolerance < 0) {
-    throw Error("image_to_vdb: tolerance must be finite and >= 0");
+    throw Error("image_to_vdb: tolerance must be a finite float32 >= 0");
   }
   const Vec3 sp = image.spacing;
   const double s = sp.x;

@@ -186,7 +186,8 @@ expect_usage max_distance_inf "--max-distance: must be a finite number > 0, got 
 expect_usage half_width_negative "--half-width: must be a finite number > 0" "$bin" sample "${v[@]}" --half-width -3 -o "$tmp/x.vdb"
 expect_usage step_zero "--step: must be a finite number > 0" "$bin" attractor --step 0 -o "$tmp/x.vtp"
 expect_usage visits_negative "--value: must be a finite number > 0" "$bin" attractor --value -5 -o "$tmp/x.vtp"
-expect_usage tolerance_negative "--vdb-tolerance: must be a finite number >= 0" "$bin" convert "$tmp/sphere.vti" "$tmp/x.vdb" --vdb-tolerance -1
+expect_usage tolerance_negative "--vdb-tolerance: must be a finite number in \[0, 3.40282[0-9]*e\+38\], got .-1." "$bin" convert "$tmp/sphere.vti" "$tmp/x.vdb" --vdb-tolerance -1
+expect_usage tolerance_beyond_float "--vdb-tolerance: must be a finite number in \[0, 3.40282[0-9]*e\+38\], got .1e308." "$bin" convert "$tmp/sphere.vti" "$tmp/x.vdb" --vdb-tolerance 1e308
 expect_usage offset_a_nan "--offset-a: must be a finite number" "$bin" csg union "$tmp/sphere.vti" "$tmp/sphere.vti" --offset-a nan -o "$tmp/x.vti"
 # options that do nothing for these inputs/outputs
 expect_usage normals_sparse "--normals: applies to dense output" "$bin" sample "${v[@]}" --normals -o "$tmp/x.vdb"

@@ -18,6 +18,8 @@ for a in IntegrationTime ArcLength Vorticity AngularVelocity Rotation Normals sc
 done
 # Forward only, RK4, a length limit: every line ends by length or by leaving the room.
 expect_ok rk4_length "wrote .*: 20 lines, .*ended by domain [0-9]+, length [0-9]+, steps 0, stagnation 0" "$bin" streamlines "$office" --seeds line 0.1 2.1 0.5 0.1 2.7 0.5 20 --direction forward --integrator rk4 --max-length 0.5 -o "$tmp/short.vtk"
+# A step long enough to overflow the coordinates leaves the domain at once (was an internal error).
+expect_ok huge_step "wrote .*: 0 lines, 0 points from 1 seeds .*ended by domain 2" "$bin" streamlines "$office" --seeds point 2 2 1 --step 1e308 --integrator rk4 -o "$tmp/huge.vtp"
 # ArcLength never exceeds --max-length (0.5): its range in the file.
 expect_ok rk4_arc "'ArcLength' +Float64 x1 +\[0, 0\.(4[0-9]*|5)\]" "$bin" info "$tmp/short.vtk"
 # --max-steps 3: four points per line.
