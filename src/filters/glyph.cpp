@@ -59,9 +59,8 @@ using filters_detail::tuple3;
 
 // Row-major 3x3 matrix taking +x to the unit direction of v (identity for zero or non-finite v).
 std::array<double, 9> rotation_to(const Vec3& v) {
-  const double len = norm(v);
-  if (!(len > 0) || !std::isfinite(len)) return {1, 0, 0, 0, 1, 0, 0, 0, 1};
-  const Vec3 d = v / len;
+  const Vec3 d = unit_direction(v);
+  if (d == Vec3{}) return {1, 0, 0, 0, 1, 0, 0, 0, 1};
   if (d.x < -1 + 1e-12) return {-1, 0, 0, 0, -1, 0, 0, 0, 1};  // half-turn about z
   Vec3 b{1 + d.x, d.y, d.z};
   b = b / norm(b);
@@ -249,9 +248,8 @@ Result<PolyData, GlyphStats> glyph_impl(DatasetRef input, const PolyData& source
               if (hedgehog) {
                 Vec3 d{1, 0, 0};
                 if (orient) {
-                  const Vec3 v = tuple3(*orient, id);
-                  const double len = norm(v);
-                  if (len > 0 && std::isfinite(len)) d = v / len;
+                  const Vec3 u = unit_direction(tuple3(*orient, id));
+                  if (u != Vec3{}) d = u;
                 }
                 const Vec3 e = c + d * s;
                 q[0] = static_cast<T>(c.x), q[1] = static_cast<T>(c.y), q[2] = static_cast<T>(c.z);

@@ -88,11 +88,8 @@ Dataset warp_by_scalar(DatasetRef input, const WarpScalarOptions& o) {
   if (!std::isfinite(o.scale)) throw Error("warp: the scale factor must be finite");
   Vec3 direction{};
   if (o.direction) {
-    const double len = norm(*o.direction);
-    if (!finite(*o.direction) || !(len > 0) || !std::isfinite(len)) {
-      throw Error("warp: the direction must be finite and not zero");
-    }
-    direction = *o.direction / len;
+    direction = unit_direction(*o.direction);
+    if (direction == Vec3{}) throw Error("warp: the direction must be finite and not zero");
   }
   validate(input);
   const DataArray& s = point_field(input, o.scalars, AttributeRole::Scalars, 1, "warp");

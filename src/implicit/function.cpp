@@ -38,10 +38,9 @@ Affine Affine::scaling(const Vec3& s) {
 }
 
 Affine Affine::rotation(const Vec3& axis, double degrees) {
-  const double len = norm(axis);
-  if (!(len > 0) || !std::isfinite(len)) throw Error("rotate: axis must be a non-zero finite vector");
+  const Vec3 u = unit_direction(axis);
+  if (u == Vec3{}) throw Error("rotate: axis must be a non-zero finite vector");
   if (!std::isfinite(degrees)) throw Error("rotate: angle must be finite");
-  const Vec3 u = axis / len;
   const double th = degrees * std::numbers::pi / 180.0;
   const double c = std::cos(th), s = std::sin(th), C = 1 - c;
   Affine r;
@@ -106,12 +105,9 @@ void check_finite(double v, const char* fn, const char* param) {
 
 Vec3 unit(const Vec3& v, const char* fn, const char* param) {
   check_finite(v, fn, param);
-  // Scaled by the largest component first: |(1e308, 1e308, 0)| overflows and |(0, 0, 1e-320)|
-  // underflows, yet both have a direction.
-  const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
-  if (!(m > 0)) throw Error(std::string(fn) + ": parameter '" + param + "' has zero length");
-  const Vec3 w = v / m;
-  return w / norm(w);
+  const Vec3 u = unit_direction(v);  // (1e308, 1e308, 0) and (0, 0, 1e-320) have a direction
+  if (u == Vec3{}) throw Error(std::string(fn) + ": parameter '" + param + "' has zero length");
+  return u;
 }
 
 void put(std::array<double, 16>& p, int at, const Vec3& v) {

@@ -39,6 +39,9 @@ expect_ok warp_blow_cells "cells: 1057 \(928 triangle, 129 quad\)" "$bin" info "
 # An image becomes a structured grid; by a scalar along +z the top rises by max(scalar) * scale.
 "$bin" -q sample -f 'plane(normal=[0,0,1])' -b 0 1 0 1 0 1 -d 3 -o "$tmp/z.vti" || fail "warp_image: sample failed"
 expect_ok warp_image "structured grid \(27 points\) moved along the direction x 2" "$bin" warp "$tmp/z.vti" --by scalar --direction 0 0 5 --scale 2 -o "$tmp/z.vts"
+expect_ok warp_huge_direction "structured grid \(27 points\) moved along the direction x 2" "$bin" warp "$tmp/z.vti" --by scalar --direction 0 0 1e308 --scale 2 -o "$tmp/z_huge.vts"
+diff <("$bin" info "$tmp/z.vts" | grep -v "^file") <("$bin" info "$tmp/z_huge.vts" | grep -v "^file") > /dev/null \
+  || fail "warp_huge_direction: --direction 0 0 1e308 moved the points otherwise than 0 0 5"
 expect_ok warp_image_bounds "bounds: x \[0, 1\]  y \[0, 1\]  z \[0, 3\]" "$bin" info "$tmp/z.vts"
 expect_fail 1 warp_image_vti "structured grid is written as \.vts, not '\.vti'" "$bin" warp "$tmp/z.vti" --by scalar --direction 0 0 1 -o "$tmp/w.vti"
 expect_usage warp_dir_vector "--direction: applies to --by scalar only" "$bin" warp "$data/blow.vtk" --direction 0 0 1 -o "$tmp/w.vtu"

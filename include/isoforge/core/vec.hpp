@@ -3,6 +3,7 @@
 /// A tiny 3-vector value type for public APIs (Eigen stays inside the .cpp files).
 
 #include <array>
+#include <algorithm>
 #include <cmath>
 
 namespace isoforge {
@@ -34,6 +35,16 @@ inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
 constexpr double norm2(const Vec3& a) { return dot(a, a); }
 inline bool is_finite(const Vec3& a) {
   return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
+}
+/// The unit vector along `a`, scaled by its largest component first so that neither (1e308,
+/// 1e308, 0) overflows nor (0, 0, 1e-320) underflows; the zero vector when `a` is zero or not
+/// finite (callers name the option in their error).
+inline Vec3 unit_direction(const Vec3& a) {
+  if (!is_finite(a)) return {};
+  const double m = std::max({std::abs(a.x), std::abs(a.y), std::abs(a.z)});
+  if (!(m > 0)) return {};
+  const Vec3 w = a / m;
+  return w / norm(w);
 }
 
 /// Axis-aligned bounds. An empty box has min > max (the default).
