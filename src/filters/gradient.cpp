@@ -6,6 +6,8 @@
 #include <fmt/core.h>
 
 #include <array>
+#include <cmath>
+#include <limits>
 #include <vector>
 
 #include "isoforge/core/cell.hpp"
@@ -15,6 +17,8 @@
 namespace isoforge {
 
 namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 /// Solves Jᵀ g = d for g, J's columns `col`; false when J is singular.
 bool solve_transposed(const std::array<Vec3, 3>& col, const double* d, std::size_t stride,
@@ -124,6 +128,7 @@ void cell_gradient(DatasetRef ds, const double* f, int nc, double* grad,
         std::vector<Vec3> pts;
         std::vector<double> vals;
         std::vector<Vec3> g(ncs);
+        std::vector<std::uint8_t> nan_component;
         for (std::size_t c = b; c < e; ++c) {
           cell_point_ids(ds, Index(c), cid);
           const CellType type = cell_type(ds, Index(c));
@@ -143,7 +148,19 @@ void cell_gradient(DatasetRef ds, const double* f, int nc, double* grad,
               for (Index id : cid) take(id);
             }
             if (t == CellType::Vertex || t == CellType::PolyVertex || t == CellType::Empty) continue;
+            // A component with a non-finite value in the cell has a NaN gradient there (as on
+            // image data, and in VTK): computed with 0 in its place, then replaced.
+            nan_component.assign(ncs, 0);
+            for (std::size_t q = 0; q < vals.size(); ++q) {
+              if (!std::isfinite(vals[q])) {
+                nan_component[q % ncs] = 1;
+                vals[q] = 0;
+              }
+            }
             derivatives(t, pts, parametric_center(t), vals, nc, g);
+            for (std::size_t k = 0; k < ncs; ++k) {
+              if (nan_component[k]) g[k] = Vec3{kNaN, kNaN, kNaN};
+            }
             // A degenerate cell gives 0; unless the field is constant there, leave it out.
             bool zero = true, varies = false;
             for (std::size_t k = 0; k < ncs; ++k) zero = zero && g[k] == Vec3{};

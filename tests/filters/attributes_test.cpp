@@ -319,6 +319,41 @@ TEST(Gradient, DivergenceAndVorticityOfVectorFields) {
   }
 }
 
+// A NaN value makes the gradient NaN at the points of the cells using it, in that component only,
+// on every dataset type (unstructured grids refused the whole array before).
+TEST(Gradient, NaNValuesGiveNaNOnlyAroundThem) {
+  std::vector<Dataset> inputs = {image({5, 4, 3}, {-1, 2, 0.5}, {0.5, 0.25, 2}), curved_grid(),
+                                 solid_cells(), to_unstructured(curved_grid())};
+  for (Dataset& ds : inputs) {
+    add_field(ds, "f", 2, [](const Vec3& p) { return std::array<double, 2>{linear(p)[0], p.x}; });
+    const std::size_t bad = num_points(ds) / 2;
+    point_data(ds).get("f").set(bad, 0, std::numeric_limits<double>::quiet_NaN());
+    GradientOptions o;
+    o.array = "f";
+    const GradientResult r = gradient(ds, o);
+    // Points sharing a cell with `bad`.
+    std::vector<char> near(num_points(ds), 0);
+    std::vector<Index> ids;
+    for (std::size_t c = 0; c < num_cells(ds); ++c) {
+      cell_point_ids(ds, static_cast<Index>(c), ids);
+      if (std::find(ids.begin(), ids.end(), static_cast<Index>(bad)) == ids.end()) continue;
+      for (Index id : ids) near[static_cast<std::size_t>(id)] = 1;
+    }
+    std::size_t nan_rows = 0;
+    for (std::size_t i = 0; i < num_points(ds); ++i) {
+      const bool nan0 = std::isnan(r.gradient.get(i, 0));
+      nan_rows += nan0 ? 1 : 0;
+      if (!near[i]) {
+        EXPECT_FALSE(nan0) << i;
+      }
+      for (int a = 3; a < 6; ++a) EXPECT_FALSE(std::isnan(r.gradient.get(i, a))) << i;  // x: finite
+      EXPECT_NEAR(r.gradient.get(i, 3), 1, 1e-9) << i;
+    }
+    EXPECT_GT(nan_rows, 0u);
+    EXPECT_LE(nan_rows, static_cast<std::size_t>(std::count(near.begin(), near.end(), 1)));
+  }
+}
+
 TEST(Gradient, BadRequestsAreErrors) {
   const StructuredGrid sg = test::sample_structured();
   GradientOptions o;

@@ -220,14 +220,18 @@ void expect_superquadric(const PolyData& out, const Vec3& p, const Vec3 (&e)[3],
     const Vec3 g = e[ia] * (gx / axes[ia]) + e[ib] * (gy / axes[ib]) + e[ic] * (gz / axes[ic]);
     const Vec3 nn{normals.get(i, 0), normals.get(i, 1), normals.get(i, 2)};
     EXPECT_NEAR(norm(nn), 1, 1e-6);
-    if (norm(g) > 0) EXPECT_GT(dot(nn, g / norm(g)), 0.999) << i;
+    if (norm(g) > 0) {
+      EXPECT_GT(dot(nn, g / norm(g)), 0.999) << i;
+    }
   }
   for (std::size_t t = 0; t < out.polys.size(); ++t) {
     const auto v = out.polys.cell(t);
     const Vec3 q0 = out.points[size_t(v[0])], q1 = out.points[size_t(v[1])],
                q2 = out.points[size_t(v[2])];
     const Vec3 area = cross(q1 - q0, q2 - q0);
-    if (norm(area) > 1e-9) EXPECT_GT(dot(area, (q0 + q1 + q2) / 3.0 - p), 0) << t;
+    if (norm(area) > 1e-9) {
+      EXPECT_GT(dot(area, (q0 + q1 + q2) / 3.0 - p), 0) << t;
+    }
   }
 }
 
