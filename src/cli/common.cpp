@@ -281,10 +281,11 @@ void write_output(DatasetRef ds, const std::filesystem::path& path, ProgressBar&
   ds.visit([&](const auto& d) {
     if constexpr (!std::is_same_v<std::decay_t<decltype(d)>, ImageData>) {
       if (const std::size_t bad = d.points.first_non_finite(); bad < d.points.size()) {
-        throw Error(
-            fmt::format("{}: not written: point {} of the result has a non-finite "
-                        "coordinate (an option's value overflows)",
-                        path.string(), bad));
+        const Vec3 p = d.points[bad];
+        throw Error(fmt::format(
+            "{}: not written: point {} of the result is ({:g}, {:g}, {:g}): it was moved or "
+            "made from a NaN or infinite input value, or an option's value overflows",
+            path.string(), bad, p.x, p.y, p.z));
       }
     }
   });
