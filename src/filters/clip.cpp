@@ -110,20 +110,40 @@ bool six_tetrahedra(CellType type, std::span<const Index> g, std::vector<std::ar
   return true;
 }
 
+/// Whether the quad face `f` of a cell has its four points kept (`kept`: per local id).
+bool quad_kept(const CellFace& f, const std::uint8_t* kept) {
+  return f.size == 4 && kept[f.ids[0]] && kept[f.ids[1]] && kept[f.ids[2]] && kept[f.ids[3]];
+}
+
 /// The simplices of a cell, by local ids (kCentre = the centre): tetrahedra for 3D cells
 /// (positively oriented), triangles (the cell's orientation), lines, vertices. `dim` is set to
-/// the simplices' dimension.
-void decompose(CellType type, std::span<const Index> g, std::vector<std::array<int, 4>>& out,
+/// the simplices' dimension. A cut 3D cell's quad face whose four points are kept (`kept`: per
+/// local id) is not split: it is the base of a pyramid in `pyramids` (the face outward, then the
+/// apex: the centre, or a pyramid cell's own apex), so that it stays one quad, as in the cell
+/// kept whole across it.
+void decompose(CellType type, std::span<const Index> g, const std::uint8_t* kept,
+               std::vector<std::array<int, 4>>& out, std::vector<std::array<int, 5>>& pyramids,
                int& dim) {
   out.clear();
+  pyramids.clear();
   const auto n = static_cast<int>(g.size());
   dim = cell_dimension(type);
   switch (type) {
     case CellType::Tetra: out.push_back({0, 1, 2, 3}); return;
     case CellType::Hexahedron:
-    case CellType::Voxel:
-      if (six_tetrahedra(type, g, out)) return;
+    case CellType::Voxel: {
+      // Split around the centre when a face is wholly on one side: its pyramid is then one
+      // piece on the kept side (above) and nothing on the other. Decided alike for both sides,
+      // so a clip and its complement cut the cell along the same surface.
+      bool one_sided_quad = false;
+      for (const CellFace& f : cell_faces(type)) {
+        int k = 0;
+        for (int i = 0; i < 4; ++i) k += kept[f.ids[static_cast<std::size_t>(i)]];
+        one_sided_quad |= k == 0 || k == 4;
+      }
+      if (!one_sided_quad && six_tetrahedra(type, g, out)) return;
       [[fallthrough]];
+    }
     case CellType::Pyramid:
     case CellType::Wedge: {
       const int apex = type == CellType::Pyramid ? 4 : kCentre;
@@ -132,6 +152,7 @@ void decompose(CellType type, std::span<const Index> g, std::vector<std::array<i
       for (const CellFace& f : cell_faces(type)) {
         if (type == CellType::Pyramid && f.size == 3) continue;  // the apex's faces
         if (f.size == 3) tris.push_back({f.ids[0], f.ids[1], f.ids[2], 0});
+        else if (quad_kept(f, kept)) pyramids.push_back({f.ids[0], f.ids[1], f.ids[2], f.ids[3], apex});
         else {
           const int q[4] = {f.ids[0], f.ids[1], f.ids[2], f.ids[3]};
           split_quad(q, g, tris, 0);
@@ -216,7 +237,14 @@ struct Clipper {
     }
     ++blk.split;
     int dim = 0;
-    decompose(type, ids, simplices, dim);
+    std::uint8_t kept_local[16] = {};
+    if (n <= 8) {
+      for (std::size_t i = 0; i < n; ++i) {
+        kept_local[i] = (F[static_cast<std::size_t>(ids[i])] - c >= 0) == keep_above ? 1 : 0;
+      }
+    }
+    static thread_local std::vector<std::array<int, 5>> pyramids;
+    decompose(type, ids, kept_local, simplices, pyramids, dim);
     // Values (F − c) and refs of the local points, the centre last.
     // (3D cells have at most 8 points, so the centre's slot is free; long polylines, polygons
     // and strips have no centre.)
@@ -230,6 +258,7 @@ struct Clipper {
     }
     bool has_centre = false;
     for (const auto& s : simplices) has_centre |= s[3] == kCentre;
+    for (const auto& q : pyramids) has_centre |= q[4] == kCentre;
     if (has_centre) {
       Vec3 m{};
       for (Index id : ids) m += point(input, id);
@@ -281,11 +310,11 @@ struct Clipper {
         }
       }
     };
-    for (const auto& s : simplices) {
-      if (dim == 3) {
+    // A tetrahedron: itself, a smaller one, or a wedge.
+    auto clip_tetra = [&](const std::array<int, 4>& s) {
         int nk = 0;
         for (int i = 0; i < 4; ++i) nk += kept(s[i]);
-        if (nk == 0) continue;
+        if (nk == 0) return;
         if (nk == 4) {
           emit(CellType::Tetra, {at(s[0]), at(s[1]), at(s[2]), at(s[3])});
         } else if (nk == 1) {
@@ -314,6 +343,36 @@ struct Clipper {
           emit(CellType::Wedge,
                {at(la), edge(la, x), edge(la, y), at(lb), edge(lb, x), edge(lb, y)});
         }
+    };
+    // A pyramid on a kept quad (outward q0..q3, apex q4): whole, or the hexahedron between the
+    // quad and its four cut points (whose order follows the quad's, so the smallest-id diagonal
+    // of its top is the one the other side's pieces have); with a point exactly on F = c (a flat
+    // or folded piece) its two tetrahedra instead.
+    for (const auto& q : pyramids) {
+      const Ref base[4] = {at(q[0]), at(q[3]), at(q[2]), at(q[1])};  // normal toward the apex
+      if (kept(q[4])) {
+        const Ref r[5] = {base[0], base[1], base[2], base[3], at(q[4])};
+        if (distinct(r, 5)) {
+          emit(CellType::Pyramid, {r[0], r[1], r[2], r[3], r[4]});
+          continue;
+        }
+      } else {
+        const int order[4] = {q[0], q[3], q[2], q[1]};
+        Ref r[8] = {base[0], base[1], base[2], base[3]};
+        for (int i = 0; i < 4; ++i) r[4 + i] = edge(order[i], q[4]);
+        if (distinct(r, 8)) {
+          emit(CellType::Hexahedron, {r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7]});
+          continue;
+        }
+      }
+      std::vector<std::array<int, 4>> halves;
+      const int ring[4] = {q[0], q[1], q[2], q[3]};
+      split_quad(ring, ids, halves, 0);
+      for (const auto& t : halves) clip_tetra({t[0], t[2], t[1], q[4]});
+    }
+    for (const auto& s : simplices) {
+      if (dim == 3) {
+        clip_tetra(s);
       } else if (dim == 2) {
         const int t[3] = {s[0], s[1], s[2]};
         int nk = 0;
@@ -681,21 +740,38 @@ ClipStats clip_impl(DatasetRef input, const ImplicitFunction& f, const ClipOptio
   constexpr std::uint32_t kInput = UINT32_MAX;
   std::vector<std::vector<Ref>> block_fresh(blocks);
   std::vector<std::vector<std::uint32_t>> slots(blocks);
+  // Structured: a cell's centre and the cut points on its edges to the centre, per block in
+  // order of appearance (unique to their cell, so to their block), numbered after the edges.
+  std::vector<std::vector<Ref>> block_extra(grid.valid ? blocks : 0);
+  constexpr std::uint32_t kExtra = std::uint32_t{1} << 31;
   if (grid.valid) {
     // Structured: cut points numbered by edge (EdgeNumbering), nothing to sort.
     parallel_for_range(blocks, 1, [&](std::size_t b0, std::size_t b1) {
       for (std::size_t b = b0; b < b1; ++b) {
         const auto& refs = out[b].refs;
         auto& slot = slots[b];
+        auto& extra = block_extra[b];
         slot.resize(refs.size());
         for (std::size_t i = 0; i < refs.size(); ++i) {
           const Ref& r = refs[i];
           if (r.a == r.b && r.a < np) {
             used[r.a].store(1, std::memory_order_relaxed);
             slot[i] = kInput;
+          } else if (r.b >= np) {
+            // A cell's refs are consecutive and it has at most 9 of these: the last 16 hold any
+            // earlier occurrence.
+            std::size_t e = extra.size();
+            const std::size_t stop = e > 16 ? e - 16 : 0;
+            while (e > stop && !(extra[e - 1] == r)) --e;
+            if (e == stop) {
+              extra.push_back(r);
+              e = extra.size();
+            }
+            check_invariant(extra.size() < kExtra, "clip: centre points of a block");
+            slot[i] = kExtra | static_cast<std::uint32_t>(e - 1);
           } else {
             slot[i] = edges.number(r.a, r.b);
-            check_invariant(slot[i] != kInput, "clip: a cut point off the structured edges");
+            check_invariant(slot[i] < kExtra, "clip: a cut point off the structured edges");
           }
         }
       }
@@ -730,8 +806,19 @@ ClipStats clip_impl(DatasetRef input, const ImplicitFunction& f, const ClipOptio
   std::vector<Ref> fresh;
   std::vector<Centre> centres;
   if (grid.valid) {
-    // The cut edges in number order (EdgeNumbering).
-    fresh.resize(edges.total);
+    // The cut edges in number order (EdgeNumbering), then the blocks' centre points.
+    std::vector<std::size_t> extra_at(blocks + 1, edges.total);
+    for (std::size_t b = 0; b < blocks; ++b) extra_at[b + 1] = extra_at[b] + block_extra[b].size();
+    if (extra_at[blocks] >= kExtra) throw Error("clip: more than 2^31 - 1 new points");
+    fresh.resize(extra_at[blocks]);
+    for (std::size_t b = 0; b < blocks; ++b) {
+      std::copy(block_extra[b].begin(), block_extra[b].end(),
+                fresh.begin() + static_cast<std::ptrdiff_t>(extra_at[b]));
+      for (auto& sl : slots[b]) {
+        if (sl != kInput && (sl & kExtra)) sl = static_cast<std::uint32_t>(extra_at[b] + (sl & ~kExtra));
+      }
+      centres.insert(centres.end(), out[b].centres.begin(), out[b].centres.end());
+    }
     parallel_for_range(edges.first.size() - 1, 4096, [&](std::size_t c0, std::size_t c1) {
       for (std::size_t c = c0; c < c1; ++c) {
         std::size_t at = edges.first[c];
@@ -743,6 +830,63 @@ ClipStats clip_impl(DatasetRef input, const ImplicitFunction& f, const ClipOptio
         }
       }
     });
+    // The centre points go where sorting all new points would put them (the generic pass's
+    // order, so both passes give the same output): the edges are sorted already, the few centre
+    // points are sorted and merged in.
+    std::vector<std::uint32_t> renumber(fresh.size());
+    if (extra_at[blocks] > edges.total) {
+      const std::size_t ne = edges.total, nx = fresh.size() - ne;
+      std::vector<std::uint32_t> order(nx);
+      for (std::size_t j = 0; j < nx; ++j) order[j] = static_cast<std::uint32_t>(j);
+      std::sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) {
+        return fresh[ne + x] < fresh[ne + y];
+      });
+      std::vector<Ref> merged(fresh.size());
+      std::size_t e = 0, x = 0;
+      for (std::size_t k = 0; k < merged.size(); ++k) {
+        if (x < nx && (e == ne || fresh[ne + order[x]] < fresh[e])) {
+          renumber[ne + order[x]] = static_cast<std::uint32_t>(k);
+          merged[k] = fresh[ne + order[x++]];
+        } else {
+          renumber[e] = static_cast<std::uint32_t>(k);
+          merged[k] = fresh[e++];
+        }
+      }
+      fresh.swap(merged);
+      parallel_for_range(blocks, 1, [&](std::size_t b0, std::size_t b1) {
+        for (std::size_t b = b0; b < b1; ++b) {
+          for (std::uint32_t& sl : slots[b]) {
+            if (sl != kInput) sl = renumber[sl];
+          }
+        }
+      });
+    }
+    // A cell split around its centre does not use its main diagonal: such a cut point is
+    // numbered but in no piece, and is dropped (the other edges are shared with the pieces of
+    // the cell's neighbours or its own).
+    std::vector<std::atomic<std::uint8_t>> referenced(fresh.size());
+    parallel_for_range(blocks, 1, [&](std::size_t b0, std::size_t b1) {
+      for (std::size_t b = b0; b < b1; ++b) {
+        for (const std::uint32_t sl : slots[b]) {
+          if (sl != kInput) referenced[sl].store(1, std::memory_order_relaxed);
+        }
+      }
+    });
+    std::size_t kept_fresh = 0;
+    for (std::size_t k = 0; k < fresh.size(); ++k) {
+      renumber[k] = static_cast<std::uint32_t>(kept_fresh);
+      if (referenced[k].load(std::memory_order_relaxed)) fresh[kept_fresh++] = fresh[k];
+    }
+    if (kept_fresh < fresh.size()) {
+      fresh.resize(kept_fresh);
+      parallel_for_range(blocks, 1, [&](std::size_t b0, std::size_t b1) {
+        for (std::size_t b = b0; b < b1; ++b) {
+          for (std::uint32_t& sl : slots[b]) {
+            if (sl != kInput) sl = renumber[sl];
+          }
+        }
+      });
+    }
   } else {
     std::size_t total = 0;
     for (const auto& bf : block_fresh) total += bf.size();

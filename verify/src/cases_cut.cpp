@@ -76,16 +76,29 @@ std::map<std::pair<Index, Index>, int> edge_uses(const PolyData& pd) {
   return uses;
 }
 
-/// Signed volume of a cell with planar faces (divergence theorem over its outward face table).
+/// Signed volume of a cell by the divergence theorem over its outward face table, a quad face
+/// split along the diagonal from its smallest point id (the clip's convention; exact for planar
+/// faces, and what makes a clip and its complement add up where a piece's top is not planar).
 double cell_volume(DatasetRef ds, std::size_t cell, std::vector<Index>& ids) {
   cell_point_ids(ds, static_cast<Index>(cell), ids);
   double v = 0;
+  auto tri = [&](int a, int b, int c) {
+    v += dot(point(ds, ids[static_cast<std::size_t>(a)]),
+             cross(point(ds, ids[static_cast<std::size_t>(b)]),
+                   point(ds, ids[static_cast<std::size_t>(c)]))) / 6;
+  };
   for (const CellFace& face : cell_faces(cell_type(ds, static_cast<Index>(cell)))) {
-    const Vec3 a = point(ds, ids[static_cast<std::size_t>(face.ids[0])]);
-    for (int t = 1; t + 1 < face.size; ++t) {
-      v += dot(a, cross(point(ds, ids[static_cast<std::size_t>(face.ids[static_cast<std::size_t>(t)])]),
-                        point(ds, ids[static_cast<std::size_t>(face.ids[static_cast<std::size_t>(t + 1)])]))) / 6;
+    int m = 0;
+    if (face.size == 4) {
+      for (int i = 1; i < 4; ++i) {
+        if (ids[static_cast<std::size_t>(face.ids[static_cast<std::size_t>(i)])] <
+            ids[static_cast<std::size_t>(face.ids[static_cast<std::size_t>(m)])]) {
+          m = i;
+        }
+      }
     }
+    const auto at = [&](int k) { return face.ids[static_cast<std::size_t>((m + k) % face.size)]; };
+    for (int t = 1; t + 1 < face.size; ++t) tri(at(0), at(t), at(t + 1));
   }
   return v;
 }

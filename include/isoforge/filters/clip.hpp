@@ -7,11 +7,10 @@
 /// points on both sides are decomposed into simplices (tetrahedra, triangles, lines; quad faces
 /// split along the diagonal from their smallest point id; voxels and hexahedra into 6 tetrahedra
 /// around their main diagonal where their faces allow it, else, like wedges, around an added
-/// centre point) and each simplex is clipped. Neighbouring cells share their cut points
-/// (one per crossed edge), so the output has no cracks; a quad face between a cut cell and a
-/// whole one is, however, a quad on one side and two triangles on the other (not face-conforming:
-/// docs/algorithms/cut.md, "Known limitation"). Point arrays are interpolated, cell arrays copied
-/// from the cell each piece came from.
+/// centre point, a quad face wholly on one side as one pyramid) and each piece is clipped. Neighbouring cells share their cut points
+/// (one per crossed edge), and a quad face wholly kept stays one quad in the cut cell too (the
+/// base of a pyramid or hexahedron piece), so faces conform. Point arrays are interpolated, cell
+/// arrays copied from the cell each piece came from.
 
 #include "isoforge/core/dataset.hpp"
 #include "isoforge/core/progress.hpp"
