@@ -18,8 +18,6 @@ namespace isoforge {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
 /// Solves Jᵀ g = d for g, J's columns `col`; false when J is singular.
 bool solve_transposed(const std::array<Vec3, 3>& col, const double* d, std::size_t stride,
                       double* g) {
@@ -159,7 +157,8 @@ void cell_gradient(DatasetRef ds, const double* f, int nc, double* grad,
             }
             derivatives(t, pts, parametric_center(t), vals, nc, g);
             for (std::size_t k = 0; k < ncs; ++k) {
-              if (nan_component[k]) g[k] = Vec3{kNaN, kNaN, kNaN};
+              constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+              if (nan_component[k]) g[k] = Vec3{nan, nan, nan};
             }
             // A degenerate cell gives 0; unless the field is constant there, leave it out.
             bool zero = true, varies = false;
