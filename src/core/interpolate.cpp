@@ -22,7 +22,7 @@ void combine_typed(const DataArray& src, DataArray& dst, std::size_t out,
     if constexpr (std::is_floating_point_v<T>) {
       d[out * nc + c] = static_cast<T>(v);
     } else {
-      d[out * nc + c] = static_cast<T>(std::nearbyint(v));
+      d[out * nc + c] = static_cast<T>(std::round(v));  // halves away from zero, as VTK
     }
   }
 }

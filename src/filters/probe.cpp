@@ -97,7 +97,7 @@ void interpolate_block(const DataArray& src, DataArray& dst, const BlockHits& h,
     if constexpr (std::is_floating_point_v<T>) {
       d[at] = static_cast<T>(v);
     } else {
-      d[at] = static_cast<T>(std::nearbyint(v));
+      d[at] = static_cast<T>(std::round(v));  // halves away from zero, as VTK
     }
   };
   if (h.trilinear) {
@@ -197,7 +197,7 @@ T nil_of(double nil) {
     if (std::isnan(nil)) return T{0};
     const double lo = static_cast<double>(std::numeric_limits<T>::lowest());
     const double hi = static_cast<double>(std::numeric_limits<T>::max());
-    const double v = std::clamp(std::nearbyint(nil), lo, hi);
+    const double v = std::clamp(std::round(nil), lo, hi);
     return v >= hi ? std::numeric_limits<T>::max() : static_cast<T>(v);
   }
 }

@@ -217,7 +217,7 @@ Attributes CarriedAttributes::output(const std::vector<Vid>& kept) const {
       const bool integral = !is_floating(in.type());
       for (int c = 0; c < nc; ++c) {
         const double x = r[c] * scale;
-        a.set(i, c, integral ? std::nearbyint(x) : x);
+        a.set(i, c, integral ? std::round(x) : x);
       }
       column += static_cast<std::size_t>(nc);
     }
