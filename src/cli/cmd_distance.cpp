@@ -158,23 +158,26 @@ void add_distance_command(CLI::App& app, Context& ctx) {
     const Bounds b = given_bounds ? *given_bounds : grown(ib, o.max_distance);
     for (int a = 0; a < 3 && !given_bounds; ++a) {
       if (!std::isfinite(b.max[a] - b.min[a])) {
-        throw UsageError(fmt::format("--max-distance: {:g} grows the box of {} beyond the range "
-                                     "of a double: give --bounds, or a smaller distance",
-                                     o.max_distance, args->in));
+        throw UsageError(
+            fmt::format("--max-distance: {:g} grows the box of {} beyond the range "
+                        "of a double: give --bounds, or a smaller distance",
+                        o.max_distance, args->in));
       }
     }
     if (!sparse && !args->float64) {
       // Samples beyond the band hold the maximum distance (or the cap): it must be a float.
       constexpr double kFloatMax = std::numeric_limits<float>::max();
       if (o.max_distance > kFloatMax) {
-        throw UsageError(fmt::format("--max-distance: {:g} does not fit the Float32 distances "
-                                     "(largest {:g}): give --float64, or a smaller distance",
-                                     o.max_distance, kFloatMax));
+        throw UsageError(
+            fmt::format("--max-distance: {:g} does not fit the Float32 distances "
+                        "(largest {:g}): give --float64, or a smaller distance",
+                        o.max_distance, kFloatMax));
       }
       if (args->cap && cap_value_opt->count() > 0 && std::abs(args->cap_value) > kFloatMax) {
-        throw UsageError(fmt::format("--cap-value: {:g} does not fit the Float32 distances "
-                                     "(largest {:g}): give --float64, or a smaller value",
-                                     args->cap_value, kFloatMax));
+        throw UsageError(
+            fmt::format("--cap-value: {:g} does not fit the Float32 distances "
+                        "(largest {:g}): give --float64, or a smaller value",
+                        args->cap_value, kFloatMax));
       }
     }
     DistanceStats stats;

@@ -131,9 +131,10 @@ void add_offset_command(CLI::App& app, Context& ctx) {
         }
         // The field is Float32; samples beyond the band hold the maximum distance.
         if (args->max_distance > std::numeric_limits<float>::max()) {
-          throw UsageError(fmt::format("--max-distance: {:g} does not fit the Float32 distance "
-                                       "field (largest {:g})",
-                                       args->max_distance, std::numeric_limits<float>::max()));
+          throw UsageError(
+              fmt::format("--max-distance: {:g} does not fit the Float32 distance "
+                          "field (largest {:g})",
+                          args->max_distance, std::numeric_limits<float>::max()));
         }
         const Dims dims = parse_dims(args->dims, "--dims");
         const Bounds ib = pd->bounds();

@@ -484,9 +484,10 @@ CLI::Option* add_color_range_option(CLI::App& cmd, const std::string& name,
 void require_new_array_name(const Attributes& attributes, const std::string& name,
                             const char* option, const std::string& input) {
   if (attributes.find(name) != nullptr) {
-    throw Error(fmt::format("{} already has an array '{}', which the new array would replace: give "
-                            "{} another name",
-                            input, name, option));
+    throw Error(
+        fmt::format("{} already has an array '{}', which the new array would replace: give "
+                    "{} another name",
+                    input, name, option));
   }
 }
 

@@ -19,10 +19,11 @@ namespace {
 void require_surface_for_triangle_normals(bool gives_surface, const ContourOptions& options,
                                           const char* caller) {
   if (options.normals == ContourNormals::Triangles && !gives_surface) {
-    throw Error(fmt::format("{}: normals from triangles need a surface, and the contour of this "
-                            "input (no 3D cells) is lines or vertices: ask for gradient normals "
-                            "or none",
-                            caller));
+    throw Error(
+        fmt::format("{}: normals from triangles need a surface, and the contour of this "
+                    "input (no 3D cells) is lines or vertices: ask for gradient normals "
+                    "or none",
+                    caller));
   }
 }
 

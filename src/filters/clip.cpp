@@ -152,7 +152,8 @@ void decompose(CellType type, std::span<const Index> g, const std::uint8_t* kept
       for (const CellFace& f : cell_faces(type)) {
         if (type == CellType::Pyramid && f.size == 3) continue;  // the apex's faces
         if (f.size == 3) tris.push_back({f.ids[0], f.ids[1], f.ids[2], 0});
-        else if (quad_kept(f, kept)) pyramids.push_back({f.ids[0], f.ids[1], f.ids[2], f.ids[3], apex});
+        else if (quad_kept(f, kept))
+          pyramids.push_back({f.ids[0], f.ids[1], f.ids[2], f.ids[3], apex});
         else {
           const int q[4] = {f.ids[0], f.ids[1], f.ids[2], f.ids[3]};
           split_quad(q, g, tris, 0);
@@ -312,37 +313,36 @@ struct Clipper {
     };
     // A tetrahedron: itself, a smaller one, or a wedge.
     auto clip_tetra = [&](const std::array<int, 4>& s) {
-        int nk = 0;
-        for (int i = 0; i < 4; ++i) nk += kept(s[i]);
-        if (nk == 0) return;
-        if (nk == 4) {
-          emit(CellType::Tetra, {at(s[0]), at(s[1]), at(s[2]), at(s[3])});
-        } else if (nk == 1) {
-          int v = 0;
-          while (!kept(s[v])) ++v;
-          Ref r[4];
-          for (int i = 0; i < 4; ++i) r[i] = i == v ? at(s[i]) : edge(s[v], s[i]);
-          emit(CellType::Tetra, {r[0], r[1], r[2], r[3]});
-        } else if (nk == 3) {
-          int d = 0;
-          while (kept(s[d])) ++d;
-          const int* b = kAway[d];
-          const int p = s[b[0]], q = s[b[1]], r = s[b[2]], x = s[d];
-          emit(CellType::Wedge, {at(p), at(q), at(r), edge(p, x), edge(q, x), edge(r, x)});
-        } else {  // two kept (a, b), two dropped
-          int a = -1, b = -1;
-          for (int i = 0; i < 4; ++i) {
-            if (kept(s[i])) (a < 0 ? a : b) = i;
-          }
-          // The face opposite b, outward (away from b), rotated to start at a.
-          const int* face = kAway[b];
-          int r = 0;
-          while (face[r] != a) ++r;
-          const int x = s[face[(r + 1) % 3]], y = s[face[(r + 2) % 3]];
-          const int la = s[a], lb = s[b];
-          emit(CellType::Wedge,
-               {at(la), edge(la, x), edge(la, y), at(lb), edge(lb, x), edge(lb, y)});
+      int nk = 0;
+      for (int i = 0; i < 4; ++i) nk += kept(s[i]);
+      if (nk == 0) return;
+      if (nk == 4) {
+        emit(CellType::Tetra, {at(s[0]), at(s[1]), at(s[2]), at(s[3])});
+      } else if (nk == 1) {
+        int v = 0;
+        while (!kept(s[v])) ++v;
+        Ref r[4];
+        for (int i = 0; i < 4; ++i) r[i] = i == v ? at(s[i]) : edge(s[v], s[i]);
+        emit(CellType::Tetra, {r[0], r[1], r[2], r[3]});
+      } else if (nk == 3) {
+        int d = 0;
+        while (kept(s[d])) ++d;
+        const int* b = kAway[d];
+        const int p = s[b[0]], q = s[b[1]], r = s[b[2]], x = s[d];
+        emit(CellType::Wedge, {at(p), at(q), at(r), edge(p, x), edge(q, x), edge(r, x)});
+      } else {  // two kept (a, b), two dropped
+        int a = -1, b = -1;
+        for (int i = 0; i < 4; ++i) {
+          if (kept(s[i])) (a < 0 ? a : b) = i;
         }
+        // The face opposite b, outward (away from b), rotated to start at a.
+        const int* face = kAway[b];
+        int r = 0;
+        while (face[r] != a) ++r;
+        const int x = s[face[(r + 1) % 3]], y = s[face[(r + 2) % 3]];
+        const int la = s[a], lb = s[b];
+        emit(CellType::Wedge, {at(la), edge(la, x), edge(la, y), at(lb), edge(lb, x), edge(lb, y)});
+      }
     };
     // A pyramid on a kept quad (outward q0..q3, apex q4): whole, or the hexahedron between the
     // quad and its four cut points (whose order follows the quad's, so the smallest-id diagonal
@@ -815,7 +815,8 @@ ClipStats clip_impl(DatasetRef input, const ImplicitFunction& f, const ClipOptio
       std::copy(block_extra[b].begin(), block_extra[b].end(),
                 fresh.begin() + static_cast<std::ptrdiff_t>(extra_at[b]));
       for (auto& sl : slots[b]) {
-        if (sl != kInput && (sl & kExtra)) sl = static_cast<std::uint32_t>(extra_at[b] + (sl & ~kExtra));
+        if (sl != kInput && (sl & kExtra))
+          sl = static_cast<std::uint32_t>(extra_at[b] + (sl & ~kExtra));
       }
       centres.insert(centres.end(), out[b].centres.begin(), out[b].centres.end());
     }
@@ -838,9 +839,8 @@ ClipStats clip_impl(DatasetRef input, const ImplicitFunction& f, const ClipOptio
       const std::size_t ne = edges.total, nx = fresh.size() - ne;
       std::vector<std::uint32_t> order(nx);
       for (std::size_t j = 0; j < nx; ++j) order[j] = static_cast<std::uint32_t>(j);
-      std::sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) {
-        return fresh[ne + x] < fresh[ne + y];
-      });
+      std::sort(order.begin(), order.end(),
+                [&](std::uint32_t x, std::uint32_t y) { return fresh[ne + x] < fresh[ne + y]; });
       std::vector<Ref> merged(fresh.size());
       std::size_t e = 0, x = 0;
       for (std::size_t k = 0; k < merged.size(); ++k) {

@@ -485,7 +485,9 @@ Grid grid_of(int bits, float range) {
 // written with std::to_string (six decimals) and read back with strtof/atof (libdraco 1.5.5,
 // draco/core/options.cc): an origin of 1e-7 arrives as 0 and a range of 1e-7 as 0. The value
 // Draco reads back for `v`:
-float draco_option_value(float v) { return std::strtof(std::to_string(v).c_str(), nullptr); }
+float draco_option_value(float v) {
+  return std::strtof(std::to_string(v).c_str(), nullptr);
+}
 
 // The value nearest `v` on the side `up` (>= v) or down (<= v) that Draco's options read back
 // unchanged. \throw Error (internal) if none is found, which no finite float causes.
@@ -610,9 +612,10 @@ void choose_step(DracoSource& s, const std::vector<char>* only, double shrink, s
   if (found) set_step(s, lo);
   if (auto_bits > 0 && (!found || s.bits > auto_bits)) set_bits(s, auto_bits);
   if (!found && auto_bits == 0) {
-    throw Error(fmt::format("{}: the error budget {:g} of '{}' is below what float32 values with "
-                            "30-bit quantization can meet",
-                            name, s.budget, s.name));
+    throw Error(
+        fmt::format("{}: the error budget {:g} of '{}' is below what float32 values with "
+                    "30-bit quantization can meet",
+                    name, s.budget, s.name));
   }
 }
 
@@ -1227,8 +1230,9 @@ DracoEncodedMesh encode_draco_mesh(const PolyData& mesh, const DracoWriteOptions
     if (!again || attempt >= kMaxEncodes || !any_budget) {
       for (std::size_t k = 0; k < sources.size(); ++k) {
         if (sources[k].budget > 0 && m.arrays[k] > sources[k].budget) {
-          throw Error(fmt::format("{}: could not meet the error budget of '{}' ({:g}): measured {:g}",
-                                  name, sources[k].name, sources[k].budget, m.arrays[k]));
+          throw Error(
+              fmt::format("{}: could not meet the error budget of '{}' ({:g}): measured {:g}", name,
+                          sources[k].name, sources[k].budget, m.arrays[k]));
         }
       }
       if (st.lost_triangles > p.degenerate_input) {

@@ -945,7 +945,7 @@ class PlyReader {
   std::vector<PlyProperty> face_props_;
   std::vector<DataArray> face_arrays_;
   int face_index_prop_ = -1;
-  int face_texcoord_prop_ = -1;   // the face element's corner texture coordinates, or -1
+  int face_texcoord_prop_ = -1;    // the face element's corner texture coordinates, or -1
   std::vector<double> corner_uv_;  // u, v per corner of polys_, in order
   CellArray polys_;
 };

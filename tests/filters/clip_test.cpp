@@ -27,7 +27,8 @@ double cell_volume(CellType type, const std::vector<Vec3>& p, const std::vector<
   double v = 0;
   auto tri = [&](int a, int b, int c) {
     v += dot(p[static_cast<std::size_t>(a)],
-             cross(p[static_cast<std::size_t>(b)], p[static_cast<std::size_t>(c)])) / 6;
+             cross(p[static_cast<std::size_t>(b)], p[static_cast<std::size_t>(c)])) /
+         6;
   };
   for (const CellFace& f : cell_faces(type)) {
     if (f.size == 4) {
@@ -407,7 +408,8 @@ TEST(Clip, FacesConformQuadsAsQuads) {
           if (uses == 2) continue;
           bool on_cut = true;
           for (Index id : q) {
-            on_cut &= std::abs(functions[fi].value(out.points[static_cast<std::size_t>(id)])) < 1e-6;
+            on_cut &=
+                std::abs(functions[fi].value(out.points[static_cast<std::size_t>(id)])) < 1e-6;
           }
           bool on_boundary = false;
           for (int a = 0; a < 3 && !on_boundary; ++a) {

@@ -359,8 +359,8 @@ TEST(Draco, TinyAndOffsetArraysKeepTheirGrid) {
       ASSERT_EQ(back.points.size(), a.points.size()) << what.str();
       double worst = 0;
       for (std::size_t i = 0; i < a.points.size(); ++i) {
-        worst = std::max(worst, std::abs(back.point_data.get("F").get(i) -
-                                         a.point_data.get("F").get(i)));
+        worst = std::max(worst,
+                         std::abs(back.point_data.get("F").get(i) - a.point_data.get("F").get(i)));
       }
       EXPECT_LE(worst, allowed + 4 * std::numeric_limits<float>::epsilon() * std::abs(offset))
           << what.str() << (budget ? " (budget)" : " (bits)");

@@ -485,7 +485,8 @@ std::string corner_texcoord_ply(const char* format, bool texcoord_first) {
   const std::string idx = "property list uchar int vertex_indices\n";
   const std::string tc = "property list uchar float texcoord\n";
   s += (texcoord_first ? tc + idx : idx + tc) + "property int texnumber\nend_header\n";
-  const float pts[5][4] = {{0, 0, 0, 10}, {1, 0, 0, 11}, {1, 1, 0, 12}, {0, 1, 0, 13}, {5, 5, 5, 14}};
+  const float pts[5][4] = {
+      {0, 0, 0, 10}, {1, 0, 0, 11}, {1, 1, 0, 12}, {0, 1, 0, 13}, {5, 5, 5, 14}};
   struct Face {
     std::vector<int> ids;
     std::vector<float> uv;
@@ -811,10 +812,14 @@ TEST(Off, ReadsCoffAndNoff) {
   ASSERT_NE(n.point_data.normals(), nullptr);
   EXPECT_EQ(n.point_data.normals()->get(2, 2), -1.0);
   // A UTF-8 byte order mark before the keyword (Windows editors) is skipped; only there.
-  const PolyData b = read_off(bytes_of("\xEF\xBB\xBFOFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), "b.off");
+  const PolyData b =
+      read_off(bytes_of("\xEF\xBB\xBFOFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), "b.off");
   EXPECT_EQ(b.num_points(), 3u);
   EXPECT_EQ(b.polys.size(), 1u);
-  expect_error(off_reader(), "OFF\n\xEF\xBB\xBF" "3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", {"bad.off"});
+  expect_error(off_reader(),
+               "OFF\n\xEF\xBB\xBF"
+               "3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+               {"bad.off"});
 }
 
 TEST(Off, RoundTripIsExact) {

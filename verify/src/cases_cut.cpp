@@ -85,7 +85,8 @@ double cell_volume(DatasetRef ds, std::size_t cell, std::vector<Index>& ids) {
   auto tri = [&](int a, int b, int c) {
     v += dot(point(ds, ids[static_cast<std::size_t>(a)]),
              cross(point(ds, ids[static_cast<std::size_t>(b)]),
-                   point(ds, ids[static_cast<std::size_t>(c)]))) / 6;
+                   point(ds, ids[static_cast<std::size_t>(c)]))) /
+         6;
   };
   for (const CellFace& face : cell_faces(cell_type(ds, static_cast<Index>(cell)))) {
     int m = 0;

@@ -16,8 +16,8 @@ namespace isoforge {
 /// Output point and cell arrays with the names, types, components, lookup tables and active
 /// roles of the input's, sized for `points` and `cells` output tuples and filled by the calls
 /// below. Integer arrays are rounded to the nearest value, halves away from zero (as VTK).
-/// Calls writing distinct output indices may run concurrently. A default-constructed interpolator carries nothing (every call is a
-/// no-op), for algorithms asked not to carry attributes.
+/// Calls writing distinct output indices may run concurrently. A default-constructed interpolator
+/// carries nothing (every call is a no-op), for algorithms asked not to carry attributes.
 class AttributeInterpolator {
  public:
   /// A weighted input tuple: (input id, weight).

@@ -2,8 +2,8 @@
 /// \file
 /// A tiny 3-vector value type for public APIs (Eigen stays inside the .cpp files).
 
-#include <array>
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace isoforge {

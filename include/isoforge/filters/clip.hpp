@@ -7,10 +7,10 @@
 /// points on both sides are decomposed into simplices (tetrahedra, triangles, lines; quad faces
 /// split along the diagonal from their smallest point id; voxels and hexahedra into 6 tetrahedra
 /// around their main diagonal where their faces allow it, else, like wedges, around an added
-/// centre point, a quad face wholly on one side as one pyramid) and each piece is clipped. Neighbouring cells share their cut points
-/// (one per crossed edge), and a quad face wholly kept stays one quad in the cut cell too (the
-/// base of a pyramid or hexahedron piece), so faces conform. Point arrays are interpolated, cell
-/// arrays copied from the cell each piece came from.
+/// centre point, a quad face wholly on one side as one pyramid) and each piece is clipped.
+/// Neighbouring cells share their cut points (one per crossed edge), and a quad face wholly kept
+/// stays one quad in the cut cell too (the base of a pyramid or hexahedron piece), so faces
+/// conform. Point arrays are interpolated, cell arrays copied from the cell each piece came from.
 
 #include "isoforge/core/dataset.hpp"
 #include "isoforge/core/progress.hpp"
