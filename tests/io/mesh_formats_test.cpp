@@ -507,27 +507,21 @@ std::string corner_texcoord_ply(const char* format, bool texcoord_first) {
       for (float v : p) put(v);
     }
   }
+  // A list: its uchar count, then its items (int32 indices or float coordinates).
+  auto put_list = [&](const auto& items) {
+    if (ascii) {
+      s += std::to_string(items.size());
+      for (const auto v : items) s += " " + std::to_string(v);
+      s += " ";
+    } else {
+      put(static_cast<std::uint8_t>(items.size()));
+      for (const auto v : items) put(v);
+    }
+  };
   for (const Face& face : f) {
-    auto put_idx = [&] {
-      if (ascii) {
-        s += std::to_string(face.ids.size());
-        for (int i : face.ids) s += " " + std::to_string(i);
-        s += " ";
-      } else {
-        put(static_cast<std::uint8_t>(face.ids.size()));
-        for (int i : face.ids) put(std::int32_t{i});
-      }
-    };
-    auto put_tc = [&] {
-      if (ascii) {
-        s += std::to_string(face.uv.size());
-        for (float v : face.uv) s += " " + std::to_string(v);
-        s += " ";
-      } else {
-        put(static_cast<std::uint8_t>(face.uv.size()));
-        for (float v : face.uv) put(v);
-      }
-    };
+    const std::vector<std::int32_t> ids(face.ids.begin(), face.ids.end());
+    const auto put_idx = [&] { put_list(ids); };
+    const auto put_tc = [&] { put_list(face.uv); };
     if (texcoord_first) {
       put_tc();
       put_idx();
