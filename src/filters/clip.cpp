@@ -767,7 +767,7 @@ ClipStats clip_impl(DatasetRef input, const ImplicitFunction& f, const ClipOptio
               extra.push_back(r);
               e = extra.size();
             }
-            check_invariant(extra.size() < kExtra, "clip: centre points of a block");
+            check_invariant(extra.size() < kExtra - 1, "clip: centre points of a block");
             slot[i] = kExtra | static_cast<std::uint32_t>(e - 1);
           } else {
             slot[i] = edges.number(r.a, r.b);
@@ -814,10 +814,6 @@ ClipStats clip_impl(DatasetRef input, const ImplicitFunction& f, const ClipOptio
     for (std::size_t b = 0; b < blocks; ++b) {
       std::copy(block_extra[b].begin(), block_extra[b].end(),
                 fresh.begin() + static_cast<std::ptrdiff_t>(extra_at[b]));
-      for (auto& sl : slots[b]) {
-        if (sl != kInput && (sl & kExtra))
-          sl = static_cast<std::uint32_t>(extra_at[b] + (sl & ~kExtra));
-      }
       centres.insert(centres.end(), out[b].centres.begin(), out[b].centres.end());
     }
     parallel_for_range(edges.first.size() - 1, 4096, [&](std::size_t c0, std::size_t c1) {
@@ -831,58 +827,43 @@ ClipStats clip_impl(DatasetRef input, const ImplicitFunction& f, const ClipOptio
         }
       }
     });
-    // The centre points go where sorting all new points would put them (the generic pass's
-    // order, so both passes give the same output): the edges are sorted already, the few centre
-    // points are sorted and merged in.
-    std::vector<std::uint32_t> renumber(fresh.size());
     if (extra_at[blocks] > edges.total) {
+      // Some cells were split around their centre. Their centre points go where sorting all new
+      // points would put them (the generic pass's order, so both passes give the same output):
+      // the edges are sorted already, the few centre points are sorted and merged in. Such a
+      // cell does not use its main diagonal: that cut point is numbered but in no piece, and is
+      // left out. Then every slot is renumbered once.
+      const auto index_of = [&](std::size_t b, std::uint32_t sl) -> std::size_t {
+        return (sl & kExtra) ? extra_at[b] + (sl & ~kExtra) : sl;
+      };
+      std::vector<std::atomic<std::uint8_t>> referenced(fresh.size());
+      parallel_for_range(blocks, 1, [&](std::size_t b0, std::size_t b1) {
+        for (std::size_t b = b0; b < b1; ++b) {
+          for (const std::uint32_t sl : slots[b]) {
+            if (sl != kInput) referenced[index_of(b, sl)].store(1, std::memory_order_relaxed);
+          }
+        }
+      });
       const std::size_t ne = edges.total, nx = fresh.size() - ne;
       std::vector<std::uint32_t> order(nx);
       for (std::size_t j = 0; j < nx; ++j) order[j] = static_cast<std::uint32_t>(j);
       std::sort(order.begin(), order.end(),
                 [&](std::uint32_t x, std::uint32_t y) { return fresh[ne + x] < fresh[ne + y]; });
-      std::vector<Ref> merged(fresh.size());
-      std::size_t e = 0, x = 0;
-      for (std::size_t k = 0; k < merged.size(); ++k) {
-        if (x < nx && (e == ne || fresh[ne + order[x]] < fresh[e])) {
-          renumber[ne + order[x]] = static_cast<std::uint32_t>(k);
-          merged[k] = fresh[ne + order[x++]];
-        } else {
-          renumber[e] = static_cast<std::uint32_t>(k);
-          merged[k] = fresh[e++];
-        }
+      std::vector<std::uint32_t> final_id(fresh.size(), kInput);
+      std::vector<Ref> merged;
+      merged.reserve(fresh.size());
+      for (std::size_t e = 0, x = 0; e < ne || x < nx;) {
+        const bool take_extra = x < nx && (e == ne || fresh[ne + order[x]] < fresh[e]);
+        const std::size_t k = take_extra ? ne + order[x++] : e++;
+        if (!referenced[k].load(std::memory_order_relaxed)) continue;
+        final_id[k] = static_cast<std::uint32_t>(merged.size());
+        merged.push_back(fresh[k]);
       }
       fresh.swap(merged);
       parallel_for_range(blocks, 1, [&](std::size_t b0, std::size_t b1) {
         for (std::size_t b = b0; b < b1; ++b) {
           for (std::uint32_t& sl : slots[b]) {
-            if (sl != kInput) sl = renumber[sl];
-          }
-        }
-      });
-    }
-    // A cell split around its centre does not use its main diagonal: such a cut point is
-    // numbered but in no piece, and is dropped (the other edges are shared with the pieces of
-    // the cell's neighbours or its own).
-    std::vector<std::atomic<std::uint8_t>> referenced(fresh.size());
-    parallel_for_range(blocks, 1, [&](std::size_t b0, std::size_t b1) {
-      for (std::size_t b = b0; b < b1; ++b) {
-        for (const std::uint32_t sl : slots[b]) {
-          if (sl != kInput) referenced[sl].store(1, std::memory_order_relaxed);
-        }
-      }
-    });
-    std::size_t kept_fresh = 0;
-    for (std::size_t k = 0; k < fresh.size(); ++k) {
-      renumber[k] = static_cast<std::uint32_t>(kept_fresh);
-      if (referenced[k].load(std::memory_order_relaxed)) fresh[kept_fresh++] = fresh[k];
-    }
-    if (kept_fresh < fresh.size()) {
-      fresh.resize(kept_fresh);
-      parallel_for_range(blocks, 1, [&](std::size_t b0, std::size_t b1) {
-        for (std::size_t b = b0; b < b1; ++b) {
-          for (std::uint32_t& sl : slots[b]) {
-            if (sl != kInput) sl = renumber[sl];
+            if (sl != kInput) sl = final_id[index_of(b, sl)];
           }
         }
       });
