@@ -40,6 +40,8 @@ inline bool is_finite(const Vec3& a) {
 /// 1e308, 0) overflows nor (0, 0, 1e-320) underflows; the zero vector when `a` is zero or not
 /// finite (callers name the option in their error).
 inline Vec3 unit_direction(const Vec3& a) {
+  const double n2 = dot(a, a);
+  if (n2 > 1e-290 && n2 < 1e290) return a / std::sqrt(n2);  // no overflow nor underflow
   if (!is_finite(a)) return {};
   const double m = std::max({std::abs(a.x), std::abs(a.y), std::abs(a.z)});
   if (!(m > 0)) return {};
