@@ -114,9 +114,9 @@ bench: deps
 # UndefinedBehaviorSanitizer (RelWithDebInfo with line tables only, static library): the library
 # is compiled with sanitizers once. Clang: its sanitizer builds compile about twice as fast as
 # GCC's here. Static library: one build of it serves every test (consumer_package then tests the
-# static package). Unity build (CMake batches of 8 sources per translation unit): the library's
-# sources share their headers and template instantiations, which halves its compile time; the
-# Release build stays one unit per source, so both ways of compiling are tested.
+# static package). Unity build: the library and the CLI are unity batches of 8 sources in every
+# build (ISOFORGE_UNITY_BUILD, CMakeLists.txt); CMAKE_UNITY_BUILD here batches the tests' and
+# fuzzers' sources as well.
 SANITIZE_CONFIGURE := CXX=clang++ cmake -S . -B $(SANITIZE_BUILD) -G "$(GENERATOR)" \
   -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG" \
   -DISOFORGE_SANITIZE=address,undefined -DISOFORGE_BUILD_FUZZERS=ON -DBUILD_SHARED_LIBS=OFF \
