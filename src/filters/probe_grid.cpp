@@ -152,13 +152,19 @@ float up(double v) {
   return static_cast<double>(f) < v ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
 }
 
-struct Box {
+}  // namespace
+
+/// A float box around a block of cells. Outside the anonymous namespace because
+/// GridLocator::Impl, which has external linkage, holds them.
+struct BlockBox {
   float lo[3], hi[3];
   [[nodiscard]] bool contains(const Vec3& p) const {
     return p.x >= lo[0] && p.x <= hi[0] && p.y >= lo[1] && p.y <= hi[1] && p.z >= lo[2] &&
            p.z <= hi[2];
   }
 };
+
+namespace {
 
 /// The growth of a box with corners lo, hi so that it holds every point the parametric
 /// tolerance admits in a cell inside it, plus rounding.
@@ -176,8 +182,8 @@ struct GridLocator::Impl {
   const float* pf = nullptr;
   const double* pd = nullptr;
   std::span<const std::uint8_t> cell_ok;
-  std::vector<Box> block_box;
-  Box all{};
+  std::vector<BlockBox> block_box;
+  BlockBox all{};
   Vec3 bin_lo{}, bin_inv{};
   std::array<Index, 3> bins{};
   std::vector<std::uint32_t> bin_start, bin_blocks;
@@ -420,7 +426,7 @@ GridLocator::GridLocator(const StructuredGrid& grid, std::span<const std::uint8_
         extend(m.pd);
       }
       const double grow = growth({lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}, tolerance);
-      Box& box = m.block_box[b];
+      BlockBox& box = m.block_box[b];
       for (int a = 0; a < 3; ++a) {
         box.lo[a] = down(lo[a] - grow);
         box.hi[a] = up(hi[a] + grow);
@@ -428,7 +434,7 @@ GridLocator::GridLocator(const StructuredGrid& grid, std::span<const std::uint8_
     }
   });
   m.all = m.block_box[0];
-  for (const Box& b : m.block_box) {
+  for (const BlockBox& b : m.block_box) {
     for (int a = 0; a < 3; ++a) {
       m.all.lo[a] = std::min(m.all.lo[a], b.lo[a]);
       m.all.hi[a] = std::max(m.all.hi[a], b.hi[a]);
@@ -448,7 +454,7 @@ GridLocator::GridLocator(const StructuredGrid& grid, std::span<const std::uint8_
     m.bin_inv[a] = double(m.bins[std::size_t(a)]) / ext[a];
     total_bins *= std::size_t(m.bins[std::size_t(a)]);
   }
-  auto range = [&](const Box& b, int a, Index& lo, Index& hi) {
+  auto range = [&](const BlockBox& b, int a, Index& lo, Index& hi) {
     const Index n = m.bins[std::size_t(a)];
     lo = std::clamp(Index((b.lo[a] - m.bin_lo[a]) * m.bin_inv[a]), Index{0}, n - 1);
     hi = std::clamp(Index((b.hi[a] - m.bin_lo[a]) * m.bin_inv[a]), Index{0}, n - 1);

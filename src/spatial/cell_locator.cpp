@@ -15,9 +15,9 @@
 
 namespace isoforge {
 
-namespace {
-
-using spatial_detail::u32;
+// The items are outside the anonymous namespace because CellLocator::Impl, which has external
+// linkage, holds them.
+namespace spatial_detail {
 
 /// The `Items` policy of Bvh4 for the cells of a dataset: boxes only (no slab-discs), exact
 /// distances from `locate_in_cell`.
@@ -53,6 +53,13 @@ struct CellItems {
     return locate(id, p).dist2;
   }
 };
+
+}  // namespace spatial_detail
+
+namespace {
+
+using spatial_detail::CellItems;
+using spatial_detail::u32;
 
 CellHit hit_of(Index cell, CellPosition&& pos) {
   CellHit h;

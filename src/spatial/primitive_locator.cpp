@@ -8,9 +8,9 @@
 
 namespace isoforge {
 
-namespace {
-
-using spatial_detail::u32;
+// The items are outside the anonymous namespace because PrimitiveLocator::Impl, which has
+// external linkage, holds them.
+namespace spatial_detail {
 
 /// The `Items` policy of Bvh4 for a PrimitiveSet.
 struct PrimitiveItems {
@@ -55,6 +55,13 @@ struct PrimitiveItems {
     return true;
   }
 };
+
+}  // namespace spatial_detail
+
+namespace {
+
+using spatial_detail::PrimitiveItems;
+using spatial_detail::u32;
 
 double tolerance_of(const PrimitiveSet& set) {
   double m = 0;
