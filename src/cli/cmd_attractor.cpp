@@ -3,6 +3,8 @@
 #include <fmt/core.h>
 
 #include <chrono>
+#include <cstdint>
+#include <limits>
 
 #include "commands.hpp"
 #include "common.hpp"
@@ -25,8 +27,10 @@ void add_attractor_command(CLI::App& app, Context& ctx) {
       "attractor",
       "The Lorenz strange attractor (Fig. 1.25): RK4 trajectory, visits counted per "
       "voxel, marching cubes at a visit value");
-  cmd->add_option("-n,--steps", args->steps, "Integration steps, >= 1 (default 10000000)")
-      ->transform(integer_in(1));
+  cmd->add_option("-n,--steps", args->steps,
+                  "Integration steps, 1 .. 4294967295 (the UInt32 visit counts; default "
+                  "10000000)")
+      ->transform(integer_in(1, std::numeric_limits<std::uint32_t>::max()));
   cmd->add_option("--transient", args->transient, "Steps integrated before counting (default 0)")
       ->transform(integer_in(0));
   add_dims_option(*cmd, "-d,--dims", args->dims, 2,

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "isoforge/core/memory.hpp"
@@ -28,6 +29,12 @@ class TrajectoryBinner {
     if (!(o.step > 0) || !std::isfinite(o.step)) {
       throw Error(fmt::format("trajectory density: the step must be positive and finite, got {:g}",
                               o.step));
+    }
+    if (o.steps > std::numeric_limits<std::uint32_t>::max()) {
+      // One voxel could then receive more visits than its UInt32 count holds.
+      throw Error(fmt::format("trajectory density: {} steps exceed the UInt32 visit counts "
+                              "(at most {})",
+                              o.steps, std::numeric_limits<std::uint32_t>::max()));
     }
     for (int a = 0; a < 3; ++a) {
       if (o.dims[a] < 2) {

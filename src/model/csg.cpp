@@ -4,11 +4,13 @@
 
 #include "isoforge/model/csg.hpp"
 
+#include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace isoforge {
@@ -103,8 +105,23 @@ ImageData offset(const ImageData& field, double distance) {
   r.visit([&](auto& buf) {
     using T = typename std::decay_t<decltype(buf)>::value_type;
     if constexpr (std::is_floating_point_v<T>) {
+      if (!(std::abs(distance) <= double(std::numeric_limits<T>::max()))) {
+        throw Error(fmt::format("offset: the distance {:g} is beyond the range of the {} scalars "
+                                "'{}'",
+                                distance, scalar_type_name(s.type()), s.name()));
+      }
       const T d = static_cast<T>(distance);
-      for (auto& v : buf) v -= d;
+      bool overflow = false;
+      for (auto& v : buf) {
+        const T w = v - d;
+        overflow = overflow || (std::isfinite(v) && !std::isfinite(w));
+        v = w;
+      }
+      if (overflow) {
+        throw Error(fmt::format("offset: a value of the {} scalars '{}' minus the distance {:g} "
+                                "overflows",
+                                scalar_type_name(s.type()), s.name(), distance));
+      }
     } else {
       throw Error("offset: the scalars '" + s.name() + "' are not floating point");
     }

@@ -95,13 +95,12 @@ Result<ImageData, PointLoadStats> point_load(const PointLoadOptions& o) {
           for (std::size_t i = 0; i < nx; ++i) {
             const std::size_t p = r * nx + i;
             const double x = grid.coordinate(0, static_cast<Index>(i)) - at.x;
+            // Only the load point itself is singular. Anywhere else a stress that is not finite
+            // (a huge load, or a sample within a hair of the load point) is stored as it is and
+            // reported below, rather than passed off as the singular sample.
             std::array<double, 9> s{};
-            bool regular = x * x + y * y + depth * depth > 0;
-            if (regular) {
-              s = boussinesq_stress(x, y, depth, o.load, o.poisson_ratio);
-              for (const double v : s) regular = regular && std::isfinite(v);
-              if (!regular) s = {};
-            }
+            const bool regular = x * x + y * y + depth * depth > 0;
+            if (regular) s = boussinesq_stress(x, y, depth, o.load, o.poisson_ratio);
             for (std::size_t c = 0; c < 9; ++c) T[9 * p + c] = static_cast<float>(s[c]);
             V[p] = regular ? 1 : 0;
             if (S) {
@@ -115,8 +114,22 @@ Result<ImageData, PointLoadStats> point_load(const PointLoadOptions& o) {
       },
       o.progress, "point load");
 
+  // A regular sample's stress is finite as a double; stored as Float32 it overflows to inf when
+  // the load is huge or a sample lies very close to the load point (the stress grows as 1/ρ²).
   PointLoadStats stats;
   for (std::size_t p = 0; p < n; ++p) {
+    bool stored = !S || std::isfinite(S[p]);
+    for (std::size_t c = 0; c < 9; ++c) stored = stored && std::isfinite(T[9 * p + c]);
+    if (!stored) {
+      const std::size_t i = p % nx, j = (p / nx) % static_cast<std::size_t>(o.dims[1]),
+                        k = p / nx / static_cast<std::size_t>(o.dims[1]);
+      throw Error(fmt::format(
+          "point load: the stress at sample ({}, {}, {}) = ({:g}, {:g}, {:g}) exceeds the Float32 "
+          "range (3.4e38): lower the load ({:g}) or sample farther from the load point",
+          i, j, k, grid.coordinate(0, static_cast<Index>(i)),
+          grid.coordinate(1, static_cast<Index>(j)), grid.coordinate(2, static_cast<Index>(k)),
+          o.load));
+    }
     if (!V[p]) {
       ++stats.singular;
     } else if (S) {

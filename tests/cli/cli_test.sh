@@ -151,9 +151,10 @@ expect_usage glyph_unused_normals "--normals: unused" "$bin" glyph "$data/bunny.
 # ---- every option value checked: counts (never wrapped), numbers, meaning, contradictions ----
 v=(-f 'sphere()' -b -1 1 -1 1 -1 1)  # a valid sample
 # counts: negative, zero where meaningless, non-integer (CLI11 would wrap -5 into 2^64-5)
-expect_usage steps_negative "--steps: must be an integer >= 1, got -5" "$bin" attractor --steps -5 -o "$tmp/x.vtp"
-expect_usage steps_zero "--steps: must be an integer >= 1, got 0" "$bin" attractor --steps 0 -o "$tmp/x.vtp"
-expect_usage steps_fraction "--steps: must be an integer >= 1, got '1.5'" "$bin" attractor --steps 1.5 -o "$tmp/x.vtp"
+expect_usage steps_negative "--steps: must be an integer in \[1, 4294967295\], got -5" "$bin" attractor --steps -5 -o "$tmp/x.vtp"
+expect_usage steps_zero "--steps: must be an integer in \[1, 4294967295\], got 0" "$bin" attractor --steps 0 -o "$tmp/x.vtp"
+expect_usage steps_uint32 "--steps: must be an integer in \[1, 4294967295\], got 4294967296" "$bin" attractor --steps 4294967296 -o "$tmp/x.vtp"
+expect_usage steps_fraction "--steps: must be an integer in \[1, 4294967295\], got '1.5'" "$bin" attractor --steps 1.5 -o "$tmp/x.vtp"
 expect_usage transient_negative "--transient: must be an integer >= 0" "$bin" attractor --transient -1 -o "$tmp/x.vtp"
 expect_usage attractor_dims_1 "--dims: must be an integer >= 2, got 1" "$bin" attractor --dims 1 -o "$tmp/x.vtp"
 expect_usage largest_n_negative "--largest-n: must be an integer >= 1, got -1" "$bin" contour "$tmp/sphere.vti" -v 0 --largest-n -1 -o "$tmp/x.vtp"
@@ -189,6 +190,7 @@ expect_usage visits_negative "--value: must be a finite number > 0" "$bin" attra
 expect_usage tolerance_negative "--vdb-tolerance: must be a finite number in \[0, 3.40282[0-9]*e\+38\], got .-1." "$bin" convert "$tmp/sphere.vti" "$tmp/x.vdb" --vdb-tolerance -1
 expect_usage tolerance_beyond_float "--vdb-tolerance: must be a finite number in \[0, 3.40282[0-9]*e\+38\], got .1e308." "$bin" convert "$tmp/sphere.vti" "$tmp/x.vdb" --vdb-tolerance 1e308
 expect_usage offset_a_nan "--offset-a: must be a finite number" "$bin" csg union "$tmp/sphere.vti" "$tmp/sphere.vti" --offset-a nan -o "$tmp/x.vti"
+expect_error offset_a_float32 "offset: the distance 1e\+308 is beyond the range of the Float32 scalars" "$bin" csg union "$tmp/sphere.vti" "$tmp/sphere.vti" --offset-a 1e308 -o "$tmp/x.vti"
 # options that do nothing for these inputs/outputs
 expect_usage normals_sparse "--normals: applies to dense output" "$bin" sample "${v[@]}" --normals -o "$tmp/x.vdb"
 expect_usage half_width_dense "--half-width: applies to sparse output" "$bin" sample "${v[@]}" --half-width 2 -o "$tmp/x.vti"

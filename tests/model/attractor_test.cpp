@@ -126,6 +126,10 @@ TEST(Attractor, BadInputIsAnErrorNamingTheProblem) {
   o.step = 0;
   expect_error([&] { (void)lorenz_density({}, o); }, "step");
   o.step = 0.01;
+  o.steps = 4294967296;  // one voxel could overflow its UInt32 count
+  expect_error([&] { (void)lorenz_density({}, o); },
+               "4294967296 steps exceed the UInt32 visit counts (at most 4294967295)");
+  o.steps = 10;
   o.start = {NAN, 0, 0};
   expect_error([&] { (void)lorenz_density({}, o); }, "start point");
   o.start = {1, 1, 1};

@@ -66,6 +66,29 @@ TEST(Csg, OffsetOfADistanceFieldIsTheSolidsLevelSet) {
   EXPECT_THROW((void)offset(*field, NAN), Error);
 }
 
+TEST(Csg, DenseOffsetRefusesOverflow) {
+  ImageData field{{2, 1, 1}, {0, 0, 0}, {1, 1, 1}, {}, {}, {}};
+  DataArray f("F", ScalarType::Float32, 1, 2);
+  f.values<float>()[0] = -1;
+  f.values<float>()[1] = 3e38f;
+  field.point_data.add(std::move(f), AttributeRole::Scalars);
+  const ImageData shifted = offset(field, 1);
+  EXPECT_EQ(shifted.point_data.get("F").values<float>()[0], -2.0f);
+  try {
+    (void)offset(field, 1e308);  // beyond Float32: it would have made every value -inf
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "offset: the distance 1e+308 is beyond the range of the Float32 scalars 'F'");
+  }
+  try {
+    (void)offset(field, -1e38);  // 3e38 + 1e38 overflows
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(),
+                 "offset: a value of the Float32 scalars 'F' minus the distance -1e+38 overflows");
+  }
+}
+
 TEST(Csg, SparseCopyInPlaceAndDenseAgree) {
   const GridSpec g = cube_grid(-1, 1, 49);
   DistanceOptions o;

@@ -41,7 +41,7 @@ struct LorenzParameters {
 struct TrajectoryOptions {
   Vec3 start{0.1, 0.1, 0.1};         ///< initial state
   double step = 0.01;                ///< h, time units
-  std::uint64_t steps = 10'000'000;  ///< integration steps counted (after the transient)
+  std::uint64_t steps = 10'000'000;  ///< integration steps counted (after the transient), ≤ 2³²−1
   std::uint64_t transient = 0;       ///< steps integrated first and not counted
   Bounds bounds = lorenz_bounds();   ///< volume box, samples from corner to corner
   Dims dims{200, 200, 200};          ///< samples per axis (each ≥ 2)
@@ -61,8 +61,9 @@ struct TrajectoryStats {
 using TrajectoryResult = Result<ImageData, TrajectoryStats>;
 
 /// Integrates y' = f(y) with RK4 (core/ode.hpp) and bins the states (see the file comment).
-/// \throw Error on an empty f, a non-finite start or step, step ≤ 0, dims < 2, empty/non-finite
-/// bounds or a volume larger than memory; `Cancelled` if `progress` says so.
+/// \throw Error on an empty f, a non-finite start or step, step ≤ 0, more than 2³²−1 steps,
+/// dims < 2, empty/non-finite bounds or a volume larger than memory; `Cancelled` if `progress`
+/// says so.
 [[nodiscard]] TrajectoryResult trajectory_density(const std::function<Vec3(const Vec3&)>& f,
                                                   const TrajectoryOptions& options);
 

@@ -31,7 +31,7 @@ enum class CsgOperation {
 [[nodiscard]] ImageData csg(const ImageData& a, const ImageData& b, CsgOperation op);
 
 /// The active scalars − distance (same type, same name). \throw Error on missing or integer
-/// scalars or a non-finite distance.
+/// scalars, or a distance that is not finite or whose subtraction overflows the scalars' type.
 [[nodiscard]] ImageData offset(const ImageData& field, double distance);
 
 /// The offset surfaces of a dense distance field at each of `distances` (one contour pass:
