@@ -509,6 +509,20 @@ void copy_box(const DataArray& src, const std::array<std::size_t, 3>& sub, DataA
   }
 }
 
+/// As copy_box, for one-byte tuples, ANDing src into dst.
+void and_box(const DataArray& src, const std::array<std::size_t, 3>& sub, DataArray& dst,
+             const std::array<std::size_t, 3>& full, const std::array<std::size_t, 3>& at) {
+  const std::byte* s = src.bytes();
+  std::byte* d = dst.bytes();
+  for (std::size_t k = 0; k < sub[2]; ++k) {
+    for (std::size_t j = 0; j < sub[1]; ++j) {
+      const std::byte* row = s + (j + sub[1] * k) * sub[0];
+      std::byte* out = d + at[0] + full[0] * ((at[1] + j) + full[1] * (at[2] + k));
+      for (std::size_t i = 0; i < sub[0]; ++i) out[i] &= row[i];
+    }
+  }
+}
+
 /// Where Reader::read_payload puts the bytes it decodes: the whole payload in one buffer
 /// (`alloc(n)` gives it) ...
 template <class Alloc>
@@ -1251,16 +1265,66 @@ void check_same_arrays(const Attributes& a0, const Attributes& ap, const XmlWher
   }
 }
 
-/// The cell boxes of pieces with extents `exts` in cell indices of the whole extent. \throw Error
-/// (through the piece's `wheres` or `w`) unless they tile it.
-std::vector<std::array<std::int64_t, 6>> tiling_boxes(const Extent& whole,
-                                                      const std::vector<Extent>& exts,
-                                                      const std::vector<XmlWhere>& wheres,
-                                                      const XmlWhere& w) {
-  const Dims wd = extent_dims(whole);
-  std::uint64_t whole_cells = 1;
-  for (int a = 0; a < 3; ++a) whole_cells *= wd[a] > 1 ? static_cast<std::uint64_t>(wd[a] - 1) : 1;
+/// The cell boxes of pieces (in cell indices of the whole extent), and whether some overlap.
+struct PieceBoxes {
   std::vector<std::array<std::int64_t, 6>> boxes;
+  bool overlapping = false;
+};
+
+/// Whether the union of `boxes` covers [0, cells[a]) along every axis, on the grid of the boxes'
+/// own boundaries (at most `kMaxCoverageCells` cells of it). \throw Error through `w` when that
+/// grid is larger.
+bool boxes_cover(const std::vector<std::array<std::int64_t, 6>>& boxes,
+                 const std::array<std::int64_t, 3>& cells, const XmlWhere& w) {
+  constexpr std::uint64_t kMaxCoverageCells = std::uint64_t{1} << 24;
+  std::array<std::vector<std::int64_t>, 3> cuts;
+  std::uint64_t grid = 1;
+  for (int a = 0; a < 3; ++a) {
+    cuts[a] = {0, cells[a]};
+    for (const auto& b : boxes) {
+      cuts[a].push_back(b[2 * a]);
+      cuts[a].push_back(b[2 * a + 1]);
+    }
+    std::sort(cuts[a].begin(), cuts[a].end());
+    cuts[a].erase(std::unique(cuts[a].begin(), cuts[a].end()), cuts[a].end());
+    grid *= cuts[a].size() - 1;
+  }
+  if (grid > kMaxCoverageCells) {
+    w.fail("the " + num(boxes.size()) + " overlapping pieces cut the WholeExtent into more than " +
+           num(kMaxCoverageCells) + " blocks; such files are not supported");
+  }
+  const std::size_t gx = cuts[0].size() - 1, gy = cuts[1].size() - 1;
+  std::vector<std::uint8_t> covered(static_cast<std::size_t>(grid), 0);
+  auto slot = [&](int a, std::int64_t v) {
+    return static_cast<std::size_t>(std::lower_bound(cuts[a].begin(), cuts[a].end(), v) -
+                                    cuts[a].begin());
+  };
+  for (const auto& b : boxes) {
+    const std::size_t x0 = slot(0, b[0]), x1 = slot(0, b[1]), y0 = slot(1, b[2]),
+                      y1 = slot(1, b[3]), z0 = slot(2, b[4]), z1 = slot(2, b[5]);
+    for (std::size_t z = z0; z < z1; ++z) {
+      for (std::size_t y = y0; y < y1; ++y) {
+        std::fill_n(covered.begin() + static_cast<std::ptrdiff_t>(x0 + gx * (y + gy * z)), x1 - x0,
+                    std::uint8_t{1});
+      }
+    }
+  }
+  return std::find(covered.begin(), covered.end(), 0) == covered.end();
+}
+
+/// The cell boxes of pieces with extents `exts`. Pieces may overlap (VTK's writers repeat ghost
+/// layers when asked for ghost levels). \throw Error (through the piece's `wheres` or `w`) unless
+/// they lie inside the whole extent and together cover it.
+PieceBoxes piece_boxes(const Extent& whole, const std::vector<Extent>& exts,
+                       const std::vector<XmlWhere>& wheres, const XmlWhere& w) {
+  const Dims wd = extent_dims(whole);
+  std::array<std::int64_t, 3> cells{};
+  std::uint64_t whole_cells = 1;
+  for (int a = 0; a < 3; ++a) {
+    cells[a] = wd[a] > 1 ? wd[a] - 1 : 1;
+    whole_cells *= static_cast<std::uint64_t>(cells[a]);
+  }
+  PieceBoxes out;
   std::uint64_t covered = 0;
   for (std::size_t i = 0; i < exts.size(); ++i) {
     const Extent& ext = exts[i];
@@ -1286,25 +1350,27 @@ std::vector<std::array<std::int64_t, 6>> tiling_boxes(const Extent& whole,
       vol *= static_cast<std::uint64_t>(box[2 * a + 1] - box[2 * a]);
     }
     if (__builtin_add_overflow(covered, vol, &covered)) covered = UINT64_MAX;
-    boxes.push_back(box);
+    out.boxes.push_back(box);
   }
-  for (std::size_t i = 0; i < boxes.size(); ++i) {
-    for (std::size_t j = i + 1; j < boxes.size(); ++j) {
+  const auto& boxes = out.boxes;
+  for (std::size_t i = 0; i < boxes.size() && !out.overlapping; ++i) {
+    for (std::size_t j = i + 1; j < boxes.size() && !out.overlapping; ++j) {
       bool overlap = true;
       for (int a = 0; a < 3 && overlap; ++a) {
         overlap = boxes[i][2 * a] < boxes[j][2 * a + 1] && boxes[j][2 * a] < boxes[i][2 * a + 1];
       }
-      if (overlap) {
-        wheres[j].fail("Extent '" + extent_string(exts[j]) + "' overlaps the Extent of piece " +
-                       num(i) + " '" + extent_string(exts[i]) + "'");
-      }
+      out.overlapping = overlap;
     }
   }
-  if (covered != whole_cells) {
-    w.fail("the pieces cover " + num(covered) + " of the " + num(whole_cells) +
-           " cells of WholeExtent '" + extent_string(whole) + "'; they must tile it");
+  // Without overlap the volumes add up to the whole exactly when the pieces cover it.
+  if (out.overlapping ? !boxes_cover(boxes, cells, w) : covered != whole_cells) {
+    w.fail(out.overlapping
+               ? "the pieces leave cells of WholeExtent '" + extent_string(whole) +
+                     "' uncovered; they must cover it"
+               : "the pieces cover " + num(covered) + " of the " + num(whole_cells) +
+                     " cells of WholeExtent '" + extent_string(whole) + "'; they must tile it");
   }
-  return boxes;
+  return out;
 }
 
 void Reader::assemble_structured(const Extent& whole, std::vector<StructuredPiece>& pieces,
@@ -1329,7 +1395,7 @@ void Reader::assemble_structured(const Extent& whole, std::vector<StructuredPiec
     extents.push_back(p.ext);
     wheres.push_back(p.where);
   }
-  const auto boxes = tiling_boxes(whole, extents, wheres, w);
+  const auto [boxes, overlapping] = piece_boxes(whole, extents, wheres, w);
   for (std::size_t i = 1; i < pieces.size(); ++i) {
     check_same_arrays(pieces[0].pd, pieces[i].pd, pieces[i].where, "PointData");
     check_same_arrays(pieces[0].cd, pieces[i].cd, pieces[i].where, "CellData");
@@ -1338,6 +1404,12 @@ void Reader::assemble_structured(const Extent& whole, std::vector<StructuredPiec
   auto assemble = [&](auto get_src, const DataArray& proto, bool cells) {
     const auto& full = cells ? wcells : wpts;
     DataArray out(proto.name(), proto.type(), proto.components(), cells ? whole_cells : np);
+    // Overlapping pieces repeat the same values; only their ghost flags differ, where a piece
+    // marks the layer it repeats as duplicate. A flag stays where every piece holding the point
+    // or cell sets it, so the assembled whole, which repeats nothing, keeps no duplicate mark.
+    const bool ghost_and = overlapping && proto.name() == "vtkGhostType" &&
+                           proto.type() == ScalarType::UInt8 && proto.components() == 1;
+    if (ghost_and) std::fill_n(out.bytes(), out.size(), std::byte{0xff});
     for (std::size_t i = 0; i < pieces.size(); ++i) {
       const Dims d = extent_dims(pieces[i].ext);
       std::array<std::size_t, 3> sub{}, at{};
@@ -1350,7 +1422,11 @@ void Reader::assemble_structured(const Extent& whole, std::vector<StructuredPiec
           at[a] = static_cast<std::size_t>(pieces[i].ext[2 * a] - whole[2 * a]);
         }
       }
-      copy_box(get_src(pieces[i]), sub, out, full, at);
+      if (ghost_and) {
+        and_box(get_src(pieces[i]), sub, out, full, at);
+      } else {
+        copy_box(get_src(pieces[i]), sub, out, full, at);
+      }
     }
     return out;
   };
@@ -1879,7 +1955,13 @@ DatasetSummary Reader::summarize() {
       wheres.push_back(pw);
     }
     if (extents.empty()) w.fail("no <Piece> with a non-empty Extent");
-    if (extents.size() > 1 || extents[0] != whole) (void)tiling_boxes(whole, extents, wheres, w);
+    if ((extents.size() > 1 || extents[0] != whole) &&
+        piece_boxes(whole, extents, wheres, w).overlapping) {
+      // The ranges of overlapping pieces' ghost flags are not those of the assembled whole (see
+      // assemble_structured): such files, which are small in practice, are summarised read.
+      if (kind == Kind::Image) return isoforge::summarize(read_image(ds, w));
+      return isoforge::summarize(read_structured(ds, w));
+    }
     for (std::size_t i = 0; i < nodes.size(); ++i) {
       const pugi::xml_node p = nodes[i];
       const XmlWhere& pw = wheres[i];
