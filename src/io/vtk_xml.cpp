@@ -1395,7 +1395,9 @@ void Reader::assemble_structured(const Extent& whole, std::vector<StructuredPiec
     extents.push_back(p.ext);
     wheres.push_back(p.where);
   }
-  const auto [boxes, overlapping] = piece_boxes(whole, extents, wheres, w);
+  const PieceBoxes tiling = piece_boxes(whole, extents, wheres, w);
+  const auto& boxes = tiling.boxes;
+  const bool overlapping = tiling.overlapping;
   for (std::size_t i = 1; i < pieces.size(); ++i) {
     check_same_arrays(pieces[0].pd, pieces[i].pd, pieces[i].where, "PointData");
     check_same_arrays(pieces[0].cd, pieces[i].cd, pieces[i].where, "CellData");
