@@ -32,9 +32,10 @@ class TrajectoryBinner {
     }
     if (o.steps > std::numeric_limits<std::uint32_t>::max()) {
       // One voxel could then receive more visits than its UInt32 count holds.
-      throw Error(fmt::format("trajectory density: {} steps exceed the UInt32 visit counts "
-                              "(at most {})",
-                              o.steps, std::numeric_limits<std::uint32_t>::max()));
+      throw Error(
+          fmt::format("trajectory density: {} steps exceed the UInt32 visit counts "
+                      "(at most {})",
+                      o.steps, std::numeric_limits<std::uint32_t>::max()));
     }
     for (int a = 0; a < 3; ++a) {
       if (o.dims[a] < 2) {

@@ -106,9 +106,10 @@ ImageData offset(const ImageData& field, double distance) {
     using T = typename std::decay_t<decltype(buf)>::value_type;
     if constexpr (std::is_floating_point_v<T>) {
       if (!(std::abs(distance) <= double(std::numeric_limits<T>::max()))) {
-        throw Error(fmt::format("offset: the distance {:g} is beyond the range of the {} scalars "
-                                "'{}'",
-                                distance, scalar_type_name(s.type()), s.name()));
+        throw Error(
+            fmt::format("offset: the distance {:g} is beyond the range of the {} scalars "
+                        "'{}'",
+                        distance, scalar_type_name(s.type()), s.name()));
       }
       const T d = static_cast<T>(distance);
       bool overflow = false;
@@ -118,9 +119,10 @@ ImageData offset(const ImageData& field, double distance) {
         v = w;
       }
       if (overflow) {
-        throw Error(fmt::format("offset: a value of the {} scalars '{}' minus the distance {:g} "
-                                "overflows",
-                                scalar_type_name(s.type()), s.name(), distance));
+        throw Error(
+            fmt::format("offset: a value of the {} scalars '{}' minus the distance {:g} "
+                        "overflows",
+                        scalar_type_name(s.type()), s.name(), distance));
       }
     } else {
       throw Error("offset: the scalars '" + s.name() + "' are not floating point");

@@ -1300,8 +1300,8 @@ print('ok')
   EXPECT_EQ(ghost.point_data.get("RTData"), img.point_data.get("RTData"));
   EXPECT_EQ(grid_ghost.points, grid.points);
   EXPECT_EQ(grid_ghost.point_data.get("RTData"), grid.point_data.get("RTData"));
-  for (const Attributes* a : {&ghost.point_data, &ghost.cell_data, &grid_ghost.point_data,
-                              &grid_ghost.cell_data}) {
+  for (const Attributes* a :
+       {&ghost.point_data, &ghost.cell_data, &grid_ghost.point_data, &grid_ghost.cell_data}) {
     const auto flags = a->get("vtkGhostType").values<std::uint8_t>();
     EXPECT_EQ(std::count(flags.begin(), flags.end(), std::uint8_t{0}),
               static_cast<std::ptrdiff_t>(flags.size()));
@@ -1312,7 +1312,8 @@ TEST(VtkXml, OverlappingGhostPiecesAssembleWithoutDuplicateMarks) {
   // Three cells along x, two pieces that repeat the middle one, as VTK writes pieces with a ghost
   // level: each marks the points and the cell it repeats as duplicate (1); cell 2 is also hidden
   // (32) by the piece that owns it.
-  const std::string doc = R"(<VTKFile type="ImageData"><ImageData WholeExtent="0 3 0 1 0 0" Origin="0 0 0" Spacing="1 1 1">
+  const std::string doc =
+      R"(<VTKFile type="ImageData"><ImageData WholeExtent="0 3 0 1 0 0" Origin="0 0 0" Spacing="1 1 1">
 <Piece Extent="0 2 0 1 0 0">
 <PointData Scalars="s"><DataArray type="Float32" Name="s" format="ascii">0 1 2 10 11 12</DataArray>
 <DataArray type="UInt8" Name="vtkGhostType" format="ascii">0 0 1 0 0 1</DataArray></PointData>
@@ -1327,9 +1328,11 @@ TEST(VtkXml, OverlappingGhostPiecesAssembleWithoutDuplicateMarks) {
   const auto img = std::get<ImageData>(read_string(doc, "ghost.vti"));
   EXPECT_EQ(img.dims, (Dims{4, 2, 1}));
   const auto s = img.point_data.get("s").values<float>();
-  EXPECT_EQ(std::vector<float>(s.begin(), s.end()), (std::vector<float>{0, 1, 2, 3, 10, 11, 12, 13}));
+  EXPECT_EQ(std::vector<float>(s.begin(), s.end()),
+            (std::vector<float>{0, 1, 2, 3, 10, 11, 12, 13}));
   const auto c = img.cell_data.get("c").values<std::int32_t>();
-  EXPECT_EQ(std::vector<std::int32_t>(c.begin(), c.end()), (std::vector<std::int32_t>{100, 101, 102}));
+  EXPECT_EQ(std::vector<std::int32_t>(c.begin(), c.end()),
+            (std::vector<std::int32_t>{100, 101, 102}));
   const auto pg = img.point_data.get("vtkGhostType").values<std::uint8_t>();
   EXPECT_EQ(std::vector<std::uint8_t>(pg.begin(), pg.end()), std::vector<std::uint8_t>(8, 0));
   const auto cg = img.cell_data.get("vtkGhostType").values<std::uint8_t>();

@@ -78,7 +78,8 @@ TEST(Csg, DenseOffsetRefusesOverflow) {
     (void)offset(field, 1e308);  // beyond Float32: it would have made every value -inf
     FAIL() << "no error";
   } catch (const Error& e) {
-    EXPECT_STREQ(e.what(), "offset: the distance 1e+308 is beyond the range of the Float32 scalars 'F'");
+    EXPECT_STREQ(e.what(),
+                 "offset: the distance 1e+308 is beyond the range of the Float32 scalars 'F'");
   }
   try {
     (void)offset(field, -1e38);  // 3e38 + 1e38 overflows

@@ -161,7 +161,8 @@ TEST(PointLoad, RefusesStressBeyondFloat32) {
   PointLoadOptions o;
   o.dims = {5, 5, 5};
   o.load = 1e308;  // finite stresses in double, inf once stored as Float32
-  expect_error([&] { (void)point_load(o); }, "exceeds the Float32 range (3.4e38): lower the load (1e+308)");
+  expect_error([&] { (void)point_load(o); },
+               "exceeds the Float32 range (3.4e38): lower the load (1e+308)");
   o.load = 1;  // a sample 1e-20 below the load point: 3P/(2π ρ²) ≈ 5e39
   o.bounds = {{-1, -1, -1e-20}, {1, 1, 0}};
   o.dims = {3, 3, 2};

@@ -42,9 +42,9 @@ struct PointLoadStats {
                                                       double load, double poisson_ratio);
 
 /// The sampled field: ImageData with the tensors, the effective (von Mises) stress and
-/// "vtkValidPointMask" (UInt8; the probe's name for it). \throw Error on an empty or non-finite box, dims < 2, a load or
-/// Poisson ratio out of range, a grid larger than memory, or a stress beyond the Float32 range (a
-/// huge load, or a sample very close to the load point).
+/// "vtkValidPointMask" (UInt8; the probe's name for it). \throw Error on an empty or non-finite
+/// box, dims < 2, a load or Poisson ratio out of range, a grid larger than memory, or a stress
+/// beyond the Float32 range (a huge load, or a sample very close to the load point).
 [[nodiscard]] Result<ImageData, PointLoadStats> point_load(const PointLoadOptions& options = {});
 
 }  // namespace isoforge
