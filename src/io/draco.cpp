@@ -30,6 +30,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -38,6 +39,7 @@
 #include <memory>
 #include <numeric>
 #include <string>
+#include <unordered_map>
 #include <utility>
 
 #include "detail/draco_codec.hpp"
@@ -799,10 +801,79 @@ Measured measure_errors(const Prepared& p, const std::vector<DracoSource>& sourc
     keys[j] = {key_of(d.points[j]), static_cast<std::uint32_t>(j)};
   }
   std::sort(keys.begin(), keys.end());
+  // A coarse grid puts thousands of decoded points on one grid point, every one a candidate of
+  // every original point rounded there. Such a run of equal keys whose decoded points coincide is
+  // matched at once: one position error, and per array the least error over the run's distinct
+  // decoded tuples (quantized values repeat), found once per run.
+  struct Run {
+    std::size_t end = 0;
+    bool same_point = false;
+    std::vector<std::vector<double>> tuples;  // per source: distinct decoded tuples, flattened
+  };
+  std::unordered_map<std::size_t, Run> runs;  // by the run's first index in `keys`
+  const auto run_at = [&](std::size_t b) -> Run& {
+    auto [it, fresh] = runs.try_emplace(b);
+    Run& r = it->second;
+    if (!fresh) return r;
+    r.end = b + 1;
+    while (r.end < keys.size() && keys[r.end].first == keys[b].first) ++r.end;
+    const Vec3 q = d.points[keys[b].second];
+    r.same_point = true;
+    for (std::size_t t = b + 1; t < r.end && r.same_point; ++t) {
+      r.same_point = d.points[keys[t].second] == q;
+    }
+    if (!r.same_point) return r;
+    r.tuples.resize(sources.size());
+    for (std::size_t k = 1; k < sources.size(); ++k) {
+      if (!decoded[k]) continue;
+      const auto comps = static_cast<std::size_t>(sources[k].components);
+      std::vector<std::vector<std::uint64_t>> bits;  // exact, NaN included
+      for (std::size_t t = b; t < r.end; ++t) {
+        std::vector<std::uint64_t> tuple(comps);
+        for (std::size_t c = 0; c < comps; ++c) {
+          tuple[c] = std::bit_cast<std::uint64_t>(decoded[k]->get(keys[t].second, int(c)));
+        }
+        bits.push_back(std::move(tuple));
+      }
+      std::sort(bits.begin(), bits.end());
+      bits.erase(std::unique(bits.begin(), bits.end()), bits.end());
+      for (const auto& tuple : bits) {
+        for (std::uint64_t x : tuple) r.tuples[k].push_back(std::bit_cast<double>(x));
+      }
+    }
+    return r;
+  };
   for (std::size_t i = 0; i < p.points; ++i) {
     if (!p.referenced[i]) continue;
     const Vec3 v{pos.original(i, 0), pos.original(i, 1), pos.original(i, 2)};
     const Key k0 = key_of(v);
+    const auto first = std::lower_bound(keys.begin(), keys.end(), std::make_pair(k0, 0u));
+    if (first != keys.end() && first->first == k0) {
+      const Run& r = run_at(static_cast<std::size_t>(first - keys.begin()));
+      if (r.same_point) {
+        m.position = std::max(m.position, error_at(i, first->second));
+        for (std::size_t k = 1; k < sources.size(); ++k) {
+          const DracoSource& s = sources[k];
+          double e = std::numeric_limits<double>::infinity();
+          if (decoded[k]) {
+            const auto comps = static_cast<std::size_t>(s.components);
+            for (std::size_t u = 0; u < r.tuples[k].size() && e > 0; u += comps) {
+              double e2 = 0;
+              for (std::size_t c = 0; c < comps; ++c) {
+                const double a = s.quantized ? s.original(i, int(c)) : s.array->get(i, int(c));
+                const double b = r.tuples[k][u + c];
+                if (std::isnan(a) && std::isnan(b)) continue;
+                const double dd = a == b ? 0.0 : a - b;
+                e2 += dd * dd;
+              }
+              e = std::min(e, std::sqrt(e2));
+            }
+          }
+          m.arrays[k] = std::max(m.arrays[k], e);
+        }
+        continue;
+      }
+    }
     double best = std::numeric_limits<double>::infinity();
     std::vector<std::uint32_t> cands;
     for (int pass = 0; pass < 2 && cands.empty(); ++pass) {
