@@ -761,18 +761,22 @@ Measured measure_errors(const Prepared& p, const std::vector<DracoSource>& sourc
     }
     return std::sqrt(e2);
   };
-  const auto array_error = [&](std::size_t k, std::size_t i, std::size_t j) {
+  // The error of source k's tuple at original point i against a decoded tuple b(c).
+  const auto tuple_error = [&](std::size_t k, std::size_t i, const auto& b) {
     const DracoSource& s = sources[k];
-    if (!decoded[k]) return std::numeric_limits<double>::infinity();
     double e2 = 0;
     for (int c = 0; c < s.components; ++c) {
       const double a = s.quantized ? s.original(i, c) : s.array->get(i, c);
-      const double b = decoded[k]->get(j, c);
-      if (std::isnan(a) && std::isnan(b)) continue;
-      const double dd = a == b ? 0.0 : a - b;
+      const double bc = b(c);
+      if (std::isnan(a) && std::isnan(bc)) continue;
+      const double dd = a == bc ? 0.0 : a - bc;
       e2 += dd * dd;
     }
     return std::sqrt(e2);
+  };
+  const auto array_error = [&](std::size_t k, std::size_t i, std::size_t j) {
+    if (!decoded[k]) return std::numeric_limits<double>::infinity();
+    return tuple_error(k, i, [&](int c) { return decoded[k]->get(j, c); });
   };
 
   const bool same_order = o.method == DracoMethod::Sequential && d.points.size() == p.points;
@@ -853,21 +857,11 @@ Measured measure_errors(const Prepared& p, const std::vector<DracoSource>& sourc
       if (r.same_point) {
         m.position = std::max(m.position, error_at(i, first->second));
         for (std::size_t k = 1; k < sources.size(); ++k) {
-          const DracoSource& s = sources[k];
           double e = std::numeric_limits<double>::infinity();
-          if (decoded[k]) {
-            const auto comps = static_cast<std::size_t>(s.components);
-            for (std::size_t u = 0; u < r.tuples[k].size() && e > 0; u += comps) {
-              double e2 = 0;
-              for (std::size_t c = 0; c < comps; ++c) {
-                const double a = s.quantized ? s.original(i, int(c)) : s.array->get(i, int(c));
-                const double b = r.tuples[k][u + c];
-                if (std::isnan(a) && std::isnan(b)) continue;
-                const double dd = a == b ? 0.0 : a - b;
-                e2 += dd * dd;
-              }
-              e = std::min(e, std::sqrt(e2));
-            }
+          const auto comps = static_cast<std::size_t>(sources[k].components);
+          for (std::size_t u = 0; u < r.tuples[k].size() && e > 0; u += comps) {
+            e = std::min(e,
+                         tuple_error(k, i, [&](int c) { return r.tuples[k][u + std::size_t(c)]; }));
           }
           m.arrays[k] = std::max(m.arrays[k], e);
         }
