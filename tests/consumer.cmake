@@ -4,7 +4,7 @@
 # consumer_package: install this build (shared or static, as configured) into a scratch prefix,
 # then configure, build and run the separate project in tests/consumer/ against it with
 # find_package(isoforge), including the C++ example of the README.
-get_target_property(_isoforge_type isoforge TYPE)
+get_target_property(_isoforge_type isoforge_base TYPE)
 set(_consumer_args
   -DSOURCE_DIR=${CMAKE_CURRENT_SOURCE_DIR}/consumer
   -DDATA_FILE=${PROJECT_SOURCE_DIR}/data/hello.vtk

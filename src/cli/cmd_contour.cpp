@@ -4,13 +4,11 @@
 
 #include "commands.hpp"
 #include "common.hpp"
-#include "common_vdb.hpp"
 #include "isoforge/contour/connectivity.hpp"
 #include "isoforge/contour/contour.hpp"
-#include "isoforge/contour/contour_sparse.hpp"
 #include "isoforge/io/io.hpp"
-#include "isoforge/io/vdb.hpp"
 #include "progress_bar.hpp"
+#include "vdb_commands.hpp"
 
 namespace isoforge::cli {
 
@@ -99,19 +97,8 @@ void add_contour_command(CLI::App& app, Context& ctx) {
     ProgressBar bar(!ctx.quiet && stderr_is_tty());
     bar.stage("reading");
     PolyData surface;
-    ContourStats stats;
     if (format_of(args->in) == FileFormat::Vdb) {
-      const auto grid = read_vdb_grid(args->in, args->grid);
-      bar.stage("contouring");
-      o.progress = bar.callback();
-      auto r = contour_vdb(*grid, o);
-      surface = std::move(r.output);
-      stats = r.stats;
-      if (surface.num_points() == 0) {
-        bar.finish();
-        warn(fmt::format("contour: no surface at {}: {}", values_text(o.values, "value"),
-                         range_text(*grid)));
-      }
+      surface = vdb_commands().contour(args->in, args->grid, o, bar);
     } else {
       ReadOptions ro;
       ro.plot3d_q = args->q;
@@ -119,9 +106,7 @@ void add_contour_command(CLI::App& app, Context& ctx) {
       require_color_array(args->color_by, ds, false);
       bar.stage("contouring");
       o.progress = bar.callback();
-      auto r = contour(ds, o);
-      surface = std::move(r.output);
-      stats = r.stats;
+      surface = contour(ds, o).output;
       if (surface.num_points() == 0) {
         const DataArray* a = o.array.empty() ? point_data(ds).scalars() : point_data(ds).find(o.array);
         bar.finish();

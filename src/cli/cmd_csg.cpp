@@ -1,15 +1,13 @@
 // isoforge csg: booleans of two distance fields / level sets (OpenVDB or images).
 
 #include <fmt/core.h>
-#include <openvdb/tools/Count.h>
 
 #include "commands.hpp"
 #include "common.hpp"
-#include "common_vdb.hpp"
 #include "isoforge/io/io.hpp"
-#include "isoforge/io/vdb.hpp"
-#include "isoforge/model/csg_sparse.hpp"
+#include "isoforge/model/csg.hpp"
 #include "progress_bar.hpp"
+#include "vdb_commands.hpp"
 
 namespace isoforge::cli {
 
@@ -67,29 +65,10 @@ void add_csg_command(CLI::App& app, Context& ctx) {
     bar.stage("reading");
     PolyData surface;
     if (sparse_a) {
-      auto a = read_vdb_grid(args->a);
-      auto b = read_vdb_grid(args->b);
-      if (args->offset_a != 0 || a->getGridClass() != openvdb::GRID_LEVEL_SET)
-        offset_in_place(*a, args->offset_a);
-      if (args->offset_b != 0 || b->getGridClass() != openvdb::GRID_LEVEL_SET)
-        offset_in_place(*b, args->offset_b);
-      bar.stage("csg");
-      csg_in_place(*a, *b, op);
-      const std::string range = range_text(*a);
-      if (out_field) {
-        if (a->activeVoxelCount() == 0 || openvdb::tools::minMax(a->tree()).min() > 0) {
-          warn_empty(range);
-        }
-        bar.stage("writing");
-        write_vdb(*a, args->out);
-        bar.finish();
-        if (!ctx.quiet)
-          fmt::print(stderr, "wrote {}: {} active voxels\n", args->out, a->activeVoxelCount());
-        return;
-      }
-      bar.stage("contouring");
-      surface = offset_surfaces(*a, {0.0}).output;
-      if (surface.num_points() == 0) warn_empty(range);
+      auto result = vdb_commands().csg(args->a, args->b, args->offset_a, args->offset_b, op,
+                                       args->op, out_field, args->out, ctx.quiet, bar);
+      if (!result) return;  // the field, written
+      surface = std::move(*result);
     } else {
       const auto image_of = [&bar](const std::string& path) {
         Dataset ds = read_input(path, bar);

@@ -11,10 +11,9 @@
 #include "commands.hpp"
 #include "common.hpp"
 #include "isoforge/io/io.hpp"
-#include "isoforge/io/vdb.hpp"
-#include "isoforge/model/distance_sparse.hpp"
 #include "isoforge/model/implicit_modeller.hpp"
 #include "progress_bar.hpp"
+#include "vdb_commands.hpp"
 
 namespace isoforge::cli {
 
@@ -203,12 +202,11 @@ void add_distance_command(CLI::App& app, Context& ctx) {
         if (largest > 0) reach += largest;
       }
       require_band_memory(in, g, reach, "distance");
-      auto [grid, grid_stats] = distance_grid(in, g, o);
-      stats = grid_stats;
-      if (stats.active_voxels == 0) warn_empty_band();
-      const double ms = elapsed_ms(t0);
-      bar.stage("writing");
-      write_vdb(*grid, args->out);
+      double ms = 0;
+      stats = vdb_commands().distance(in, g, o, args->out, bar, [&](const DistanceStats& s) {
+        if (s.active_voxels == 0) warn_empty_band();
+        ms = elapsed_ms(t0);
+      });
       bar.finish();
       if (!ctx.quiet) {
         fmt::print(stderr,

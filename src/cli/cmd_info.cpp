@@ -11,26 +11,10 @@
 #include "common.hpp"
 #include "describe.hpp"
 #include "isoforge/io/io.hpp"
-#include "isoforge/io/vdb.hpp"
 #include "progress_bar.hpp"
+#include "vdb_commands.hpp"
 
 namespace isoforge::cli {
-
-namespace {
-
-void print_vdb_info(const std::filesystem::path& path) {
-  const auto grids = inspect_vdb(path);
-  fmt::print("file: {} (OpenVDB)\n", path.string());
-  fmt::print("grids: {}\n", grids.size());
-  for (const auto& g : grids) {
-    const auto& b = g.active_bbox;
-    fmt::print("  '{}'  {}  class {}  voxel size {}  active voxels {}  index bbox [{} {} {}] .. [{} {} {}]\n",
-               g.name, g.type, g.grid_class, g.voxel_size, g.active_voxels, b.min().x(),
-               b.min().y(), b.min().z(), b.max().x(), b.max().y(), b.max().z());
-  }
-}
-
-}  // namespace
 
 void add_info_command(CLI::App& app, Context& ctx) {
   auto* cmd = app.add_subcommand("info",
@@ -55,7 +39,7 @@ void add_info_command(CLI::App& app, Context& ctx) {
     const FileFormat format = format_of(*path);
     require_plot3d_input(q_opt, *path);
     if (format == FileFormat::Vdb) {
-      print_vdb_info(p);
+      vdb_commands().print_info(p);
       return;
     }
     ReadOptions ro;

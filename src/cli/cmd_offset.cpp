@@ -10,14 +10,12 @@
 
 #include "commands.hpp"
 #include "common.hpp"
-#include "common_vdb.hpp"
 #include "isoforge/contour/connectivity.hpp"
 #include "isoforge/io/io.hpp"
-#include "isoforge/io/vdb.hpp"
-#include "isoforge/model/csg_sparse.hpp"
-#include "isoforge/model/distance_sparse.hpp"
+#include "isoforge/model/csg.hpp"
 #include "isoforge/model/implicit_modeller.hpp"
 #include "progress_bar.hpp"
+#include "vdb_commands.hpp"
 
 namespace isoforge::cli {
 
@@ -104,10 +102,9 @@ void add_offset_command(CLI::App& app, Context& ctx) {
     };
     if (format_of(args->in) == FileFormat::Vdb) {
       require_polygonal_input(false);
-      const auto grid = read_vdb_grid(args->in, args->grid);
-      bar.stage("contouring");
-      surface = offset_surfaces(*grid, args->distances).output;
-      warn_if_empty(range_text(*grid));
+      std::string range;
+      surface = vdb_commands().offset_file(args->in, args->grid, args->distances, bar, range);
+      warn_if_empty(range);
     } else {
       Dataset ds = read_input(args->in, bar);
       if (auto* img = std::get_if<ImageData>(&ds)) {
@@ -155,10 +152,9 @@ void add_offset_command(CLI::App& app, Context& ctx) {
           o.max_distance =
               args->max_distance > 0 ? args->max_distance : dmax + 2 * args->voxel_size;
           require_band_memory(*pd, g, o.max_distance, "offset");
-          const auto grid = distance_grid(*pd, g, o).output;
-          bar.stage("contouring");
-          surface = offset_surfaces(*grid, args->distances).output;
-          warn_if_empty(range_text(*grid));
+          std::string range;
+          surface = vdb_commands().offset_band(*pd, g, o, args->distances, bar, range);
+          warn_if_empty(range);
         } else {
           const GridSpec g = grid_from_bounds(b, dims);
           const double h = std::max({g.spacing.x, g.spacing.y, g.spacing.z});

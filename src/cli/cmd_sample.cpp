@@ -8,10 +8,9 @@
 #include "commands.hpp"
 #include "common.hpp"
 #include "isoforge/implicit/sample.hpp"
-#include "isoforge/implicit/sample_sparse.hpp"
 #include "isoforge/io/io.hpp"
-#include "isoforge/io/vdb.hpp"
 #include "progress_bar.hpp"
+#include "vdb_commands.hpp"
 
 namespace isoforge::cli {
 
@@ -89,21 +88,17 @@ void add_sample_command(CLI::App& app, Context& ctx) {
         }
         g.dims[a] = static_cast<Index>(n);
       }
-      SparseSampleOptions o;
-      o.half_width = args->half_width;
       bar.stage("sampling");
-      o.progress = bar.callback();
-      auto [grid, stats] = sample_level_set(f, g, o);
-      grid->setName("F");
-      if (stats.active_voxels == 0) {
-        const Interval iv = f.bound(b);
-        bar.finish();
-        warn(fmt::format("sample: the band is empty: F = 0 does not come within {:g} voxels of "
-                         "the box (F is bounded by {:g} .. {:g} over it)",
-                         o.half_width, iv.lo, iv.hi));
-      }
-      bar.stage("writing");
-      write_vdb(*grid, args->out);
+      const VdbGridStats stats =
+          vdb_commands().sample(f, g, args->half_width, args->out, bar, [&](const VdbGridStats& s) {
+            if (s.active_voxels != 0) return;
+            const Interval iv = f.bound(b);
+            bar.finish();
+            warn(
+                fmt::format("sample: the band is empty: F = 0 does not come within {:g} voxels "
+                            "of the box (F is bounded by {:g} .. {:g} over it)",
+                            args->half_width, iv.lo, iv.hi));
+          });
       bar.finish();
       if (!ctx.quiet) {
         fmt::print(stderr, "wrote {}: {} x {} x {} voxels of size {:g}, {} active, {:.1f} MB tree\n",

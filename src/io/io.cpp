@@ -8,17 +8,16 @@
 
 #include "detail/progress.hpp"
 #include "detail/summaries.hpp"
+#include "detail/vdb_file_ops.hpp"
 #include "isoforge/core/append.hpp"
 #include "isoforge/io/draco.hpp"
 #include "isoforge/io/gltf.hpp"
 #include "isoforge/io/off_obj.hpp"
-#include "isoforge/io/ply.hpp"
 #include "isoforge/io/plot3d.hpp"
+#include "isoforge/io/ply.hpp"
 #include "isoforge/io/raw_volume.hpp"
-#include "isoforge/io/vdb.hpp"
 #include "isoforge/io/vtk_legacy.hpp"
 #include "isoforge/io/vtk_xml.hpp"
-#include "isoforge/sparse/convert.hpp"
 
 namespace isoforge {
 
@@ -159,7 +158,8 @@ Dataset read(const std::filesystem::path& path, const ReadOptions& options) {
     case FileFormat::Nrrd: return read_nrrd(path, progress);
     case FileFormat::MetaImage: return read_metaimage(path, progress);
     case FileFormat::Vdb: {
-      ImageData img = vdb_to_image(*read_vdb_grid(path, options.vdb_grid), options.vdb_max_voxels);
+      ImageData img =
+          io_detail::vdb_file_ops(path).read_image(path, options.vdb_grid, options.vdb_max_voxels);
       report_progress(progress, 1.0, "reading");
       return img;
     }
@@ -219,9 +219,7 @@ void write(DatasetRef ds, const std::filesystem::path& path, const WriteOptions&
         throw Error(path.string() + ": .vdb holds volumes (image data) only, not " +
                     std::string(dataset_type_name(ds)));
       }
-      ImageToVdbOptions o;
-      o.tolerance = static_cast<float>(options.vdb_tolerance);
-      write_vdb(*image_to_vdb(*img, o), path);
+      io_detail::vdb_file_ops(path).write_image(*img, path, options.vdb_tolerance);
       if (options.progress) (void)options.progress(1.0);  // done: too late to cancel
       return;
     }

@@ -118,6 +118,24 @@ expect_ok sample_vdb_info "class level set" "$bin" info "$tmp/ice.vdb"
 expect_ok contour_dense "wrote .*sphere.vtp" "$bin" contour "$tmp/sphere.vti" -v 0 --normals gradient -o "$tmp/sphere.vtp"
 expect_ok contour_dense_info "'Normals'" "$bin" info "$tmp/sphere.vtp"
 expect_ok contour_sparse "wrote .*ice.ply" "$bin" contour "$tmp/ice.vdb" -v 0 -o "$tmp/ice.ply"
+# OpenVDB is loaded by the commands that need it only (a shared build loads libisoforge_vdb and
+# the commands' module on demand; a static build links them, so there is nothing to check).
+if LD_TRACE_LOADED_OBJECTS=1 "$bin" 2>&1 | grep -q "libisoforge\.so"; then
+  LD_TRACE_LOADED_OBJECTS=1 "$bin" 2>&1 | grep -q "libopenvdb" && fail "the isoforge program links libopenvdb"
+  # vdb_loads CMD...: how many of libopenvdb, libisoforge_vdb and the module CMD loads.
+  vdb_loads() {
+    LD_DEBUG=files "$@" 2>&1 | grep "generating link map" |
+      grep -oE "(libopenvdb|libisoforge_vdb|isoforge-vdb-commands)" | sort -u | wc -l
+  }
+  n=$(vdb_loads "$bin" contour "$tmp/sphere.vti" -v 0 -o "$tmp/lazy.vtp")
+  [ "$n" = 0 ] || fail "contour of a .vti loaded $n OpenVDB libraries"
+  n=$(vdb_loads "$bin" info "$tmp/sphere.vti")
+  [ "$n" = 0 ] || fail "info of a .vti loaded $n OpenVDB libraries"
+  n=$(vdb_loads "$bin" contour "$tmp/ice.vdb" -v 0 -o "$tmp/lazy.vtp")
+  [ "$n" = 3 ] || fail "contour of a .vdb loaded $n of libopenvdb, libisoforge_vdb and the module"
+  n=$(vdb_loads "$bin" convert "$tmp/ice.vdb" "$tmp/lazy.vti")
+  [ "$n" = 2 ] || fail "convert of a .vdb loaded $n of libopenvdb and libisoforge_vdb"
+fi
 expect_ok contour_range "IsovalueIndex.*\[0, 2\]" bash -c "'$bin' contour '$tmp/sphere.vti' --range -0.2 0.2 3 -o '$tmp/shells.vtp' && '$bin' info '$tmp/shells.vtp'"
 "$bin" sample -f 'union(sphere(center=[-0.5,0,0], r=0.3), sphere(center=[0.5,0,0], r=0.2))' -b -1 1 -1 1 -1 1 -d 32 -o "$tmp/two.vti" >/dev/null 2>&1
 expect_ok contour_largest "kept from 2 connected pieces" "$bin" contour "$tmp/two.vti" -v 0 --largest -o "$tmp/one.vtp"

@@ -34,6 +34,24 @@ function(run_installed prefix)
               -o ${tmp}/sphere.vti)
   run(EXPECT "2156 cells" COMMAND ${prefix}/bin/isoforge contour ${tmp}/sphere.vti -v 0
                                  -o ${tmp}/sphere.vtp)
+  # The OpenVDB parts: the commands' module and libisoforge_vdb (loaded on demand in a shared
+  # build, from this prefix).
+  run(EXPECT "active" COMMAND ${prefix}/bin/isoforge sample -f "sphere(r=0.8)" -b -1 1 -1 1 -1 1
+                              -d 20 -o ${tmp}/sphere.vdb)
+  run(EXPECT "cells" COMMAND ${prefix}/bin/isoforge contour ${tmp}/sphere.vdb -v 0
+                             -o ${tmp}/sparse.vtp)
+  run(EXPECT "wrote .*dense.vti" COMMAND ${prefix}/bin/isoforge convert ${tmp}/sphere.vdb
+                                         ${tmp}/dense.vti)
+  if(LIBRARY_TYPE STREQUAL "SHARED_LIBRARY")
+    run(EXPECT "wrote" COMMAND ${CMAKE_COMMAND} -E env LD_DEBUG=files
+                               ${prefix}/bin/isoforge contour ${tmp}/sphere.vdb -v 0
+                               -o ${tmp}/sparse.vtp)
+    foreach(name isoforge-vdb-commands.so libisoforge_vdb.so.0)
+      if(NOT "${output}" MATCHES "calling init: ${prefix}/[^ ]*${name}")
+        message(FATAL_ERROR "contour of a .vdb did not load ${name} from ${prefix}")
+      endif()
+    endforeach()
+  endif()
   if(WITH_VERIFY)
     list(APPEND programs ${prefix}/bin/isoforge-verify)
     run(EXPECT "^[0-9]+\\.[0-9]+\\.[0-9]+" COMMAND ${prefix}/bin/isoforge-verify --version)
