@@ -227,7 +227,7 @@ std::uint8_t to_byte(double c) {
   return static_cast<std::uint8_t>(std::lround(std::clamp(c, 0.0, 1.0) * 255));
 }
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
 
 // The value of tuple i that is coloured.
 struct ScalarSource {
@@ -342,7 +342,7 @@ ColormapResult map_colors(const DataArray& array, const ColormapOptions& o) {
       data_hi = std::max(data_hi, values[i]);
     }
   }
-  double lo = kNaN, hi = kNaN;
+  double lo = kNoValue, hi = kNoValue;
   if (o.range) {
     lo = (*o.range)[0];
     hi = (*o.range)[1];

@@ -34,12 +34,12 @@ namespace {
 
 using namespace extract_impl;
 
-enum Category { kVerts = 0, kLines = 1, kPolys = 2, kStrips = 3 };
+enum Category { kOutVerts = 0, kOutLines = 1, kOutPolys = 2, kOutStrips = 3 };
 
 struct Counts {
   std::size_t cells[4] = {0, 0, 0, 0};
   std::size_t ids[4] = {0, 0, 0, 0};
-  std::size_t faces3d = 0;  // of cells[kPolys]: faces of 3D cells
+  std::size_t faces3d = 0;  // of cells[kOutPolys]: faces of 3D cells
 };
 
 // ---- faces of 3D cells used once ----
@@ -204,11 +204,15 @@ void boundary_faces(const TopologyView& cells, std::size_t np, Buffer<std::uint8
 Category category_of(CellType t) {
   switch (t) {
     case CellType::Vertex:
-    case CellType::PolyVertex: return kVerts;
+    case CellType::PolyVertex:
+      return kOutVerts;
     case CellType::Line:
-    case CellType::PolyLine: return kLines;
-    case CellType::TriangleStrip: return kStrips;
-    default: return kPolys;
+    case CellType::PolyLine:
+      return kOutLines;
+    case CellType::TriangleStrip:
+      return kOutStrips;
+    default:
+      return kOutPolys;
   }
 }
 
@@ -216,14 +220,14 @@ PolyData assemble(DatasetRef input, std::array<CellArray, 4> arrays,
                   std::array<Buffer<Index>, 4> owners, Buffer<Index> kept_points,
                   const SurfaceOptions& o) {
   PolyData out;
-  out.verts = std::move(arrays[kVerts]);
-  out.lines = std::move(arrays[kLines]);
-  out.polys = std::move(arrays[kPolys]);
-  out.strips = std::move(arrays[kStrips]);
+  out.verts = std::move(arrays[kOutVerts]);
+  out.lines = std::move(arrays[kOutLines]);
+  out.polys = std::move(arrays[kOutPolys]);
+  out.strips = std::move(arrays[kOutStrips]);
   // The owners of all output cells in cell-data order (verts, lines, polys, strips).
   Buffer<Index> all;
-  if (owners[kVerts].empty() && owners[kLines].empty() && owners[kStrips].empty()) {
-    all = std::move(owners[kPolys]);
+  if (owners[kOutVerts].empty() && owners[kOutLines].empty() && owners[kOutStrips].empty()) {
+    all = std::move(owners[kOutPolys]);
   } else {
     all.reserve(owners[0].size() + owners[1].size() + owners[2].size() + owners[3].size());
     for (const auto& w : owners) all.insert(all.end(), w.begin(), w.end());
@@ -281,9 +285,9 @@ SurfaceResult general_surface(DatasetRef input, const SurfaceOptions& o) {
             const auto faces = cell_faces(t);
             for (std::size_t f = 0; f < faces.size(); ++f) {
               if (!(mask[c] >> f & 1)) continue;
-              ++k.cells[kPolys];
+              ++k.cells[kOutPolys];
               ++k.faces3d;
-              k.ids[kPolys] += static_cast<std::size_t>(faces[f].size);
+              k.ids[kOutPolys] += static_cast<std::size_t>(faces[f].size);
               for (int i : faces[f].points()) mark_used(used.data(), ids[static_cast<std::size_t>(i)]);
             }
           } else {
@@ -338,12 +342,12 @@ SurfaceResult general_surface(DatasetRef input, const SurfaceOptions& o) {
             const auto faces = cell_faces(t);
             for (std::size_t f = 0; f < faces.size(); ++f) {
               if (!(mask[c] >> f & 1)) continue;
-              emit(kPolys, c);
-              for (int i : faces[f].points()) put(kPolys, ids[static_cast<std::size_t>(i)]);
+              emit(kOutPolys, c);
+              for (int i : faces[f].points()) put(kOutPolys, ids[static_cast<std::size_t>(i)]);
             }
           } else if (t == CellType::Pixel) {  // voxel order -> polygon order
-            emit(kPolys, c);
-            for (int i : {0, 1, 3, 2}) put(kPolys, ids[static_cast<std::size_t>(i)]);
+            emit(kOutPolys, c);
+            for (int i : {0, 1, 3, 2}) put(kOutPolys, ids[static_cast<std::size_t>(i)]);
           } else {
             const Category g = category_of(t);
             emit(g, c);
@@ -357,8 +361,8 @@ SurfaceResult general_surface(DatasetRef input, const SurfaceOptions& o) {
   SurfaceStats stats;
   stats.points = kept_points.size();
   stats.boundary_faces = total.faces3d;
-  stats.passed_cells = total.cells[kVerts] + total.cells[kLines] + total.cells[kStrips] +
-                       total.cells[kPolys] - total.faces3d;
+  stats.passed_cells = total.cells[kOutVerts] + total.cells[kOutLines] + total.cells[kOutStrips] +
+                       total.cells[kOutPolys] - total.faces3d;
   PolyData out = assemble(input, std::move(arrays), std::move(owners), std::move(kept_points), o);
   report_progress(o.progress, 1.0, "surface");
   return {std::move(out), stats};
@@ -472,9 +476,9 @@ SurfaceResult structured_surface(DatasetRef input, const Dims& dims, const Surfa
       progress_range(o.progress, 0, 0.8), "surface");
   offsets[nfaces] = static_cast<Index>(4 * nfaces);
   std::array<CellArray, 4> arrays;
-  arrays[kPolys] = CellArray(std::move(offsets), std::move(conn));
+  arrays[kOutPolys] = CellArray(std::move(offsets), std::move(conn));
   std::array<Buffer<Index>, 4> owners;
-  owners[kPolys] = std::move(owner);
+  owners[kOutPolys] = std::move(owner);
   PolyData out = assemble(input, std::move(arrays), std::move(owners), std::move(kept_points), o);
   SurfaceStats stats;
   stats.boundary_faces = nfaces;

@@ -21,6 +21,7 @@
 // at the origin, unit RMS radius) and is mapped back at the end.
 
 #include "isoforge/fit/fit_primitive.hpp"
+#include "fit/detail/fit_ops.hpp"
 #include "fit/robust_constants.hpp"
 
 #include <ceres/ceres.h>
@@ -718,35 +719,7 @@ std::size_t min_points(PrimitiveKind k) {
 
 }  // namespace
 
-const char* to_string(PrimitiveKind kind) {
-  switch (kind) {
-    case PrimitiveKind::Plane:
-      return "plane";
-    case PrimitiveKind::Sphere:
-      return "sphere";
-    case PrimitiveKind::Cylinder:
-      return "cylinder";
-    case PrimitiveKind::Cone:
-      return "cone";
-    case PrimitiveKind::Quadric:
-      return "quadric";
-  }
-  return "?";
-}
-
-const char* to_string(RobustLoss loss) {
-  switch (loss) {
-    case RobustLoss::None:
-      return "none";
-    case RobustLoss::Huber:
-      return "huber";
-    case RobustLoss::Cauchy:
-      return "cauchy";
-  }
-  return "?";
-}
-
-FitResult fit_primitive(DatasetRef points, const FitOptions& options) {
+FitResult fit_detail::fit_primitive(DatasetRef points, const FitOptions& options) {
   const PrimitiveKind k = options.kind;
   if (static_cast<unsigned>(k) > static_cast<unsigned>(PrimitiveKind::Quadric))
     throw Error("fit_primitive: unknown primitive kind");

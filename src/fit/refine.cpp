@@ -34,13 +34,14 @@
 #include <optional>
 #include <vector>
 
+#include "fit/detail/fit_ops.hpp"
+#include "fit/robust_constants.hpp"
 #include "isoforge/core/closest_point.hpp"
 #include "isoforge/core/mesh_topology.hpp"
 #include "isoforge/core/parallel.hpp"
 #include "isoforge/core/predicates.hpp"
 #include "isoforge/spatial/primitive_locator.hpp"
 #include "isoforge/spatial/self_intersections.hpp"
-#include "fit/robust_constants.hpp"
 
 namespace isoforge {
 namespace {
@@ -790,8 +791,8 @@ struct Rejector {
 
 }  // namespace
 
-RefineResult refine_mesh(const PolyData& original, const PolyData& simplified,
-                         const RefineOptions& options) {
+RefineResult fit_detail::refine_mesh(const PolyData& original, const PolyData& simplified,
+                                     const RefineOptions& options) {
   const auto t_start = Clock::now();
   const RefineOptions& o = options;
   if (o.outer_iterations < 1)

@@ -20,10 +20,10 @@ void write_image(const isoforge::ImageData& image, const std::filesystem::path& 
   isoforge::write_vdb(*isoforge::image_to_vdb(image, o), path);
 }
 
-constexpr isoforge::io_detail::VdbFileOps kOps{read_image, write_image};
+constexpr isoforge::io_detail::VdbFileOps kVdbFileOps{read_image, write_image};
 
 }  // namespace
 
 extern "C" const isoforge::io_detail::VdbFileOps* isoforge_vdb_file_ops() {
-  return &kOps;
+  return &kVdbFileOps;
 }

@@ -118,15 +118,18 @@ expect_ok sample_vdb_info "class level set" "$bin" info "$tmp/ice.vdb"
 expect_ok contour_dense "wrote .*sphere.vtp" "$bin" contour "$tmp/sphere.vti" -v 0 --normals gradient -o "$tmp/sphere.vtp"
 expect_ok contour_dense_info "'Normals'" "$bin" info "$tmp/sphere.vtp"
 expect_ok contour_sparse "wrote .*ice.ply" "$bin" contour "$tmp/ice.vdb" -v 0 -o "$tmp/ice.ply"
-# OpenVDB is loaded by the commands that need it only (a shared build loads libisoforge_vdb and
-# the commands' module on demand; a static build links them, so there is nothing to check).
+# OpenVDB and Ceres are loaded by the commands that need them only (a shared build loads
+# libisoforge_vdb, the commands' module and libisoforge_fit on demand; a static build links them,
+# so there is nothing to check).
 if LD_TRACE_LOADED_OBJECTS=1 "$bin" 2>&1 | grep -q "libisoforge\.so"; then
-  LD_TRACE_LOADED_OBJECTS=1 "$bin" 2>&1 | grep -q "libopenvdb" && fail "the isoforge program links libopenvdb"
-  # vdb_loads CMD...: how many of libopenvdb, libisoforge_vdb and the module CMD loads.
-  vdb_loads() {
-    LD_DEBUG=files "$@" 2>&1 | grep "generating link map" |
-      grep -oE "(libopenvdb|libisoforge_vdb|isoforge-vdb-commands)" | sort -u | wc -l
+  LD_TRACE_LOADED_OBJECTS=1 "$bin" 2>&1 | grep -Eq "libopenvdb|libglog|libcholmod" &&
+    fail "the isoforge program links libopenvdb or Ceres' libraries"
+  # loads PATTERN CMD...: how many distinct libraries matching PATTERN CMD loads.
+  loads() {
+    local pattern=$1; shift
+    LD_DEBUG=files "$@" 2>&1 | grep "generating link map" | grep -oE "$pattern" | sort -u | wc -l
   }
+  vdb_loads() { loads "(libopenvdb|libisoforge_vdb|isoforge-vdb-commands)" "$@"; }
   n=$(vdb_loads "$bin" contour "$tmp/sphere.vti" -v 0 -o "$tmp/lazy.vtp")
   [ "$n" = 0 ] || fail "contour of a .vti loaded $n OpenVDB libraries"
   n=$(vdb_loads "$bin" info "$tmp/sphere.vti")
@@ -291,6 +294,17 @@ expect_ok fit_sphere "center: 1(\.0*[0-9]*)? 2(\.0*[0-9]*)? 3(\.0*[0-9]*)?" "$bi
 expect_ok fit_sphere_radius "radius: 1\.99[0-9]*" "$bin" fit "$tmp/ball.vtp" -p sphere --loss none
 expect_ok fit_sphere_function "^function: sphere\(center=\[" "$bin" fit "$tmp/ball.vtp" -p sphere --loss cauchy
 expect_ok fit_sphere_file "wrote .*ball.txt" "$bin" fit "$tmp/ball.vtp" -p sphere -o "$tmp/ball.txt"
+# Ceres (libisoforge_fit, which links Ceres in, and Ceres' glog and cholmod) is loaded by fitting
+# only (shared builds; see the OpenVDB check above).
+if LD_TRACE_LOADED_OBJECTS=1 "$bin" 2>&1 | grep -q "libisoforge\.so"; then
+  fit_loads() { loads "(libglog|libcholmod|libisoforge_fit)" "$@"; }
+  n=$(fit_loads "$bin" decimate "$tmp/ball.vtp" -r 0.5 -o "$tmp/lazy.ply")
+  [ "$n" = 0 ] || fail "decimate without --refine loaded $n of libisoforge_fit, libglog, libcholmod"
+  n=$(fit_loads "$bin" decimate "$tmp/ball.vtp" -r 0.5 --refine -o "$tmp/lazy.ply")
+  [ "$n" = 3 ] || fail "decimate --refine loaded $n of libisoforge_fit, libglog, libcholmod"
+  n=$(fit_loads "$bin" fit "$tmp/ball.vtp" -p sphere)
+  [ "$n" = 3 ] || fail "fit loaded $n of libisoforge_fit, libglog, libcholmod"
+fi
 grep -Eq '^sphere\(center=\[.*\], r=1\.99[0-9]*\)$' "$tmp/ball.txt" || fail "fit -o: unexpected file: $(cat "$tmp/ball.txt")"
 [ "$(grep '^function: ' <<<"$("$bin" fit "$tmp/ball.vtp" -p sphere)" | cut -c11-)" = "$(cat "$tmp/ball.txt")" ] ||
   fail "fit -o: the file differs from the printed function"

@@ -13,7 +13,8 @@ every clash. `check_unity_names.py --self-test` checks the parser on small sourc
 
 The parser is a tokenizer with a scope stack, not a C++ front end: it finds classes, enums,
 aliases, variables and functions declared directly in an anonymous namespace, `static`
-functions and variables at namespace scope, and macros. Overloads count as clashes too: in one
+functions and variables at namespace scope, the enumerators of unscoped enums (which have no
+linkage, so two sources may each define one), and macros. Overloads count as clashes too: in one
 translation unit they would silently join one overload set.
 """
 
@@ -94,10 +95,18 @@ def file_scope_names(text):
                 kind = "ns"
             if kind == "other":
                 declare(stmt, stack[-1], names, body=True)
+                # An unscoped enum's enumerators are names of the enclosing scope (they have no
+                # linkage, so two sources may each define one; a unity batch may not).
+                head = skip_template(stmt)
+                unscoped_enum = (bool(head) and head[0] == "enum" and
+                                 (len(head) < 2 or head[1] not in ("class", "struct")))
                 # Skip the whole braced body.
                 depth = 1
                 i += 1
                 while i < len(tokens) and depth:
+                    if (unscoped_enum and depth == 1 and tokens[i - 1] in ("{", ",") and
+                            re.match(r"[A-Za-z_]\w*$", tokens[i]) and stack[-1][0] in ("anon", "ns")):
+                        names[(stack[-1][1] + "::" + tokens[i]).lstrip(":")] = "enumerator"
                     depth += {"{": 1, "}": -1}.get(tokens[i], 0)
                     i += 1
                 # A class or enum definition (or a braced initializer) ends with ';'.
@@ -253,6 +262,7 @@ constexpr std::size_t kBlockCells = 4096;
 template <class T> T twice(T x) { return x + x; }
 using Index = std::uint32_t;
 enum class Mode { kA, kB };
+enum Code : std::uint8_t { kIn = 0, kOut = kIn + 1 };
 const char* kText = "namespace { struct Fake {}; }";
 }  // namespace
 Result cut(const Data& d) { struct Local {}; return {}; }
@@ -267,6 +277,7 @@ struct Block;
 class Block final : public Base { };
 std::vector<int> kBlockCells(3);
 int twice(int x) { return 2 * x; }
+constexpr double kOut = 1;
 }  // namespace
 int Index = 0;
 static int helper = 1;
@@ -285,12 +296,13 @@ struct Block { };
     f = "isoforge::filters::"
     expect_a = {"HELPER_MAX": "macro", f + "Block": "type", f + "kBlockCells": "variable",
                 f + "twice": "function", f + "Index": "alias", f + "Mode": "type",
+                f + "Code": "type", f + "kIn": "enumerator", f + "kOut": "enumerator",
                 f + "kText": "variable", f + "helper": "function"}
     ok = names_a == expect_a
     if not ok:
         print("file_scope_names(a) =", names_a)
     found = clashes(["a", "b"], read=lambda p: a if p == "a" else b)
-    expect = {f + "Block", f + "kBlockCells", f + "twice", f + "helper", "HELPER_MAX"}
+    expect = {f + "Block", f + "kBlockCells", f + "twice", f + "helper", f + "kOut", "HELPER_MAX"}
     if set(found) != expect:
         print("clashes =", sorted(found), "expected", sorted(expect))
         ok = False
