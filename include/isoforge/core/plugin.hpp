@@ -3,8 +3,9 @@
 /// The parts of isoforge that load on demand. In a shared build the code that needs OpenVDB
 /// (libisoforge_vdb) and Ceres (libisoforge_fit) are libraries of their own, which libisoforge
 /// loads the first time one of their functions is called, so that a program which never uses
-/// them does not pay for loading those dependencies (docs/architecture.md). Nothing to do for a
-/// user: calls go through libisoforge's own functions.
+/// them does not pay for loading those dependencies (docs/architecture.md); the `isoforge`
+/// program loads its OpenVDB commands (a module beside libisoforge) the same way. Nothing to do
+/// for a user: calls go through libisoforge's own functions.
 
 namespace isoforge {
 
