@@ -37,6 +37,8 @@ using Term = AttributeInterpolator::Term;
 /// structured grid restarts at each block, so the output does not depend on how the blocks are
 /// spread over threads.
 constexpr std::size_t kBlock = 512;
+/// An image probe in a structured grid is cut into about this many slabs of layers.
+constexpr std::size_t kSlabs = 32;
 
 /// Where the points of a block were found, for interpolating each array over the whole block
 /// in one typed loop (no per-point dispatch): per point its output id, its cell (or kMissed:
@@ -515,131 +517,182 @@ ProbeResult Prober::probe(DatasetRef probe_ds) const {
   constexpr std::uint8_t kPending = 2;  // a tetra walk failed: the locator decides (second pass)
   std::atomic<std::size_t> found{0}, pending{0};
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
-  parallel_for_range(
-      blocks, 1,
-      [&](std::size_t b0, std::size_t b1) {
-        auto hits = std::make_unique<BlockHits>();
-        BlockHits& h = *hits;
-        if (m.grid) {
+  if (m.grid && pp.image && 4 * n >= num_cells(m.input) && m.grid->can_scan(*pp.image)) {
+    // An image probe in a 3D structured grid: cell by cell, each cell's box scanned for the
+    // image points in it (probe_grid.hpp), slab by slab of image layers. It visits every cell
+    // once to plan, so an image of few points (fewer than a quarter of the cells) walks.
+    const probe_detail::ImagePlan plan = m.grid->plan_image(*pp.image, kSlabs);
+    parallel_for_range(
+        plan.slabs(), 1,
+        [&](std::size_t s0, std::size_t s1) {
+          auto hits = std::make_unique<BlockHits>();
+          BlockHits& h = *hits;
           h.trilinear = true;
           h.offsets = m.grid->offsets();
-        } else {
-          h.terms.reserve(8 * kBlock);
-        }
-        probe_detail::GridHit gh;
-        std::array<double, 4> tw{};
-        std::vector<Index> ids;
-        std::size_t count = 0, waiting = 0;
-        for (std::size_t b = b0; b < b1; ++b) {
-          // The walks restart in every block. On an image probe, a row starts from where the
-          // previous row's first point was found (in a grid or a tetra mesh), not from the
-          // previous row's end.
-          probe_detail::GridCursor cursor, row_cursor;
-          bool have_row = false, row_saved = false;
-          Index last_tet = -1, row_tet = -1;
-          const std::size_t end = std::min(n, (b + 1) * kBlock);
-          h.clear();
-          if (m.grid && pp.image) {
-            // An image probe in a structured grid: its rows point by point, hits written in
-            // place.
-            const ImageData& img = *pp.image;
-            const auto first = static_cast<Index>(b * kBlock);
-            Index x = first % img.dims[0], y = (first / img.dims[0]) % img.dims[1],
-                  z = first / (img.dims[0] * img.dims[1]);
+          // Hits are written in place in the block, carried when it is full.
+          struct Sink final : probe_detail::GridHitSink {
+            BlockHits& h;
+            decltype(carry)& flush;
+            Sink(BlockHits& hits, decltype(carry)& f) : h(hits), flush(f) {
+              capacity = kBlock;
+              out = h.out.data();
+              cell = h.cell.data();
+              hit = h.grid.data();
+            }
+            void full() override {
+              h.size = size;
+              flush(h);
+              size = 0;
+            }
+          } sink(h, carry);
+          std::size_t count = 0;
+          for (std::size_t s = s0; s < s1; ++s) {
+            const auto [p0, p1] = plan.points(s);
+            std::fill(mask.data() + p0, mask.data() + p1, std::uint8_t{0});
+            m.grid->scan_image(plan, s, mask.data(), sink);
+            count += p1 - p0;
+            for (std::size_t i = p0; i < p1; ++i) {
+              if (mask[i]) continue;
+              --count;
+              if (sink.size == kBlock) sink.full();
+              h.size = sink.size;
+              h.missed(i);
+              sink.size = h.size;
+            }
+          }
+          if (sink.size > 0) sink.full();
+          found += count;
+        },
+        m.options.progress, "probe");
+  } else {
+    if (m.grid) m.grid->prepare();
+    parallel_for_range(
+        blocks, 1,
+        [&](std::size_t b0, std::size_t b1) {
+          auto hits = std::make_unique<BlockHits>();
+          BlockHits& h = *hits;
+          if (m.grid) {
+            h.trilinear = true;
+            h.offsets = m.grid->offsets();
+          } else {
+            h.terms.reserve(8 * kBlock);
+          }
+          probe_detail::GridHit gh;
+          std::array<double, 4> tw{};
+          std::vector<Index> ids;
+          std::size_t count = 0, waiting = 0;
+          for (std::size_t b = b0; b < b1; ++b) {
+            // The walks restart in every block. On an image probe, a row starts from where the
+            // previous row's first point was found (in a grid or a tetra mesh), not from the
+            // previous row's end.
+            probe_detail::GridCursor cursor, row_cursor;
+            bool have_row = false, row_saved = false;
+            Index last_tet = -1, row_tet = -1;
+            const std::size_t end = std::min(n, (b + 1) * kBlock);
+            h.clear();
+            if (m.grid && pp.image) {
+              // An image probe in a structured grid: its rows point by point, hits written in
+              // place.
+              const ImageData& img = *pp.image;
+              const auto first = static_cast<Index>(b * kBlock);
+              Index x = first % img.dims[0], y = (first / img.dims[0]) % img.dims[1],
+                    z = first / (img.dims[0] * img.dims[1]);
+              for (std::size_t i = b * kBlock; i < end; ++i) {
+                if (x == 0) {
+                  if (have_row) cursor = row_cursor;
+                  row_saved = false;
+                }
+                const Vec3 p = img.point(x, y, z);
+                if (++x == img.dims[0]) {
+                  x = 0;
+                  if (++y == img.dims[1]) {
+                    y = 0;
+                    ++z;
+                  }
+                }
+                probe_detail::GridHit& g = h.grid[h.size];
+                if (is_finite(p) && m.grid->find(p, cursor, g)) {
+                  mask[i] = 1;
+                  ++count;
+                  h.out[h.size] = i;
+                  h.cell[h.size++] = g.cell;
+                  if (!row_saved) {
+                    row_cursor = cursor;
+                    have_row = row_saved = true;
+                  }
+                } else {
+                  mask[i] = 0;
+                  h.missed(i);
+                }
+              }
+              carry(h);
+              continue;
+            }
+            PointSequence seq(pp, b * kBlock);
             for (std::size_t i = b * kBlock; i < end; ++i) {
-              if (x == 0) {
+              if (seq.row_start()) {
                 if (have_row) cursor = row_cursor;
+                if (row_tet >= 0) last_tet = row_tet;
                 row_saved = false;
               }
-              const Vec3 p = img.point(x, y, z);
-              if (++x == img.dims[0]) {
-                x = 0;
-                if (++y == img.dims[1]) {
-                  y = 0;
-                  ++z;
+              const Vec3 p = seq.next();
+              Index cell = -1;
+              bool hit_ok = false;
+              if (!is_finite(p)) {
+                hit_ok = false;
+              } else if (image) {
+                hit_ok = m.locate_image(*image, p, cell, h.terms);
+              } else if (m.grid) {
+                if (m.grid->find(p, cursor, gh)) {
+                  mask[i] = 1;
+                  ++count;
+                  h.found(i, gh);
+                  if (!row_saved) {
+                    row_cursor = cursor;
+                    have_row = row_saved = true;
+                  }
+                  continue;
                 }
-              }
-              probe_detail::GridHit& g = h.grid[h.size];
-              if (is_finite(p) && m.grid->find(p, cursor, g)) {
-                mask[i] = 1;
-                ++count;
-                h.out[h.size] = i;
-                h.cell[h.size++] = g.cell;
-                if (!row_saved) {
-                  row_cursor = cursor;
-                  have_row = row_saved = true;
-                }
+              } else if (tets) {
+                cell = last_tet >= 0 ? last_tet : tets->seed(p);
+                if (cell >= 0 && tets->walk(p, cell, tw)) {
+                  hit_ok = true;
+                  last_tet = cell;
+                  if (!row_saved) {
+                    row_tet = cell;
+                    row_saved = true;
+                  }
+                  const std::uint32_t* cell_ids = tets->points_of(cell);  // in cache after the walk
+                  for (int k = 0; k < 4; ++k) {
+                    if (tw[std::size_t(k)] != 0) {
+                      h.terms.emplace_back(std::size_t(cell_ids[std::size_t(k)]),
+                                           tw[std::size_t(k)]);
+                    }
+                  }
+                } else if (tets->in_bounds(p)) {
+                  mask[i] = kPending;
+                  h.missed(i, BlockHits::kPending);
+                  ++waiting;
+                  continue;
+                }  // else outside the mesh's bounds: in no cell, no locator needed
               } else {
-                mask[i] = 0;
+                hit_ok = m.from_locator(p, cell, h.terms, ids);
+              }
+              mask[i] = hit_ok ? 1 : 0;
+              if (hit_ok) {
+                ++count;
+                h.found(i, cell);
+              } else {
                 h.missed(i);
               }
             }
             carry(h);
-            continue;
           }
-          PointSequence seq(pp, b * kBlock);
-          for (std::size_t i = b * kBlock; i < end; ++i) {
-            if (seq.row_start()) {
-              if (have_row) cursor = row_cursor;
-              if (row_tet >= 0) last_tet = row_tet;
-              row_saved = false;
-            }
-            const Vec3 p = seq.next();
-            Index cell = -1;
-            bool hit_ok = false;
-            if (!is_finite(p)) {
-              hit_ok = false;
-            } else if (image) {
-              hit_ok = m.locate_image(*image, p, cell, h.terms);
-            } else if (m.grid) {
-              if (m.grid->find(p, cursor, gh)) {
-                mask[i] = 1;
-                ++count;
-                h.found(i, gh);
-                if (!row_saved) {
-                  row_cursor = cursor;
-                  have_row = row_saved = true;
-                }
-                continue;
-              }
-            } else if (tets) {
-              cell = last_tet >= 0 ? last_tet : tets->seed(p);
-              if (cell >= 0 && tets->walk(p, cell, tw)) {
-                hit_ok = true;
-                last_tet = cell;
-                if (!row_saved) {
-                  row_tet = cell;
-                  row_saved = true;
-                }
-                const std::uint32_t* cell_ids = tets->points_of(cell);  // in cache after the walk
-                for (int k = 0; k < 4; ++k) {
-                  if (tw[std::size_t(k)] != 0) {
-                    h.terms.emplace_back(std::size_t(cell_ids[std::size_t(k)]), tw[std::size_t(k)]);
-                  }
-                }
-              } else if (tets->in_bounds(p)) {
-                mask[i] = kPending;
-                h.missed(i, BlockHits::kPending);
-                ++waiting;
-                continue;
-              }  // else outside the mesh's bounds: in no cell, no locator needed
-            } else {
-              hit_ok = m.from_locator(p, cell, h.terms, ids);
-            }
-            mask[i] = hit_ok ? 1 : 0;
-            if (hit_ok) {
-              ++count;
-              h.found(i, cell);
-            } else {
-              h.missed(i);
-            }
-          }
-          carry(h);
-        }
-        found += count;
-        pending += waiting;
-      },
-      m.options.progress, "probe");
+          found += count;
+          pending += waiting;
+        },
+        m.options.progress, "probe");
+  }
   if (pending > 0) {
     // The points a tetra walk did not reach, by the exact locator (built now if it was not).
     {

@@ -8,8 +8,11 @@
 #include "probe_grid.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <mutex>
 
 #include "isoforge/core/cell.hpp"
 #include "isoforge/core/parallel.hpp"
@@ -187,6 +190,10 @@ struct GridLocator::Impl {
   Vec3 bin_lo{}, bin_inv{};
   std::array<Index, 3> bins{};
   std::vector<std::uint32_t> bin_start, bin_blocks;
+  std::once_flag exact_built;  // the exact locator (block boxes, bins) is built on first use
+
+  /// Builds the exact locator: the blocks' boxes, the bins listing them.
+  void build_exact();
 
   [[nodiscard]] Vec3 pt(Index id) const {
     if (pf) {
@@ -377,6 +384,408 @@ struct GridLocator::Impl {
   }
 };
 
+namespace {
+
+/// The image indices along axis `a` of the points that can lie in the box [lo, hi] (grown by
+/// `grow`, which holds far more than the rounding of the product): [first, last], empty when
+/// first > last.
+[[gnu::always_inline]] inline void index_range(const ImagePlan& plan, int a, double lo, double hi,
+                                               double grow, Index& first, Index& last) {
+  const Index n = plan.dims[std::size_t(a)];
+  if (n == 1) {
+    const double o = plan.origin[a];
+    first = 0;
+    last = o >= lo - grow && o <= hi + grow ? 0 : -1;
+    return;
+  }
+  const double top = double(n - 1);
+  double v0 = (lo - grow - plan.origin[a]) * plan.inverse[a];
+  double v1 = (hi + grow - plan.origin[a]) * plan.inverse[a];
+  if (v0 > v1) std::swap(v0, v1);  // a negative spacing
+  const double u0 = std::ceil(v0), u1 = std::floor(v1);
+  if (!(u0 <= top) || !(u1 >= 0)) {
+    first = 0;
+    last = -1;
+    return;
+  }
+  first = Index(std::max(u0, 0.0));
+  last = Index(std::min(u1, top));
+}
+
+/// The box [lo, hi] of a cell's corners x[3 c + axis], and a growth at least `growth`'s.
+[[gnu::always_inline]] inline double cell_box(const double* x, double tol, double* lo, double* hi) {
+  for (int a = 0; a < 3; ++a) {
+    double l = x[a], h = x[a];
+    for (int c = 1; c < 8; ++c) {
+      l = std::min(l, x[3 * c + a]);
+      h = std::max(h, x[3 * c + a]);
+    }
+    lo[a] = l;
+    hi[a] = h;
+  }
+  // The box's diagonal bounded by the sum of its sides (no square root; a larger growth only
+  // admits more candidates).
+  const double sides = (hi[0] - lo[0]) + (hi[1] - lo[1]) + (hi[2] - lo[2]);
+  double mag = 0;
+  for (int a = 0; a < 3; ++a) mag += 2 * std::max(std::abs(lo[a]), std::abs(hi[a]));
+  return (1e-6 + 4 * tol) * sides + 1e-12 * mag;
+}
+
+/// Points of one cell solved together: their ids, coordinates, parametric coordinates (the
+/// start, then after one Newton step) and whether that step converged (ok).
+struct Lanes {
+  static constexpr std::size_t kSize = 32;
+  std::size_t n = 0;
+  std::size_t id[kSize];
+  alignas(32) double px[kSize], py[kSize], pz[kSize];
+  alignas(32) double r[kSize], s[kSize], t[kSize];
+  alignas(32) std::int64_t ok[kSize];
+};
+
+// Four doubles (GCC's vector extension, also in Clang): AVX registers in the AVX2 build of the
+// kernel, pairs of SSE registers otherwise. No function takes or returns one (their calling
+// convention would depend on AVX): loads are copies, |v| clears the sign bits in place.
+using V4 = double __attribute__((vector_size(32)));
+using M4 = std::int64_t __attribute__((vector_size(32)));
+
+/// One Newton step of `solve` on the map m for every lane, four at a time (the same formulas,
+/// in vector form); ok: the step was below kNewtonStep and the coordinates are bounded.
+[[gnu::always_inline]] inline void newton_lanes_body(const double* m, Lanes& L) {
+  for (std::size_t l = L.n; l % 4 != 0; ++l) {  // pad with copies of the last lane
+    L.px[l] = L.px[l - 1];
+    L.py[l] = L.py[l - 1];
+    L.pz[l] = L.pz[l - 1];
+    L.r[l] = L.r[l - 1];
+    L.s[l] = L.s[l - 1];
+    L.t[l] = L.t[l - 1];
+  }
+  for (std::size_t l = 0; l < L.n; l += 4) {
+    V4 R, S, T, P[3];
+    std::memcpy(&R, L.r + l, sizeof R);
+    std::memcpy(&S, L.s + l, sizeof S);
+    std::memcpy(&T, L.t + l, sizeof T);
+    std::memcpy(&P[0], L.px + l, sizeof R);
+    std::memcpy(&P[1], L.py + l, sizeof R);
+    std::memcpy(&P[2], L.pz + l, sizeof R);
+    V4 jr[3], js[3], jt[3], F[3];
+    for (int q = 0; q < 3; ++q) {
+      const double a = m[q], b = m[3 + q], c = m[6 + q], d = m[9 + q], e = m[12 + q], f = m[15 + q],
+                   g = m[18 + q], h = m[21 + q];
+      const V4 u = e + h * T;
+      const V4 cg = c + g * T;
+      jr[q] = b + u * S + f * T;
+      js[q] = cg + u * R;
+      jt[q] = d + (f + h * S) * R + g * S;
+      F[q] = a + jr[q] * R + cg * S + d * T - P[q];
+    }
+    const V4 c0[3] = {js[1] * jt[2] - js[2] * jt[1], js[2] * jt[0] - js[0] * jt[2],
+                      js[0] * jt[1] - js[1] * jt[0]};
+    const V4 c1[3] = {jt[1] * jr[2] - jt[2] * jr[1], jt[2] * jr[0] - jt[0] * jr[2],
+                      jt[0] * jr[1] - jt[1] * jr[0]};
+    const V4 c2[3] = {jr[1] * js[2] - jr[2] * js[1], jr[2] * js[0] - jr[0] * js[2],
+                      jr[0] * js[1] - jr[1] * js[0]};
+    const V4 det = jr[0] * c0[0] + jr[1] * c0[1] + jr[2] * c0[2];
+    const V4 inv = 1.0 / det;
+    const V4 dr = (c0[0] * F[0] + c0[1] * F[1] + c0[2] * F[2]) * inv;
+    const V4 ds = (c1[0] * F[0] + c1[1] * F[1] + c1[2] * F[2]) * inv;
+    const V4 dt = (c2[0] * F[0] + c2[1] * F[1] + c2[2] * F[2]) * inv;
+    const V4 r = R - dr, s = S - ds, t = T - dt;
+    // NaN (a singular Jacobian) compares false: not ok.
+    constexpr std::int64_t kNoSign = std::numeric_limits<std::int64_t>::max();
+    const V4 adr = (V4)((M4)dr & kNoSign), ads = (V4)((M4)ds & kNoSign),
+             adt = (V4)((M4)dt & kNoSign);
+    const V4 ar = (V4)((M4)r & kNoSign), as = (V4)((M4)s & kNoSign), at = (V4)((M4)t & kNoSign);
+    const M4 ok = (adr < kNewtonStep) & (ads < kNewtonStep) & (adt < kNewtonStep) & (ar < 1e6) &
+                  (as < 1e6) & (at < 1e6);
+    std::memcpy(L.r + l, &r, sizeof r);
+    std::memcpy(L.s + l, &s, sizeof s);
+    std::memcpy(L.t + l, &t, sizeof t);
+    std::memcpy(L.ok + l, &ok, sizeof ok);
+  }
+}
+
+[[gnu::target("avx2,fma")]] void newton_lanes_avx2(const double* m, Lanes& L) {
+  newton_lanes_body(m, L);
+}
+void newton_lanes_base(const double* m, Lanes& L) {
+  newton_lanes_body(m, L);
+}
+
+std::atomic<bool> g_portable_kernel{false};  // tests: the portable kernel even with AVX2
+
+/// The lanes' Newton step, with AVX2 and FMA where the processor has them.
+void newton_lanes(const double* m, Lanes& L) {
+  static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  if (avx2 && !g_portable_kernel.load(std::memory_order_relaxed)) {
+    newton_lanes_avx2(m, L);
+  } else {
+    newton_lanes_base(m, L);
+  }
+}
+
+}  // namespace
+
+void use_portable_kernel(bool portable) {
+  g_portable_kernel.store(portable, std::memory_order_relaxed);
+}
+
+std::pair<std::size_t, std::size_t> ImagePlan::points(std::size_t slab) const {
+  const auto n = std::size_t(dims[std::size_t(axis)]), l = std::size_t(layers);
+  return {slab * l * stride, std::min(n, (slab + 1) * l) * stride};
+}
+
+bool GridLocator::can_scan(const ImageData& image) const {
+  const Impl& m = *impl_;
+  if (std::size_t(m.cx) * std::size_t(m.cy) * std::size_t(m.cz) >= (std::size_t{1} << 32)) {
+    return false;
+  }
+  for (int a = 0; a < 3; ++a) {
+    if (!std::isfinite(image.origin[a])) return false;
+    if (image.dims[std::size_t(a)] > 1 &&
+        !(image.spacing[a] != 0 && std::isfinite(image.spacing[a]))) {
+      return false;
+    }
+  }
+  return image.num_points() > 0;
+}
+
+ImagePlan GridLocator::plan_image(const ImageData& image, std::size_t slabs) const {
+  const Impl& m = *impl_;
+  ImagePlan plan;
+  plan.dims = image.dims;
+  plan.origin = image.origin;
+  plan.spacing = image.spacing;
+  for (int a = 0; a < 3; ++a) plan.inverse[a] = 1 / image.spacing[a];
+  plan.axis = image.dims[2] > 1 ? 2 : image.dims[1] > 1 ? 1 : 0;
+  plan.stride = plan.axis == 2   ? std::size_t(image.dims[0] * image.dims[1])
+                : plan.axis == 1 ? std::size_t(image.dims[0])
+                                 : 1;
+  const Index n = image.dims[std::size_t(plan.axis)];
+  plan.layers = std::max<Index>(
+      1, (n + Index(std::max<std::size_t>(slabs, 1)) - 1) / Index(std::max<std::size_t>(slabs, 1)));
+  const std::size_t count = std::size_t((n + plan.layers - 1) / plan.layers);
+  // Per cell, its first and last slab (none: first > last), counted per chunk of cell layers;
+  // then each chunk lists its cells at its offsets, so every slab lists its cells in id order.
+  const std::size_t nc = std::size_t(m.cx * m.cy * m.cz);
+  const std::size_t chunks = std::min<std::size_t>(std::size_t(m.cz), 64);
+  const auto chunk_cells = [&](std::size_t c) {
+    const auto layer = [&](std::size_t q) { return std::size_t(m.cz) * q / chunks; };
+    const std::size_t per_layer = std::size_t(m.cx * m.cy);
+    return std::pair{layer(c) * per_layer, layer(c + 1) * per_layer};
+  };
+  std::vector<std::array<std::uint32_t, 2>> range(nc);
+  std::vector<std::uint32_t> counts(chunks * count, 0);
+  parallel_for_range(chunks, 1, [&](std::size_t c0, std::size_t c1) {
+    double x[24];
+    for (std::size_t ch = c0; ch < c1; ++ch) {
+      std::uint32_t* cnt = counts.data() + ch * count;
+      const auto [first_cell, last_cell] = chunk_cells(ch);
+      // The chunk's cells in order, (i, j, k) counted along (no division per cell).
+      Index ci = 0, cj = 0, ck = Index(first_cell) / (m.cx * m.cy);
+      for (std::size_t id = first_cell; id < last_cell; ++id) {
+        const Index cell = Index(id), i = ci, j = cj, k = ck;
+        if (++ci == m.cx) {
+          ci = 0;
+          if (++cj == m.cy) {
+            cj = 0;
+            ++ck;
+          }
+        }
+        auto& rg = range[id];
+        rg = {1, 0};
+        if (!m.ok(cell)) continue;
+        m.corners(i, j, k, x);
+        double lo[3], hi[3];
+        const double grow = cell_box(x, m.tol, lo, hi);
+        Index first[3], last[3];
+        bool empty = false;
+        for (int a = 0; a < 3; ++a) {
+          index_range(plan, a, lo[a], hi[a], grow, first[a], last[a]);
+          empty = empty || first[a] > last[a];
+        }
+        if (empty) continue;
+        rg = {std::uint32_t(first[plan.axis] / plan.layers),
+              std::uint32_t(last[plan.axis] / plan.layers)};
+        for (std::uint32_t sl = rg[0]; sl <= rg[1]; ++sl) ++cnt[sl];
+      }
+    }
+  });
+  // Offsets: slab by slab, chunk by chunk within a slab.
+  plan.start.assign(count + 1, 0);
+  std::uint32_t total = 0;
+  for (std::size_t sl = 0; sl < count; ++sl) {
+    plan.start[sl] = total;
+    for (std::size_t ch = 0; ch < chunks; ++ch) {
+      const std::uint32_t c = counts[ch * count + sl];
+      counts[ch * count + sl] = total;
+      total += c;
+    }
+  }
+  plan.start[count] = total;
+  plan.cells.resize(total);
+  parallel_for_range(chunks, 1, [&](std::size_t c0, std::size_t c1) {
+    for (std::size_t ch = c0; ch < c1; ++ch) {
+      std::uint32_t* at = counts.data() + ch * count;
+      const auto [first_cell, last_cell] = chunk_cells(ch);
+      for (std::size_t id = first_cell; id < last_cell; ++id)
+        for (std::uint32_t sl = range[id][0]; sl <= range[id][1]; ++sl) {
+          plan.cells[at[sl]++] = std::uint32_t(id);
+        }
+    }
+  });
+  return plan;
+}
+
+void GridLocator::scan_image(const ImagePlan& plan, std::size_t slab, std::uint8_t* owned,
+                             GridHitSink& sink) const {
+  const Impl& m = *impl_;
+  const double tol = m.tol;
+  const Index slab_first = Index(slab) * plan.layers;
+  const Index slab_last = std::min(plan.dims[std::size_t(plan.axis)], slab_first + plan.layers) - 1;
+  const auto sy = std::size_t(plan.dims[0]), sz = std::size_t(plan.dims[0] * plan.dims[1]);
+  // The nonlinear terms of a map in centred coordinates (u = r − ½, ...) over the cell grown by
+  // the tolerance: |uv| <= mm, |uvw| <= mmm.
+  const double mm = (0.5 + tol) * (0.5 + tol), mmm = mm * (0.5 + tol);
+  double x[24], map[24], jinv[9];
+  Lanes lanes;
+  Index cell = -2, i = 0, j = 0, k = 0;
+  for (std::uint32_t e = plan.start[slab]; e < plan.start[slab + 1]; ++e) {
+    // The listed cells mostly follow each other along i: no division then.
+    const Index next = Index(plan.cells[e]);
+    if (next == cell + 1 && i + 1 < m.cx) {
+      ++i;
+    } else {
+      i = next % m.cx;
+      j = (next / m.cx) % m.cy;
+      k = next / (m.cx * m.cy);
+    }
+    cell = next;
+    m.corners(i, j, k, x);
+    double lo[3], hi[3];
+    const double grow = cell_box(x, tol, lo, hi);
+    Index first[3], last[3];
+    for (int a = 0; a < 3; ++a) index_range(plan, a, lo[a], hi[a], grow, first[a], last[a]);
+    first[plan.axis] = std::max(first[plan.axis], slab_first);
+    last[plan.axis] = std::min(last[plan.axis], slab_last);
+    if (first[0] > last[0] || first[1] > last[1] || first[2] > last[2]) continue;
+    make_map(x, map);
+    const double *a = map, *b = map + 3, *c = map + 6, *d = map + 9, *ee = map + 12, *f = map + 15,
+                 *g = map + 18, *h = map + 21;
+    // The map linearized at the centre: X ≈ A + J (r − ½, s − ½, t − ½); the rest is
+    // E uv + F uw + G vw + H uvw with E = e + h/2, F = f + h/2, G = g + h/2, H = h.
+    double A[3], J[3][3], N[3];
+    for (int q = 0; q < 3; ++q) {
+      A[q] = a[q] + 0.5 * (b[q] + c[q] + d[q]) + 0.25 * (ee[q] + f[q] + g[q]) + 0.125 * h[q];
+      J[q][0] = b[q] + 0.5 * (ee[q] + f[q]) + 0.25 * h[q];
+      J[q][1] = c[q] + 0.5 * (ee[q] + g[q]) + 0.25 * h[q];
+      J[q][2] = d[q] + 0.5 * (f[q] + g[q]) + 0.25 * h[q];
+      N[q] = (std::abs(ee[q] + 0.5 * h[q]) + std::abs(f[q] + 0.5 * h[q]) +
+              std::abs(g[q] + 0.5 * h[q])) *
+                 mm +
+             std::abs(h[q]) * mmm;
+    }
+    // Its inverse (rows), and per coordinate the bound on how far the linearized prediction
+    // can be from the coordinates of a point of the cell: |J⁻¹| N, plus rounding, generously.
+    double Ji[3][3] = {}, reach[3] = {};
+    bool filter = false;
+    {
+      const double c0[3] = {J[1][1] * J[2][2] - J[1][2] * J[2][1],
+                            J[0][2] * J[2][1] - J[0][1] * J[2][2],
+                            J[0][1] * J[1][2] - J[0][2] * J[1][1]};
+      const double det = J[0][0] * c0[0] + J[1][0] * c0[1] + J[2][0] * c0[2];
+      if (std::abs(det) > 0 && std::isfinite(det)) {
+        const double inv = 1 / det;
+        Ji[0][0] = c0[0] * inv;
+        Ji[0][1] = c0[1] * inv;
+        Ji[0][2] = c0[2] * inv;
+        Ji[1][0] = (J[1][2] * J[2][0] - J[1][0] * J[2][2]) * inv;
+        Ji[1][1] = (J[0][0] * J[2][2] - J[0][2] * J[2][0]) * inv;
+        Ji[1][2] = (J[0][2] * J[1][0] - J[0][0] * J[1][2]) * inv;
+        Ji[2][0] = (J[1][0] * J[2][1] - J[1][1] * J[2][0]) * inv;
+        Ji[2][1] = (J[0][1] * J[2][0] - J[0][0] * J[2][1]) * inv;
+        Ji[2][2] = (J[0][0] * J[1][1] - J[0][1] * J[1][0]) * inv;
+        double mag = 0;
+        for (int q = 0; q < 3; ++q) mag += std::abs(lo[q]) + std::abs(hi[q]) + grow;
+        filter = true;
+        for (int r = 0; r < 3; ++r) {
+          double bound = 0, row = 0;
+          for (int q = 0; q < 3; ++q) {
+            bound += std::abs(Ji[r][q]) * N[q];
+            row += std::abs(Ji[r][q]);
+          }
+          reach[r] = 0.5 + tol + bound + 1e-6 + 1e-12 * row * mag;
+          filter = filter && std::isfinite(reach[r]);
+        }
+      }
+    }
+    // The candidates the bound keeps are solved in batches: one Newton step for all of them at
+    // once (lanes), then each point whose step was below kNewtonStep is decided; the others
+    // (rare: a strongly curved cell, a degenerate one) go through `test`.
+    lanes.n = 0;
+    const std::size_t base = std::size_t(m.point_id(i, j, k));
+    const auto flush = [&] {
+      newton_lanes(map, lanes);
+      for (std::size_t l = 0; l < lanes.n; ++l) {
+        Vec3 pc{lanes.r[l], lanes.s[l], lanes.t[l]};
+        bool inside = false;
+        if (lanes.ok[l]) {
+          inside = pc.x >= -tol && pc.x <= 1 + tol && pc.y >= -tol && pc.y <= 1 + tol &&
+                   pc.z >= -tol && pc.z <= 1 + tol;
+        } else {  // on from the step taken, or from the centre (as the exact locator)
+          const Vec3 p{lanes.px[l], lanes.py[l], lanes.pz[l]};
+          if (!bounded(pc.x, pc.y, pc.z)) pc = {0.5, 0.5, 0.5};
+          bool newton = false;
+          if (!m.test(i, j, k, map, p, pc, inside, jinv, newton)) inside = false;
+        }
+        if (!inside) continue;
+        owned[lanes.id[l]] = 1;
+        if (sink.size == sink.capacity) sink.full();
+        const std::size_t q = sink.size++;
+        sink.out[q] = lanes.id[l];
+        sink.cell[q] = cell;
+        GridHit& g = sink.hit[q];
+        g.cell = cell;
+        g.base = base;
+        g.r = std::clamp(pc.x, 0.0, 1.0);
+        g.s = std::clamp(pc.y, 0.0, 1.0);
+        g.t = std::clamp(pc.z, 0.0, 1.0);
+      }
+      lanes.n = 0;
+    };
+    for (Index z = first[2]; z <= last[2]; ++z) {
+      const double pz = plan.origin.z + double(z) * plan.spacing.z;
+      for (Index y = first[1]; y <= last[1]; ++y) {
+        const double py = plan.origin.y + double(y) * plan.spacing.y;
+        const std::size_t row = std::size_t(z) * sz + std::size_t(y) * sy;
+        for (Index xi = first[0]; xi <= last[0]; ++xi) {
+          if (owned[row + std::size_t(xi)]) continue;
+          const double px = plan.origin.x + double(xi) * plan.spacing.x;
+          double u[3] = {0, 0, 0};
+          if (filter) {
+            const double dp[3] = {px - A[0], py - A[1], pz - A[2]};
+            bool out = false;
+            for (int r = 0; r < 3; ++r) {
+              u[r] = Ji[r][0] * dp[0] + Ji[r][1] * dp[1] + Ji[r][2] * dp[2];
+              out = out || !(std::abs(u[r]) <= reach[r]);
+            }
+            if (out) continue;  // provably in no point of the cell
+          }
+          const std::size_t l = lanes.n++;
+          lanes.id[l] = row + std::size_t(xi);
+          lanes.px[l] = px;
+          lanes.py[l] = py;
+          lanes.pz[l] = pz;
+          lanes.r[l] = 0.5 + u[0];
+          lanes.s[l] = 0.5 + u[1];
+          lanes.t[l] = 0.5 + u[2];
+          if (lanes.n == Lanes::kSize) flush();
+        }
+      }
+    }
+    if (lanes.n > 0) flush();
+  }
+}
+
 GridLocator::GridLocator(const StructuredGrid& grid, std::span<const std::uint8_t> cell_ok,
                          double tolerance)
     : impl_(std::make_unique<Impl>()) {
@@ -394,6 +803,11 @@ GridLocator::GridLocator(const StructuredGrid& grid, std::span<const std::uint8_
   } else {
     m.pd = grid.points.array().values<double>().data();
   }
+}
+
+void GridLocator::Impl::build_exact() {
+  Impl& m = *this;
+  const double tolerance = tol;
   // Blocks of cells and their boxes (float, rounded outward), grown so that every point the
   // parametric tolerance admits in one of their cells is in them. The cells' own boxes are
   // made when a query needs them.
@@ -484,6 +898,10 @@ GridLocator::GridLocator(const StructuredGrid& grid, std::span<const std::uint8_
   }
 }
 
+void GridLocator::prepare() const {
+  std::call_once(impl_->exact_built, [&] { impl_->build_exact(); });
+}
+
 GridLocator::~GridLocator() = default;
 GridLocator::GridLocator(GridLocator&&) noexcept = default;
 GridLocator& GridLocator::operator=(GridLocator&&) noexcept = default;
@@ -526,6 +944,7 @@ void GridLocator::prefetch(const Vec3& p, const GridCursor& cursor, const std::b
 
 bool GridLocator::find(const Vec3& p, GridCursor& cursor, GridHit& hit) const {
   if (cursor.valid && impl_->walk(p, cursor, hit)) return true;
+  prepare();
   if (impl_->exact(p, cursor, hit)) return true;
   cursor.valid = false;
   return false;

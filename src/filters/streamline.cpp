@@ -213,7 +213,9 @@ class GridField {
  public:
   using Cursor = probe_detail::GridCursor;
   explicit GridField(const StructuredGrid& grid)
-      : locator_(grid, {}, kPcoordTolerance), offsets_(locator_.offsets()) {}
+      : locator_(grid, {}, kPcoordTolerance), offsets_(locator_.offsets()) {
+    locator_.prepare();  // before the parallel traces find with it
+  }
   /// Prefetches the cell predicted to hold p (see GridLocator::prefetch).
   template <class Values>
   void prefetch_cell(const Vec3& p, const Cursor& cursor, const Values& values) const {
