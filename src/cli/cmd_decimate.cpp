@@ -183,10 +183,10 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
       if (args->refine) {
         fmt::print(stderr,
                    "  refined in {:.3f} s: RMS {:.4g} -> {:.4g}, Hausdorff {:.4g} -> {:.4g} "
-                   "({} vertices moved, {} moves rejected)\n",
+                   "({} vertices moved, {} moves rejected, {} triangles changed by edge flips)\n",
                    refine_ms / 1000, refined.rms_before, refined.rms_after,
                    refined.hausdorff_before, refined.hausdorff_after, refined.moved_vertices,
-                   refined.rejected_moves);
+                   refined.rejected_moves, refined.flips);
       }
       if (!args->no_measure) {
         fmt::print(stderr,

@@ -1,10 +1,10 @@
-// Mesh refinement: the vertex-position optimisation of
+// Mesh refinement: the vertex-position optimisation and the edge swaps of
 //   H. Hoppe, T. DeRose, T. Duchamp, J. McDonald, W. Stuetzle, "Mesh optimization",
 //   SIGGRAPH 1993 —
-// with the connectivity fixed. Each outer iteration fixes, for every sample x of the original,
-// its closest point on the current mesh (a triangle and barycentric coordinates b), and for
-// samples y of the current mesh their closest point on the original (a point and the normal of
-// its triangle); the energy
+// without its edge collapses and splits (the triangle count stays). Each outer iteration fixes, for
+// every sample x of the original, its closest point on the current mesh (a triangle and barycentric
+// coordinates b), and for samples y of the current mesh their closest point on the original (a
+// point and the normal of its triangle); the energy
 //   Σ |x − Σ b_k v_k|² + Σ (n · (Σ b_k v_k − y'))² + κ Σ_edges |v_i − v_j|²
 // is then linear least squares in the vertex positions, solved by Ceres. The second term (point
 // to plane, as in
@@ -13,10 +13,12 @@
 // falls too. The error is measured on as many samples of the simplified mesh as of the original;
 // the energy's second term uses those dense samples and 4 per triangle in alternate solves (the
 // dense ones follow the surface closely, the sparse ones pull less against each other where the
-// original is thin). After each solve_positions, moves that turn a face by more than 90° or make two
-// faces intersect (exact predicates, core/predicates.hpp) are shortened, then undone, vertex by
+// original is thin). After each solve_positions, moves that turn a face by more than 90° or make
+// two faces intersect (exact predicates, core/predicates.hpp) are shortened, then undone, vertex by
 // vertex until the neighbourhood is clean, and a step that raises the RMS or Hausdorff error is
-// halved, then dropped. Method and measurements: docs/algorithms/fitting.md.
+// halved, then dropped. Before every other solve, a pass of edge flips (flip_edges) lowers the
+// error where a pair of faces is better split along its other diagonal. Method and
+// measurements: docs/algorithms/fitting.md.
 
 #include "isoforge/fit/refine.hpp"
 
@@ -450,6 +452,226 @@ void add_sparse(Measure& m, const std::vector<Vec3>& pos, const std::vector<Tri>
   m.sparse = true;
 }
 
+std::vector<std::array<Id, 2>> unique_edges(const std::vector<Tri>& tris) {
+  std::vector<std::array<Id, 2>> edges;
+  edges.reserve(3 * tris.size());
+  for (const Tri& t : tris)
+    for (int k = 0; k < 3; ++k) {
+      const Id a = t[k], b = t[(k + 1) % 3];
+      edges.push_back({std::min(a, b), std::max(a, b)});
+    }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  return edges;
+}
+
+// ---- edge flips (the edge swap of Hoppe et al.) ----
+//
+// A pass proposes, for every interior edge (a, b) between faces (a, b, c) and (b, a, d), the
+// pair (c, a, d), (d, b, c) in the same two slots, and scores it by the change of the measured
+// error over the two faces: the original's samples whose closest face is one of them (their
+// distance to the nearer new face: an upper bound, a closer third face only lowers it) and the
+// measure's samples of the faces themselves (to the original). The flips that lower it, best
+// first and at most one per face, are made; a flip that folds (a new face turning more than
+// kFlipTurn from the faces it replaces, or a dihedral angle between the new faces beyond it) or
+// whose edge (c, d) exists is not proposed, and a flipped face that intersects another face
+// (exact) is flipped back.
+
+constexpr double kFlipTurnCos = 0.5;  // 60°
+constexpr int kFlipPasses = 1;
+// Pairs of faces whose fourth point lies within this fraction of the RMS error of the plane of
+// the other three are not proposed.
+constexpr double kFlipFlat = 0.1;  // passes in a row at most, each kept only if it helps
+
+struct FlipCandidate {
+  double gain = 0;  // error before − after over the two faces (weighted squared distances)
+  Id f1 = 0, f2 = 0;
+  Tri g1{}, g2{};
+};
+
+// Whether the faces `tris` of `pos` have a pair that intersects (exact) with at least one face
+// in `touched`; those faces' ids go to `bad`.
+void intersecting_touched(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
+                          const std::vector<char>& touched, std::vector<char>& bad) {
+  PolyData pd;
+  pd.points = Points(pos.size(), ScalarType::Float64);
+  for (std::size_t i = 0; i < pos.size(); ++i) pd.points.set(i, pos[i]);
+  for (const Tri& t : tris) pd.polys.add({Index(t[0]), Index(t[1]), Index(t[2])});
+  for (const auto& [i, j] : self_intersections(pd)) {
+    if (touched[std::size_t(i)]) bad[std::size_t(i)] = 1;
+    if (touched[std::size_t(j)]) bad[std::size_t(j)] = 1;
+  }
+}
+
+// One pass over the edges; returns the flips made (in `tris` and `faces_of`).
+std::size_t flip_edges(const std::vector<Vec3>& pos, std::vector<Tri>& tris,
+                       std::vector<std::vector<Id>>& faces_of, const std::vector<Vec3>& samples,
+                       const ReverseSamples& rs, const Measure& m, const Original& orig) {
+  const double flat = kFlipFlat * m.rms;
+  const std::size_t nf = tris.size(), nr = rs.bary.size();
+  // The original's samples by the face they are closest to.
+  std::vector<std::uint32_t> first(nf + 1, 0), order(samples.size());
+  for (const Forward& f : m.fwd) ++first[f.tri + 1];
+  for (std::size_t f = 0; f < nf; ++f) first[f + 1] += first[f];
+  {
+    std::vector<std::uint32_t> at(first.begin(), first.end() - 1);
+    for (std::size_t i = 0; i < samples.size(); ++i) order[at[m.fwd[i].tri]++] = std::uint32_t(i);
+  }
+  // Interior edges: (face, corner) of the edge from corner k to k + 1 and its twin face.
+  std::vector<std::array<Id, 3>> pairs;  // f1, k1 (edge tris[f1][k1] → tris[f1][k1 + 1]), f2
+  for (std::size_t f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Id a = tris[f][k], b = tris[f][(k + 1) % 3];
+      if (a > b) continue;  // each edge once, from the face where it runs up
+      Id twin = Id(-1);
+      int count = 0;
+      for (Id g : faces_of[a]) {
+        if (g == f) continue;
+        const Tri& t = tris[g];
+        for (int q = 0; q < 3; ++q)
+          if (t[q] == b && t[(q + 1) % 3] == a) {
+            twin = g;
+            ++count;
+          }
+        for (int q = 0; q < 3; ++q)
+          if (t[q] == a && t[(q + 1) % 3] == b) count += 2;  // inconsistent: leave it
+      }
+      if (count == 1) pairs.push_back({Id(f), Id(k), twin});
+    }
+  const double area_scale = [&] {  // m.area is the area over the mean
+    for (std::size_t f = 0; f < nf; ++f) {
+      const double a =
+          norm(cross(pos[tris[f][1]] - pos[tris[f][0]], pos[tris[f][2]] - pos[tris[f][0]]));
+      if (a > 0 && m.area[f] > 0) return m.area[f] / a;
+    }
+    return 0.0;
+  }();
+  std::vector<FlipCandidate> cand(pairs.size());
+  parallel_for_range(pairs.size(), 64, [&](std::size_t b0, std::size_t b1) {
+    for (std::size_t e = b0; e < b1; ++e) {
+      const auto [f1, k1, f2] = pairs[e];
+      const Id a = tris[f1][k1], b = tris[f1][(k1 + 1) % 3], c = tris[f1][(k1 + 2) % 3];
+      Id d = 0;
+      for (Id v : tris[f2])
+        if (v != a && v != b) d = v;
+      FlipCandidate& fc = cand[e];
+      fc.gain = 0;
+      if (c == d) continue;
+      bool exists = false;  // the edge (c, d) already
+      for (Id g : faces_of[c]) {
+        const Tri& t = tris[g];
+        exists = exists || t[0] == d || t[1] == d || t[2] == d;
+      }
+      if (exists) continue;
+      const Vec3 n1 = cross(pos[b] - pos[a], pos[c] - pos[a]);
+      const Vec3 n2 = cross(pos[a] - pos[b], pos[d] - pos[b]);
+      // A flat pair: the two splits are nearly the same surface (apart by at most d's distance
+      // from the plane of a, b, c), so the flip cannot change the error by much.
+      const double l1n = norm(n1);
+      if (!(l1n > 0) || std::abs(dot(pos[d] - pos[a], n1)) < flat * l1n) continue;
+      const Tri g1{c, a, d}, g2{d, b, c};
+      const Vec3 m1 = cross(pos[a] - pos[c], pos[d] - pos[c]);
+      const Vec3 m2 = cross(pos[b] - pos[d], pos[c] - pos[d]);
+      const double l1 = norm(n1), l2 = norm(n2), k1n = norm(m1), k2n = norm(m2);
+      if (!(l1 > 0 && l2 > 0 && k1n > 0 && k2n > 0)) continue;
+      const auto cosine = [](const Vec3& u, double lu, const Vec3& v, double lv) {
+        return dot(u, v) / (lu * lv);
+      };
+      if (cosine(m1, k1n, m2, k2n) < kFlipTurnCos) continue;
+      bool fold = false;
+      for (const auto& [u, lu] : {std::pair{m1, k1n}, std::pair{m2, k2n}})
+        for (const auto& [v, lv] : {std::pair{n1, l1}, std::pair{n2, l2}})
+          fold = fold || cosine(u, lu, v, lv) < kFlipTurnCos;
+      if (fold) continue;
+      // The error before and after over the two faces.
+      double before = 0, after = 0;
+      for (const Id f : {f1, f2})
+        for (std::uint32_t q = first[f]; q < first[f + 1]; ++q) {
+          const std::uint32_t i = order[q];
+          before += m.fwd[i].dist2;
+          const Vec3& x = samples[i];
+          after += std::min(closest_on_triangle(x, pos[g1[0]], pos[g1[1]], pos[g1[2]]).dist2,
+                            closest_on_triangle(x, pos[g2[0]], pos[g2[1]], pos[g2[2]]).dist2);
+        }
+      for (const Id f : {f1, f2})
+        for (std::size_t k = rs.measure_begin; k < rs.measure_end; ++k) {
+          before += m.area[f] * rs.weight[k] * m.rev[nr * f + k].dist2;
+        }
+      const Id hint = m.rev[nr * f1 + rs.measure_begin].tri;
+      for (const auto& [g, area] : {std::pair{g1, k1n}, std::pair{g2, k2n}})
+        for (std::size_t k = rs.measure_begin; k < rs.measure_end; ++k) {
+          const Bary& w = rs.bary[k];
+          const Vec3 y = w[0] * pos[g[0]] + w[1] * pos[g[1]] + w[2] * pos[g[2]];
+          after += area * area_scale * rs.weight[k] * orig.closest(y, &hint).dist2;
+        }
+      if (after < before * (1 - 1e-6)) fc = {before - after, f1, f2, g1, g2};
+    }
+  });
+  std::vector<std::size_t> best;
+  for (std::size_t e = 0; e < cand.size(); ++e)
+    if (cand[e].gain > 0) best.push_back(e);
+  std::sort(best.begin(), best.end(), [&](std::size_t x, std::size_t y) {
+    return cand[x].gain != cand[y].gain ? cand[x].gain > cand[y].gain : x < y;
+  });
+  const std::vector<Tri> before = tris;
+  std::vector<char> touched(nf, 0);
+  std::vector<std::size_t> made;
+  for (std::size_t e : best) {
+    const FlipCandidate& fc = cand[e];
+    if (touched[fc.f1] || touched[fc.f2]) continue;
+    // The edge (c, d) may have been made by an earlier flip of this pass.
+    const Id c = fc.g1[0], d = fc.g1[2];
+    bool exists = false;
+    for (Id g : faces_of[c]) {
+      const Tri& t = tris[g];
+      exists = exists || t[0] == d || t[1] == d || t[2] == d;
+    }
+    if (exists) continue;
+    touched[fc.f1] = touched[fc.f2] = 1;
+    for (const Id f : {fc.f1, fc.f2})
+      for (Id v : tris[f]) {
+        auto& list = faces_of[v];
+        list.erase(std::remove(list.begin(), list.end(), f), list.end());
+      }
+    tris[fc.f1] = fc.g1;
+    tris[fc.f2] = fc.g2;
+    for (const Id f : {fc.f1, fc.f2})
+      for (Id v : tris[f]) faces_of[v].push_back(f);
+    made.push_back(e);
+  }
+  if (made.empty()) return 0;
+  // Flipped faces that intersect another face go back, with their partner.
+  std::vector<char> bad(nf, 0);
+  intersecting_touched(pos, tris, touched, bad);
+  std::size_t undone = 0;
+  for (std::size_t e : made) {
+    const FlipCandidate& fc = cand[e];
+    if (!bad[fc.f1] && !bad[fc.f2]) continue;
+    ++undone;
+    for (const Id f : {fc.f1, fc.f2})
+      for (Id v : tris[f]) {
+        auto& list = faces_of[v];
+        list.erase(std::remove(list.begin(), list.end(), f), list.end());
+      }
+    tris[fc.f1] = before[fc.f1];
+    tris[fc.f2] = before[fc.f2];
+    for (const Id f : {fc.f1, fc.f2})
+      for (Id v : tris[f]) faces_of[v].push_back(f);
+  }
+  if (undone > 0) {  // what is left must be clean too, or nothing is kept
+    std::fill(bad.begin(), bad.end(), 0);
+    intersecting_touched(pos, tris, touched, bad);
+    if (std::find(bad.begin(), bad.end(), 1) != bad.end()) {
+      tris = before;
+      for (auto& list : faces_of) list.clear();
+      for (std::size_t f = 0; f < nf; ++f)
+        for (Id v : tris[f]) faces_of[v].push_back(Id(f));
+      return 0;
+    }
+  }
+  return made.size() - undone;
+}
+
 // ---- the linear least-squares terms (analytic derivatives) ----
 //
 // The energy is quadratic, so the sample terms of one triangle are gathered into one residual
@@ -806,7 +1028,7 @@ RefineResult fit_detail::refine_mesh(const PolyData& original, const PolyData& s
 
   const std::vector<Tri> otris = original_triangles(original);
   const std::vector<Vec3> overts = finite_points(original, "original");
-  const std::vector<Tri> tris = simplified_triangles(simplified);
+  std::vector<Tri> tris = simplified_triangles(simplified);
   std::vector<Vec3> pos = finite_points(simplified, "simplified");
   const std::vector<char> fixed = fixed_vertices(simplified, tris, o);
   report_progress(o.progress, 0, "refine_mesh");
@@ -841,15 +1063,12 @@ RefineResult fit_detail::refine_mesh(const PolyData& original, const PolyData& s
 
   // Topology of the simplified mesh: faces around each vertex, unique edges.
   std::vector<std::vector<Id>> faces_of(pos.size());
-  std::vector<std::array<Id, 2>> edges;
   for (std::size_t f = 0; f < tris.size(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      faces_of[tris[f][k]].push_back(Id(f));
-      const Id a = tris[f][k], b = tris[f][(k + 1) % 3];
-      edges.push_back({std::min(a, b), std::max(a, b)});
-    }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    for (int k = 0; k < 3; ++k) faces_of[tris[f][k]].push_back(Id(f));
+  std::vector<std::array<Id, 2>> edges = unique_edges(tris);
+  const std::vector<Tri> input_tris = tris;
+  // Flips rewrite the triangles, so not with cell arrays (they would no longer fit).
+  const bool flips = o.flip_edges && simplified.cell_data.size() == 0;
   const Rejector rejector{tris, faces_of, simplified.points};
 
   RefineStats stats;
@@ -874,6 +1093,25 @@ RefineResult fit_detail::refine_mesh(const PolyData& original, const PolyData& s
     plain = plain || it >= plain_from;
     const double hlimit = plain ? current.hausdorff : stats.hausdorff_before;
     const bool sparse = it % 2 == 0;
+    for (int pass = 0; flips && it > 0 && it % 2 == 0 && pass < kFlipPasses; ++pass) {
+      // Edge flips that lower the error, kept if the whole measure agrees.
+      const std::vector<Tri> kept = tris;
+      const std::vector<std::vector<Id>> kept_faces = faces_of;
+      if (flip_edges(pos, tris, faces_of, samples, rsamples, current, orig) > 0) {
+        Measure m = measure(pos, tris, samples, rsamples, used, orig, false, &current);
+        if (m.rms < current.rms && m.hausdorff <= hlimit) {
+          current = std::move(m);
+          edges = unique_edges(tris);
+          ++stats.flip_passes;
+          stats.flips = 0;
+          for (std::size_t f = 0; f < tris.size(); ++f) stats.flips += tris[f] != input_tris[f];
+          continue;
+        }
+        tris = kept;
+        faces_of = kept_faces;
+      }
+      break;
+    }
     // Trial positions are measured on the dense samples only; the sparse ones when needed.
     if (sparse && !current.sparse) add_sparse(current, pos, tris, rsamples, orig);
     const auto t0 = Clock::now();
@@ -947,6 +1185,10 @@ RefineResult fit_detail::refine_mesh(const PolyData& original, const PolyData& s
     if (pos[i] == input[i]) continue;
     ++stats.moved_vertices;
     out.points.set(i, pos[i]);
+  }
+  if (stats.flips > 0) {
+    out.polys.clear();
+    for (const Tri& t : tris) out.polys.add({Index(t[0]), Index(t[1]), Index(t[2])});
   }
   report_progress(o.progress, 1, "refine_mesh");
   stats.total_seconds = seconds_since(t_start);

@@ -147,13 +147,77 @@ TEST(RefineMesh, BumpySurfaceFitsBetter) {
   // trades vertex exactness for a smaller error over the whole surface.
   const PolyData fine = bumpy_sphere(96, 192, 0.1);
   const PolyData coarse = bumpy_sphere(16, 32, 0.1);
+  RefineOptions fixed;
+  fixed.flip_edges = false;
+  for (const bool flips : {true, false}) {
+    const auto [out, st] = refine_mesh(fine, coarse, flips ? RefineOptions{} : fixed);
+    EXPECT_LT(st.rms_after, 0.7 * st.rms_before);
+    EXPECT_LE(st.hausdorff_after, st.hausdorff_before);
+    EXPECT_TRUE(self_intersections(out).empty());
+    EXPECT_EQ(out.polys.size(), coarse.polys.size());
+    const SurfaceTopology topo = analyze_topology(out);
+    EXPECT_TRUE(topo.manifold() && topo.oriented());
+    EXPECT_EQ(topo.edges, analyze_topology(coarse).edges);
+    if (!flips) {
+      EXPECT_EQ(out.polys, coarse.polys);
+      EXPECT_EQ(st.flips, 0u);
+    }
+    const MeshDistance before = mesh_distance(fine, coarse), after = mesh_distance(fine, out);
+    EXPECT_LT(after.rms, 0.7 * before.rms);
+  }
+}
+
+TEST(RefineMesh, EdgeFlipsAlignEdgesWithTheRulings) {
+  // The ruled surface z = 0.6 (x − y)² is straight along (1, 1). A coarse grid of its points
+  // whose squares are split along (1, −1) cuts across the rulings; split along (1, 1) it holds
+  // the surface exactly up to the fine mesh's own error. The flips find the second split.
+  const auto f = [](double x, double y) { return 0.6 * (x - y) * (x - y); };
+  const auto grid = [&](int n, bool along) {
+    PolyData pd;
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) {
+        const double x = double(i) / n, y = double(j) / n;
+        pd.points.push_back({x, y, f(x, y)});
+      }
+    const auto id = [n](int i, int j) { return Index(i + (n + 1) * j); };
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        if (along) {
+          pd.polys.add({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+          pd.polys.add({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+        } else {
+          pd.polys.add({id(i, j), id(i + 1, j), id(i, j + 1)});
+          pd.polys.add({id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+        }
+      }
+    return pd;
+  };
+  const PolyData fine = grid(64, true), coarse = grid(4, false);
+  RefineOptions fixed;
+  fixed.flip_edges = false;
+  const auto [kept, ks] = refine_mesh(fine, coarse, fixed);
   const auto [out, st] = refine_mesh(fine, coarse);
-  EXPECT_LT(st.rms_after, 0.7 * st.rms_before);
-  EXPECT_LE(st.hausdorff_after, st.hausdorff_before);
+  EXPECT_EQ(ks.flips, 0u);
+  EXPECT_GE(st.flip_passes, 1);
+  EXPECT_GE(st.flips, 16u);  // at least half of the 16 squares turned their diagonal
+  EXPECT_LT(st.rms_after, 0.6 * ks.rms_after);  // measured: 0.52
+  EXPECT_LE(st.hausdorff_after, ks.hausdorff_after);
+  // Still a valid surface: as many triangles, manifold, oriented, the same edges count and
+  // border, no self-intersection.
+  EXPECT_EQ(out.polys.size(), coarse.polys.size());
+  const SurfaceTopology topo = analyze_topology(out), before = analyze_topology(coarse);
+  EXPECT_TRUE(topo.manifold() && topo.oriented());
+  EXPECT_EQ(topo.edges, before.edges);
+  EXPECT_EQ(topo.border_edges, before.border_edges);
   EXPECT_TRUE(self_intersections(out).empty());
-  EXPECT_EQ(out.polys, coarse.polys);
-  const MeshDistance before = mesh_distance(fine, coarse), after = mesh_distance(fine, out);
-  EXPECT_LT(after.rms, 0.7 * before.rms);
+  const MeshDistance d_kept = mesh_distance(fine, kept), d_out = mesh_distance(fine, out);
+  EXPECT_LT(d_out.rms, 0.6 * d_kept.rms);
+  // With a cell array, the cells must stay: no flips.
+  PolyData with_cells = coarse;
+  with_cells.cell_data.add(DataArray::from_vector("Face", 1, std::vector<int>(32, 3)));
+  const auto [same, ss] = refine_mesh(fine, with_cells);
+  EXPECT_EQ(ss.flips, 0u);
+  EXPECT_EQ(same.polys, coarse.polys);
 }
 
 TEST(RefineMesh, BigMovesAreCheckedAndSomeUndone) {

@@ -134,11 +134,12 @@ void decimate_case(CaseResult& r, const std::string& kind, double keep) {
   certify(r, "refined: ", in, ref);
   r.equal("refined: triangles (as the output)", ref.faces, out.faces);
   const ReferenceError refined_error = error.measure(refined);
-  r.note("refined", fmt::format("in {:.3f} s ({} solves, {} vertices moved, {} moves shortened "
-                                "or undone): Hausdorff {:.4e}, RMS {:.4e}",
-                                refine_seconds, rstats.solves, rstats.moved_vertices,
-                                rstats.rejected_moves, refined_error.relative_hausdorff,
-                                refined_error.relative_rms));
+  r.note("refined",
+         fmt::format("in {:.3f} s ({} solves, {} vertices moved, {} moves shortened "
+                     "or undone, {} triangles changed by edge flips): Hausdorff "
+                     "{:.4e}, RMS {:.4e}",
+                     refine_seconds, rstats.solves, rstats.moved_vertices, rstats.rejected_moves,
+                     rstats.flips, refined_error.relative_hausdorff, refined_error.relative_rms));
   r.at_most("refined: Hausdorff distance / the output's", refined_error.relative_hausdorff /
                                                                ours.relative_hausdorff, 1.0);
   r.at_most("refined: RMS distance / the output's", refined_error.relative_rms / ours.relative_rms,

@@ -2,9 +2,11 @@
 /// \file
 /// Mesh refinement after Hoppe et al.: the vertices of a simplified triangle mesh are moved to
 /// fit the original surface better, by alternating closest-point correspondences with sparse
-/// linear least-squares solves, while the connectivity stays exactly as it was. Moves that would
-/// flip a face or create a self-intersection are undone, and a step that would make the error
-/// worse is not taken. Method and measurements: docs/algorithms/fitting.md.
+/// linear least-squares solves, and interior edges are flipped where that lowers the error (the
+/// same triangle count on the same points; optional). Moves that would flip a face or create a
+/// self-intersection are undone, flips that would fold or intersect are not made, and a step
+/// that would make the error worse is not taken. Method and measurements:
+/// docs/algorithms/fitting.md.
 
 #include <cstddef>
 #include <string>
@@ -34,6 +36,10 @@ struct RefineOptions {
   /// Point array of `simplified` (one component, any type) whose non-zero entries lock a vertex
   /// in place; "" = none.
   std::string lock_array;
+  /// Between solves, flip interior edges where the two faces' error falls (Hoppe et al.'s edge
+  /// swap; never folding, never intersecting): the output's triangles may then differ from
+  /// `simplified`'s, the same count on the same points. Off when `simplified` has cell arrays.
+  bool flip_edges = true;
   ProgressCallback progress;  ///< fraction done; false cancels
 };
 
@@ -47,6 +53,8 @@ struct RefineStats {
   std::size_t moved_vertices = 0;  ///< vertices whose position changed
   std::size_t rejected_moves = 0;  ///< vertex moves shortened or undone (flip, intersection)
   int solves = 0;                  ///< least-squares solves made
+  int flip_passes = 0;             ///< passes of edge flips kept
+  std::size_t flips = 0;           ///< triangles that differ from `simplified`'s at the end
   double seconds = 0;              ///< wall time of the solves alone
   double total_seconds = 0;        ///< wall time of the whole refinement
 };
@@ -55,7 +63,9 @@ using RefineResult = Result<PolyData, RefineStats>;
 
 /// Moves the points of `simplified` (a triangle mesh) to fit the surface of `original` (its
 /// polygons, fan-triangulated, and strips). The output is `simplified` with new coordinates
-/// (same point type): the same cells and every attribute array unchanged. Its RMS and Hausdorff
+/// (same point type) and every attribute array unchanged; its triangles are `simplified`'s,
+/// except those rewritten by edge flips (`RefineOptions::flip_edges`: as many, in the same
+/// order, the flipped pairs in their slots). Its RMS and Hausdorff
 /// error are never above the input's. \throw Error naming the mesh and the problem: no
 /// triangles, a simplified polygon that is not a triangle or repeats a point, a strip in
 /// `simplified`, a non-finite point, an option out of range, or `lock_array` missing or not a
