@@ -544,6 +544,11 @@ ProbeResult Prober::probe(DatasetRef probe_ds) const {
               flush(h);
               size = 0;
             }
+            void missed(std::size_t id) {  // the nil value
+              if (size == capacity) full();
+              out[size] = id;
+              cell[size++] = BlockHits::kMissed;
+            }
           } sink(h, carry);
           std::size_t count = 0;
           for (std::size_t s = s0; s < s1; ++s) {
@@ -554,10 +559,7 @@ ProbeResult Prober::probe(DatasetRef probe_ds) const {
             for (std::size_t i = p0; i < p1; ++i) {
               if (mask[i]) continue;
               --count;
-              if (sink.size == kBlock) sink.full();
-              h.size = sink.size;
-              h.missed(i);
-              sink.size = h.size;
+              sink.missed(i);
             }
           }
           if (sink.size > 0) sink.full();

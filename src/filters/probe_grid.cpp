@@ -62,6 +62,28 @@ void make_map(const double* x, double* m) {
   }
 }
 
+/// The rows of the adjugate of the matrix with columns jr, js, jt — (js × jt, jt × jr, jr × js),
+/// the inverse's rows times the determinant — and the determinant.
+inline double adjugate_rows(const double* jr, const double* js, const double* jt, double* c0,
+                            double* c1, double* c2) {
+  c0[0] = js[1] * jt[2] - js[2] * jt[1];
+  c0[1] = js[2] * jt[0] - js[0] * jt[2];
+  c0[2] = js[0] * jt[1] - js[1] * jt[0];
+  c1[0] = jt[1] * jr[2] - jt[2] * jr[1];
+  c1[1] = jt[2] * jr[0] - jt[0] * jr[2];
+  c1[2] = jt[0] * jr[1] - jt[1] * jr[0];
+  c2[0] = jr[1] * js[2] - jr[2] * js[1];
+  c2[1] = jr[2] * js[0] - jr[0] * js[2];
+  c2[2] = jr[0] * js[1] - jr[1] * js[0];
+  return jr[0] * c0[0] + jr[1] * c0[1] + jr[2] * c0[2];
+}
+
+/// Whether parametric coordinates lie in the unit cube grown by `tol`.
+inline bool in_unit_cube(const Vec3& pc, double tol) {
+  return pc.x >= -tol && pc.x <= 1 + tol && pc.y >= -tol && pc.y <= 1 + tol && pc.z >= -tol &&
+         pc.z <= 1 + tol;
+}
+
 bool bounded(double r, double s, double t) {
   return std::abs(r) < 1e6 && std::abs(s) < 1e6 && std::abs(t) < 1e6;
 }
@@ -94,14 +116,8 @@ bool solve(const double* m, const double* p, double& r_io, double& s_io, double&
       jt[q] = d[q] + (f[q] + h[q] * s) * r + g[q] * s;
       F[q] = a[q] + jr[q] * r + cg * s + d[q] * t - p[q];
     }
-    // The inverse Jacobian's rows: (js × jt, jt × jr, jr × js) / det.
-    const double c0[3] = {js[1] * jt[2] - js[2] * jt[1], js[2] * jt[0] - js[0] * jt[2],
-                          js[0] * jt[1] - js[1] * jt[0]};
-    const double c1[3] = {jt[1] * jr[2] - jt[2] * jr[1], jt[2] * jr[0] - jt[0] * jr[2],
-                          jt[0] * jr[1] - jt[1] * jr[0]};
-    const double c2[3] = {jr[1] * js[2] - jr[2] * js[1], jr[2] * js[0] - jr[0] * js[2],
-                          jr[0] * js[1] - jr[1] * js[0]};
-    const double det = jr[0] * c0[0] + jr[1] * c0[1] + jr[2] * c0[2];
+    double c0[3], c1[3], c2[3];
+    const double det = adjugate_rows(jr, js, jt, c0, c1, c2);
     // A singular Jacobian; a nearly singular one (a degenerate cell) makes the iteration diverge
     // or stall, which is caught below and leaves the cell to locate_in_cell.
     if (!(std::abs(det) > 0) || !std::isfinite(det)) return false;
@@ -229,8 +245,7 @@ struct GridLocator::Impl {
     const double pp[3] = {p.x, p.y, p.z};
     newton = solve(map, pp, pc.x, pc.y, pc.z, jinv);
     if (newton) {
-      inside = pc.x >= -tol && pc.x <= 1 + tol && pc.y >= -tol && pc.y <= 1 + tol &&
-               pc.z >= -tol && pc.z <= 1 + tol;
+      inside = in_unit_cube(pc, tol);
       return true;
     }
     double x[24];
@@ -248,8 +263,11 @@ struct GridLocator::Impl {
   }
 
   void fill(Index i, Index j, Index k, const Vec3& pc, GridHit& hit) const {
-    hit.cell = cell_id(i, j, k);
-    hit.base = std::size_t(point_id(i, j, k));
+    fill(cell_id(i, j, k), std::size_t(point_id(i, j, k)), pc, hit);
+  }
+  static void fill(Index cell, std::size_t base, const Vec3& pc, GridHit& hit) {
+    hit.cell = cell;
+    hit.base = base;
     hit.r = std::clamp(pc.x, 0.0, 1.0);
     hit.s = std::clamp(pc.y, 0.0, 1.0);
     hit.t = std::clamp(pc.z, 0.0, 1.0);
@@ -671,14 +689,14 @@ void GridLocator::scan_image(const ImagePlan& plan, std::size_t slab, std::uint8
     make_map(x, map);
     const double *a = map, *b = map + 3, *c = map + 6, *d = map + 9, *ee = map + 12, *f = map + 15,
                  *g = map + 18, *h = map + 21;
-    // The map linearized at the centre: X ≈ A + J (r − ½, s − ½, t − ½); the rest is
-    // E uv + F uw + G vw + H uvw with E = e + h/2, F = f + h/2, G = g + h/2, H = h.
-    double A[3], J[3][3], N[3];
+    // The map linearized at the centre: X ≈ A + J (r − ½, s − ½, t − ½), J = [jr js jt]; the rest
+    // is E uv + F uw + G vw + H uvw with E = e + h/2, F = f + h/2, G = g + h/2, H = h.
+    double A[3], jr[3], js[3], jt[3], N[3];  // the Jacobian's columns jr, js, jt
     for (int q = 0; q < 3; ++q) {
       A[q] = a[q] + 0.5 * (b[q] + c[q] + d[q]) + 0.25 * (ee[q] + f[q] + g[q]) + 0.125 * h[q];
-      J[q][0] = b[q] + 0.5 * (ee[q] + f[q]) + 0.25 * h[q];
-      J[q][1] = c[q] + 0.5 * (ee[q] + g[q]) + 0.25 * h[q];
-      J[q][2] = d[q] + 0.5 * (f[q] + g[q]) + 0.25 * h[q];
+      jr[q] = b[q] + 0.5 * (ee[q] + f[q]) + 0.25 * h[q];
+      js[q] = c[q] + 0.5 * (ee[q] + g[q]) + 0.25 * h[q];
+      jt[q] = d[q] + 0.5 * (f[q] + g[q]) + 0.25 * h[q];
       N[q] = (std::abs(ee[q] + 0.5 * h[q]) + std::abs(f[q] + 0.5 * h[q]) +
               std::abs(g[q] + 0.5 * h[q])) *
                  mm +
@@ -689,21 +707,11 @@ void GridLocator::scan_image(const ImagePlan& plan, std::size_t slab, std::uint8
     double Ji[3][3] = {}, reach[3] = {};
     bool filter = false;
     {
-      const double c0[3] = {J[1][1] * J[2][2] - J[1][2] * J[2][1],
-                            J[0][2] * J[2][1] - J[0][1] * J[2][2],
-                            J[0][1] * J[1][2] - J[0][2] * J[1][1]};
-      const double det = J[0][0] * c0[0] + J[1][0] * c0[1] + J[2][0] * c0[2];
+      const double det = adjugate_rows(jr, js, jt, Ji[0], Ji[1], Ji[2]);
       if (std::abs(det) > 0 && std::isfinite(det)) {
         const double inv = 1 / det;
-        Ji[0][0] = c0[0] * inv;
-        Ji[0][1] = c0[1] * inv;
-        Ji[0][2] = c0[2] * inv;
-        Ji[1][0] = (J[1][2] * J[2][0] - J[1][0] * J[2][2]) * inv;
-        Ji[1][1] = (J[0][0] * J[2][2] - J[0][2] * J[2][0]) * inv;
-        Ji[1][2] = (J[0][2] * J[1][0] - J[0][0] * J[1][2]) * inv;
-        Ji[2][0] = (J[1][0] * J[2][1] - J[1][1] * J[2][0]) * inv;
-        Ji[2][1] = (J[0][1] * J[2][0] - J[0][0] * J[2][1]) * inv;
-        Ji[2][2] = (J[0][0] * J[1][1] - J[0][1] * J[1][0]) * inv;
+        for (auto& row : Ji)
+          for (double& v : row) v *= inv;
         double mag = 0;
         for (int q = 0; q < 3; ++q) mag += std::abs(lo[q]) + std::abs(hi[q]) + grow;
         filter = true;
@@ -729,8 +737,7 @@ void GridLocator::scan_image(const ImagePlan& plan, std::size_t slab, std::uint8
         Vec3 pc{lanes.r[l], lanes.s[l], lanes.t[l]};
         bool inside = false;
         if (lanes.ok[l]) {
-          inside = pc.x >= -tol && pc.x <= 1 + tol && pc.y >= -tol && pc.y <= 1 + tol &&
-                   pc.z >= -tol && pc.z <= 1 + tol;
+          inside = in_unit_cube(pc, tol);
         } else {  // on from the step taken, or from the centre (as the exact locator)
           const Vec3 p{lanes.px[l], lanes.py[l], lanes.pz[l]};
           if (!bounded(pc.x, pc.y, pc.z)) pc = {0.5, 0.5, 0.5};
@@ -743,12 +750,7 @@ void GridLocator::scan_image(const ImagePlan& plan, std::size_t slab, std::uint8
         const std::size_t q = sink.size++;
         sink.out[q] = lanes.id[l];
         sink.cell[q] = cell;
-        GridHit& g = sink.hit[q];
-        g.cell = cell;
-        g.base = base;
-        g.r = std::clamp(pc.x, 0.0, 1.0);
-        g.s = std::clamp(pc.y, 0.0, 1.0);
-        g.t = std::clamp(pc.z, 0.0, 1.0);
+        Impl::fill(cell, base, pc, sink.hit[q]);
       }
       lanes.n = 0;
     };

@@ -504,6 +504,26 @@ void intersecting_touched(const std::vector<Vec3>& pos, const std::vector<Tri>& 
 }
 
 // One pass over the edges; returns the flips made (in `tris` and `faces_of`).
+// Whether some face around c uses d: the edge (c, d) exists.
+bool has_edge(const std::vector<Tri>& tris, const std::vector<std::vector<Id>>& faces_of, Id c,
+              Id d) {
+  for (Id g : faces_of[c]) {
+    const Tri& t = tris[g];
+    if (t[0] == d || t[1] == d || t[2] == d) return true;
+  }
+  return false;
+}
+
+// Puts `t` in slot f, keeping `faces_of` in step.
+void set_face(std::vector<Tri>& tris, std::vector<std::vector<Id>>& faces_of, Id f, const Tri& t) {
+  for (Id v : tris[f]) {
+    auto& list = faces_of[v];
+    list.erase(std::remove(list.begin(), list.end(), f), list.end());
+  }
+  tris[f] = t;
+  for (Id v : t) faces_of[v].push_back(f);
+}
+
 std::size_t flip_edges(const std::vector<Vec3>& pos, std::vector<Tri>& tris,
                        std::vector<std::vector<Id>>& faces_of, const std::vector<Vec3>& samples,
                        const ReverseSamples& rs, const Measure& m, const Original& orig) {
@@ -557,23 +577,17 @@ std::size_t flip_edges(const std::vector<Vec3>& pos, std::vector<Tri>& tris,
       FlipCandidate& fc = cand[e];
       fc.gain = 0;
       if (c == d) continue;
-      bool exists = false;  // the edge (c, d) already
-      for (Id g : faces_of[c]) {
-        const Tri& t = tris[g];
-        exists = exists || t[0] == d || t[1] == d || t[2] == d;
-      }
-      if (exists) continue;
+      if (has_edge(tris, faces_of, c, d)) continue;  // it would become non-manifold
       const Vec3 n1 = cross(pos[b] - pos[a], pos[c] - pos[a]);
       const Vec3 n2 = cross(pos[a] - pos[b], pos[d] - pos[b]);
-      // A flat pair: the two splits are nearly the same surface (apart by at most d's distance
-      // from the plane of a, b, c), so the flip cannot change the error by much.
-      const double l1n = norm(n1);
-      if (!(l1n > 0) || std::abs(dot(pos[d] - pos[a], n1)) < flat * l1n) continue;
       const Tri g1{c, a, d}, g2{d, b, c};
       const Vec3 m1 = cross(pos[a] - pos[c], pos[d] - pos[c]);
       const Vec3 m2 = cross(pos[b] - pos[d], pos[c] - pos[d]);
       const double l1 = norm(n1), l2 = norm(n2), k1n = norm(m1), k2n = norm(m2);
       if (!(l1 > 0 && l2 > 0 && k1n > 0 && k2n > 0)) continue;
+      // A flat pair: the two splits are nearly the same surface (apart by at most d's distance
+      // from the plane of a, b, c), so the flip cannot change the error by much.
+      if (std::abs(dot(pos[d] - pos[a], n1)) < flat * l1) continue;
       const auto cosine = [](const Vec3& u, double lu, const Vec3& v, double lv) {
         return dot(u, v) / (lu * lv);
       };
@@ -620,23 +634,10 @@ std::size_t flip_edges(const std::vector<Vec3>& pos, std::vector<Tri>& tris,
     const FlipCandidate& fc = cand[e];
     if (touched[fc.f1] || touched[fc.f2]) continue;
     // The edge (c, d) may have been made by an earlier flip of this pass.
-    const Id c = fc.g1[0], d = fc.g1[2];
-    bool exists = false;
-    for (Id g : faces_of[c]) {
-      const Tri& t = tris[g];
-      exists = exists || t[0] == d || t[1] == d || t[2] == d;
-    }
-    if (exists) continue;
+    if (has_edge(tris, faces_of, fc.g1[0], fc.g1[2])) continue;
     touched[fc.f1] = touched[fc.f2] = 1;
-    for (const Id f : {fc.f1, fc.f2})
-      for (Id v : tris[f]) {
-        auto& list = faces_of[v];
-        list.erase(std::remove(list.begin(), list.end(), f), list.end());
-      }
-    tris[fc.f1] = fc.g1;
-    tris[fc.f2] = fc.g2;
-    for (const Id f : {fc.f1, fc.f2})
-      for (Id v : tris[f]) faces_of[v].push_back(f);
+    set_face(tris, faces_of, fc.f1, fc.g1);
+    set_face(tris, faces_of, fc.f2, fc.g2);
     made.push_back(e);
   }
   if (made.empty()) return 0;
@@ -648,24 +649,15 @@ std::size_t flip_edges(const std::vector<Vec3>& pos, std::vector<Tri>& tris,
     const FlipCandidate& fc = cand[e];
     if (!bad[fc.f1] && !bad[fc.f2]) continue;
     ++undone;
-    for (const Id f : {fc.f1, fc.f2})
-      for (Id v : tris[f]) {
-        auto& list = faces_of[v];
-        list.erase(std::remove(list.begin(), list.end(), f), list.end());
-      }
-    tris[fc.f1] = before[fc.f1];
-    tris[fc.f2] = before[fc.f2];
-    for (const Id f : {fc.f1, fc.f2})
-      for (Id v : tris[f]) faces_of[v].push_back(f);
+    set_face(tris, faces_of, fc.f1, before[fc.f1]);
+    set_face(tris, faces_of, fc.f2, before[fc.f2]);
   }
   if (undone > 0) {  // what is left must be clean too, or nothing is kept
     std::fill(bad.begin(), bad.end(), 0);
     intersecting_touched(pos, tris, touched, bad);
     if (std::find(bad.begin(), bad.end(), 1) != bad.end()) {
-      tris = before;
-      for (auto& list : faces_of) list.clear();
       for (std::size_t f = 0; f < nf; ++f)
-        for (Id v : tris[f]) faces_of[v].push_back(Id(f));
+        if (touched[f]) set_face(tris, faces_of, Id(f), before[f]);
       return 0;
     }
   }
