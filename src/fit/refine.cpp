@@ -28,6 +28,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -110,6 +111,7 @@ struct ReverseSamples {
   std::vector<double> weight;
   std::size_t energy_begin = 0, energy_end = 0;    // the samples of the sparse energy
   std::size_t measure_begin = 0, measure_end = 0;  // the samples of the measure (dense energy)
+  std::vector<std::size_t> nearest_node;           // per sparse sample, the nearest measure sample
 };
 
 ReverseSamples reverse_samples(std::size_t forward_samples, std::size_t triangles) {
@@ -123,6 +125,20 @@ ReverseSamples reverse_samples(std::size_t forward_samples, std::size_t triangle
   r.measure_begin = r.bary.size();
   grid_nodes(level, r.bary, r.weight);
   r.measure_end = r.bary.size();
+  for (std::size_t k = r.energy_begin; k < r.energy_end; ++k) {
+    std::size_t best = r.measure_begin;
+    double best_d = 1e300;
+    for (std::size_t j = r.measure_begin; j < r.measure_end; ++j) {
+      const double d = std::pow(r.bary[k][0] - r.bary[j][0], 2) +
+                       std::pow(r.bary[k][1] - r.bary[j][1], 2) +
+                       std::pow(r.bary[k][2] - r.bary[j][2], 2);
+      if (d < best_d) {
+        best_d = d;
+        best = j;
+      }
+    }
+    r.nearest_node.push_back(best);
+  }
   return r;
 }
 
@@ -353,10 +369,16 @@ struct Original {
 
 // The correspondences and errors for positions `pos`. With `prev` (the correspondences of
 // nearby positions), each query starts from its previous answer, which prunes most of the tree.
+// With `prev_pos` and `prev_tris` too (the positions and triangles `prev` was measured at), the
+// answers that cannot have changed are taken over: those of the samples of a triangle whose
+// corners are the same points, of a vertex that stayed, and of an original's sample whose
+// closest triangle stayed, unless a changed triangle (looked up in a grid of those alone) now
+// comes closer. The result is the one a full measure gives (the same (distance, id) order).
 Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
                 const std::vector<Vec3>& samples, const ReverseSamples& rs,
                 const std::vector<char>& used, const Original& orig, bool sparse,
-                const Measure* prev = nullptr) {
+                const Measure* prev = nullptr, const std::vector<Vec3>* prev_pos = nullptr,
+                const std::vector<Tri>* prev_tris = nullptr) {
   const std::vector<Bary>& rb = rs.bary;
   Measure m;
   m.sparse = sparse;
@@ -369,6 +391,18 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
   }
   if (area_sum > 0)
     for (double& a : m.area) a *= double(tris.size()) / area_sum;
+  // Which triangles changed since `prev` (all of them without its positions).
+  const bool reuse = prev && prev_pos && prev_tris;
+  std::vector<char> changed(tris.size(), 1);
+  std::vector<std::uint32_t> changed_ids;
+  if (reuse) {
+    for (std::size_t f = 0; f < tris.size(); ++f) {
+      const Tri& t = tris[f];
+      changed[f] = t != (*prev_tris)[f] || pos[t[0]] != (*prev_pos)[t[0]] ||
+                   pos[t[1]] != (*prev_pos)[t[1]] || pos[t[2]] != (*prev_pos)[t[2]];
+      if (changed[f]) changed_ids.push_back(std::uint32_t(f));
+    }
+  }
   std::vector<std::array<PrimitiveSet::Id, 3>> t(tris.begin(), tris.end());
   const PrimitiveSet set(pos, {}, {}, std::move(t));
   // From a previous answer through the grid (a tree only if a query needs it), else the tree.
@@ -379,18 +413,60 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
   } else {
     loc.emplace(set);
   }
+  // The changed triangles alone, for the samples whose closest triangle stayed.
+  std::optional<TriangleGrid> moved;
+  if (reuse && !changed_ids.empty()) {
+    Bounds bb;
+    double edge_sum = 0;
+    for (std::uint32_t f : changed_ids) {
+      for (int k = 0; k < 3; ++k) bb.extend(pos[tris[f][k]]);
+      edge_sum += norm(pos[tris[f][1]] - pos[tris[f][0]]);
+    }
+    moved.emplace(
+        bb, triangle_grid_cell_size(bb, changed_ids.size(), edge_sum / double(changed_ids.size())));
+    for (std::uint32_t f : changed_ids) {
+      Bounds tb;
+      for (int k = 0; k < 3; ++k) tb.extend(pos[tris[f][k]]);
+      moved->insert(f, tb.min, tb.max);
+    }
+  }
+  const std::size_t tb = set.triangle_begin();
   m.fwd.resize(samples.size());
   parallel_for_range(samples.size(), 1024, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
       ClosestPrimitive c;
-      if (prev) {
-        c.id = set.triangle_begin() + prev->fwd[i].tri;
+      if (reuse && !changed[prev->fwd[i].tri]) {
+        if (changed_ids.empty()) {
+          m.fwd[i] = prev->fwd[i];
+          continue;
+        }
+        const Forward& old = prev->fwd[i];
+        c.id = PrimitiveSet::Id(tb + old.tri);
+        c.dist2 = set.dist2(c.id, samples[i]);  // as the full query compares it
+        const double r = std::sqrt(c.dist2) * (1 + 1e-9) + 1e-300;
+        const Vec3 d{r, r, r};
+        bool closer = false;
+        moved->for_each_candidate(samples[i] - d, samples[i] + d, [&](std::uint32_t f) {
+          const auto id = PrimitiveSet::Id(tb + f);
+          const double d2 = set.dist2(id, samples[i]);
+          if (d2 < c.dist2 || (d2 == c.dist2 && id < c.id)) {
+            c.dist2 = d2;
+            c.id = id;
+            closer = true;
+          }
+        });
+        if (!closer) {
+          m.fwd[i] = old;
+          continue;
+        }
+      } else if (prev) {
+        c.id = tb + prev->fwd[i].tri;
         c.dist2 = set.dist2(c.id, samples[i]);
         near->nearest(samples[i], c);
       } else {
         c = loc->closest(samples[i]);
       }
-      const Id f = c.id - set.triangle_begin();
+      const Id f = c.id - tb;
       const Tri& tr = tris[f];
       const TriangleClosest q = closest_on_triangle(samples[i], pos[tr[0]], pos[tr[1]], pos[tr[2]]);
       m.fwd[i] = {f, {1 - q.s - q.t, q.s, q.t}, q.dist2};
@@ -400,7 +476,14 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
   m.rev.resize(nr * tris.size());
   parallel_for_range(tris.size(), 256, [&](std::size_t b, std::size_t e) {
     for (std::size_t f = b; f < e; ++f) {
-      for (std::size_t k = sparse ? rs.energy_begin : rs.measure_begin; k < rs.measure_end; ++k) {
+      const std::size_t k0 = sparse ? rs.energy_begin : rs.measure_begin;
+      if (reuse && !changed[f] && (!sparse || prev->sparse)) {
+        std::copy(prev->rev.begin() + std::ptrdiff_t(nr * f + k0),
+                  prev->rev.begin() + std::ptrdiff_t(nr * f + rs.measure_end),
+                  m.rev.begin() + std::ptrdiff_t(nr * f + k0));
+        continue;
+      }
+      for (std::size_t k = k0; k < rs.measure_end; ++k) {
         const Bary& w = rb[k];
         const Vec3 y = w[0] * pos[tris[f][0]] + w[1] * pos[tris[f][1]] + w[2] * pos[tris[f][2]];
         m.rev[nr * f + k] = orig.closest(y, prev ? &prev->rev[nr * f + k].tri : nullptr);
@@ -425,6 +508,10 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
   parallel_for_range(pos.size(), 1024, [&](std::size_t b, std::size_t e) {
     for (std::size_t v = b; v < e; ++v) {
       if (!used[v]) continue;
+      if (reuse && pos[v] == (*prev_pos)[v]) {
+        m.vert[v] = prev->vert[v];
+        continue;
+      }
       m.vert[v] = orig.closest(pos[v], prev ? &prev->vert[v].tri : nullptr);
     }
   });
@@ -435,16 +522,16 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
 
 // Adds the sparse energy samples' correspondences to `m`, measured without them at the same
 // positions (what measure(..., true) would add: the rest is the same). Each query starts from
-// the triangle of the face's first dense sample, near by.
+// the triangle of the face's nearest dense sample.
 void add_sparse(Measure& m, const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
                 const ReverseSamples& rs, const Original& orig) {
   const std::size_t nr = rs.bary.size();
   parallel_for_range(tris.size(), 256, [&](std::size_t b, std::size_t e) {
     for (std::size_t f = b; f < e; ++f) {
-      const Id start = m.rev[nr * f + rs.measure_begin].tri;
-      for (std::size_t k = rs.energy_begin; k < rs.measure_begin; ++k) {
+      for (std::size_t k = rs.energy_begin; k < rs.energy_end; ++k) {
         const Bary& w = rs.bary[k];
         const Vec3 y = w[0] * pos[tris[f][0]] + w[1] * pos[tris[f][1]] + w[2] * pos[tris[f][2]];
+        const Id start = m.rev[nr * f + rs.nearest_node[k - rs.energy_begin]].tri;
         m.rev[nr * f + k] = orig.closest(y, &start);
       }
     }
@@ -611,12 +698,23 @@ std::size_t flip_edges(const std::vector<Vec3>& pos, std::vector<Tri>& tris,
         for (std::size_t k = rs.measure_begin; k < rs.measure_end; ++k) {
           before += m.area[f] * rs.weight[k] * m.rev[nr * f + k].dist2;
         }
-      const Id hint = m.rev[nr * f1 + rs.measure_begin].tri;
+      // The reverse part only adds to `after`: a pair already worse without it is not scored.
+      if (!(after < before * (1 - 1e-6))) continue;
       for (const auto& [g, area] : {std::pair{g1, k1n}, std::pair{g2, k2n}})
         for (std::size_t k = rs.measure_begin; k < rs.measure_end; ++k) {
           const Bary& w = rs.bary[k];
           const Vec3 y = w[0] * pos[g[0]] + w[1] * pos[g[1]] + w[2] * pos[g[2]];
+          // Each query starts from the original's triangle of the nearer of the old faces'
+          // samples with the same coordinates (the new faces cover the old ones' quad).
+          const Reverse& r1 = m.rev[nr * f1 + k];
+          const Reverse& r2 = m.rev[nr * f2 + k];
+          const Vec3 y1 =
+              w[0] * pos[tris[f1][0]] + w[1] * pos[tris[f1][1]] + w[2] * pos[tris[f1][2]];
+          const Vec3 y2 =
+              w[0] * pos[tris[f2][0]] + w[1] * pos[tris[f2][1]] + w[2] * pos[tris[f2][2]];
+          const Id hint = norm2(y - y1) <= norm2(y - y2) ? r1.tri : r2.tri;
           after += area * area_scale * rs.weight[k] * orig.closest(y, &hint).dist2;
+          if (!(after < before * (1 - 1e-6))) break;
         }
       if (after < before * (1 - 1e-6)) fc = {before - after, f1, f2, g1, g2};
     }
@@ -750,26 +848,6 @@ class TriangleCost final : public ceres::SizedCostFunction<9, 3, 3, 3> {
   double rhs_[9] = {};
 };
 
-// w (v_i − v_j)
-class SpringCost final : public ceres::SizedCostFunction<3, 3, 3> {
- public:
-  explicit SpringCost(double w) : w_(w) {}
-  bool Evaluate(double const* const* v, double* r, double** jac) const override {
-    for (int c = 0; c < 3; ++c) r[c] = w_ * (v[0][c] - v[1][c]);
-    if (jac) {
-      for (int k = 0; k < 2; ++k) {
-        if (!jac[k]) continue;
-        std::fill(jac[k], jac[k] + 9, 0.0);
-        for (int c = 0; c < 3; ++c) jac[k][4 * c] = k == 0 ? w_ : -w_;
-      }
-    }
-    return true;
-  }
-
- private:
-  double w_;
-};
-
 double median(std::vector<double> v) {
   if (v.empty()) return 0;
   const auto mid = v.begin() + std::ptrdiff_t(v.size() / 2);
@@ -839,9 +917,22 @@ std::vector<Vec3> solve_positions(const std::vector<Vec3>& pos, const std::vecto
     }
   }
   const std::size_t nr = rb.size();
+  // The springs join the triangles' blocks: an edge's rows go to each of its k triangles with
+  // weight 1/√k (the same squared sum), and the QR below folds them in with the samples' rows.
+  const double spring_w =
+      std::sqrt(o.spring * double(samples.size() + (ee - eb) * tris.size()) / double(edges.size()));
+  std::vector<std::array<Id, 2>> sides;  // every triangle's edges, sorted: k copies of an edge
+  if (spring_w > 0) {
+    sides.reserve(3 * tris.size());
+    for (const Tri& t : tris)
+      for (int k = 0; k < 3; ++k)
+        sides.push_back({std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])});
+    std::sort(sides.begin(), sides.end());
+  }
+  const Eigen::Index spring_rows = spring_w > 0 ? 9 : 0;
   std::vector<std::unique_ptr<TriangleCost>> costs(tris.size());
   parallel_for_range(tris.size(), 256, [&](std::size_t b, std::size_t e) {
-    Eigen::Matrix<double, Eigen::Dynamic, 10> rows(Eigen::Index(9 + ee - eb), 10);
+    Eigen::Matrix<double, Eigen::Dynamic, 10> rows(Eigen::Index(9 + ee - eb) + spring_rows, 10);
     for (std::size_t f = b; f < e; ++f) {
       gathered_rows(gathered[f], rows, 0);
       for (std::size_t k = eb; k < ee; ++k) {
@@ -851,6 +942,21 @@ std::vector<Vec3> solve_positions(const std::vector<Vec3>& pos, const std::vecto
         for (int j = 0; j < 3; ++j)
           for (int c = 0; c < 3; ++c) rows(row, 3 * j + c) = sw * rb[k][j] * r.normal[c];
         rows(row, 9) = sw * dot(r.normal, r.target);
+      }
+      if (spring_rows > 0) {
+        rows.bottomRows(spring_rows).setZero();
+        const Tri& t = tris[f];
+        for (int k = 0; k < 3; ++k) {
+          const int j = (k + 1) % 3;
+          const std::array<Id, 2> side{std::min(t[k], t[j]), std::max(t[k], t[j])};
+          const auto run = std::equal_range(sides.begin(), sides.end(), side);
+          const double w = spring_w / std::sqrt(double(run.second - run.first));
+          for (int c = 0; c < 3; ++c) {
+            const Eigen::Index row = Eigen::Index(9 + ee - eb) + 3 * k + c;
+            rows(row, 3 * k + c) = w;
+            rows(row, 3 * j + c) = -w;
+          }
+        }
       }
       costs[f] = std::make_unique<TriangleCost>(rows);
     }
@@ -863,11 +969,6 @@ std::vector<Vec3> solve_positions(const std::vector<Vec3>& pos, const std::vecto
     const Tri& t = tris[f];
     problem.AddResidualBlock(costs[f].release(), nullptr, block(t[0]), block(t[1]), block(t[2]));
   }
-  const double spring_w =
-      std::sqrt(o.spring * double(samples.size() + (ee - eb) * tris.size()) / double(edges.size()));
-  if (spring_w > 0)
-    for (const auto& e : edges)
-      problem.AddResidualBlock(new SpringCost(spring_w), nullptr, block(e[0]), block(e[1]));
   for (std::size_t i = 0; i < pos.size(); ++i)
     if (fixed[i] && problem.HasParameterBlock(block(Id(i))))
       problem.SetParameterBlockConstant(block(Id(i)));
@@ -948,7 +1049,43 @@ struct Rejector {
         }
     std::size_t undone = 0;
     std::vector<char> revert(nv, 0);
+    std::vector<std::uint8_t> is_dirty(tris.size(), 0);  // 1: dirty, 2: dirty and turned
     while (!dirty.empty()) {
+      // A dirty face that turned by 90° or more (or collapsed) offends; one that did not is
+      // tested against the faces near it, in parallel, each pair once: a pair of two such
+      // faces from the smaller id. Offending faces are flagged (a relaxed store of 1, from
+      // any thread) and then marked in order.
+      for (Id f : dirty) is_dirty[f] = 1;
+      std::vector<std::atomic<std::uint8_t>> offends(tris.size());
+      for (auto& x : offends) x.store(0, std::memory_order_relaxed);
+      parallel_for_range(dirty.size(), 256, [&](std::size_t b0, std::size_t b1) {
+        for (std::size_t i = b0; i < b1; ++i) {
+          const Id f = dirty[i];
+          const Vec3 nn = face_normal(corners(pos, f)), no = face_normal(corners(old, f));
+          if (dot(nn, no) <= 0 && norm2(no) > 0) is_dirty[f] = 2;
+        }
+      });
+      parallel_for_range(dirty.size(), 64, [&](std::size_t b0, std::size_t b1) {
+        for (std::size_t i = b0; i < b1; ++i) {
+          const Id f = dirty[i];
+          if (is_dirty[f] == 2) {
+            offends[f].store(1, std::memory_order_relaxed);
+            continue;
+          }
+          const auto cn = corners(pos, f), co = corners(old, f);
+          const auto fid = ids(f);
+          grid.for_each_candidate(boxes[f][0], boxes[f][1], [&](std::uint32_t g) {
+            if (g == f || (is_dirty[g] == 1 && g < f)) return;
+            const auto gid = ids(Id(g));
+            if (faces_intersect(cn, fid, corners(pos, Id(g)), gid) &&
+                !faces_intersect(co, fid, corners(old, Id(g)), gid)) {
+              offends[f].store(1, std::memory_order_relaxed);
+              offends[g].store(1, std::memory_order_relaxed);
+            }
+          });
+        }
+      });
+      for (Id f : dirty) is_dirty[f] = 0;
       std::vector<Id> to_revert;
       const auto mark = [&](Id f) {
         for (Id v : tris[f])
@@ -957,24 +1094,8 @@ struct Rejector {
             to_revert.push_back(v);
           }
       };
-      for (Id f : dirty) {
-        const auto cn = corners(pos, f), co = corners(old, f);
-        const Vec3 nn = face_normal(cn), no = face_normal(co);
-        if (dot(nn, no) <= 0 && norm2(no) > 0) {  // turned by 90° or more, or collapsed
-          mark(f);
-          continue;
-        }
-        const auto fid = ids(f);
-        grid.for_each_candidate(boxes[f][0], boxes[f][1], [&](std::uint32_t g) {
-          if (g == f) return;
-          const auto gid = ids(Id(g));
-          if (faces_intersect(cn, fid, corners(pos, Id(g)), gid) &&
-              !faces_intersect(co, fid, corners(old, Id(g)), gid)) {
-            mark(f);
-            mark(Id(g));
-          }
-        });
-      }
+      for (std::size_t f = 0; f < tris.size(); ++f)
+        if (offends[f].load(std::memory_order_relaxed)) mark(Id(f));
       if (to_revert.empty()) break;
       std::sort(to_revert.begin(), to_revert.end());
       dirty.clear();
@@ -1090,7 +1211,7 @@ RefineResult fit_detail::refine_mesh(const PolyData& original, const PolyData& s
       const std::vector<Tri> kept = tris;
       const std::vector<std::vector<Id>> kept_faces = faces_of;
       if (flip_edges(pos, tris, faces_of, samples, rsamples, current, orig) > 0) {
-        Measure m = measure(pos, tris, samples, rsamples, used, orig, false, &current);
+        Measure m = measure(pos, tris, samples, rsamples, used, orig, false, &current, &pos, &kept);
         if (m.rms < current.rms && m.hausdorff <= hlimit) {
           current = std::move(m);
           edges = unique_edges(tris);
@@ -1142,6 +1263,7 @@ RefineResult fit_detail::refine_mesh(const PolyData& original, const PolyData& s
         for (std::size_t v = 0; v < pos.size(); ++v) {
           if (m.vert[v].dist2 > limit2) undo[v] = 1;
         }
+        const std::vector<Vec3> measured = trial;
         bool changed = false;
         for (std::size_t i = 0; i < pos.size(); ++i) {
           if (undo[i] && trial[i] != pos[i]) {
@@ -1151,7 +1273,7 @@ RefineResult fit_detail::refine_mesh(const PolyData& original, const PolyData& s
         }
         if (!changed) break;
         stats.rejected_moves += rejector.run(pos, trial);
-        m = measure(trial, tris, samples, rsamples, used, orig, false, &current);
+        m = measure(trial, tris, samples, rsamples, used, orig, false, &m, &measured, &tris);
       }
       if (m.rms <= current.rms && m.hausdorff <= hlimit) {
         pos = std::move(trial);
