@@ -1,11 +1,14 @@
 // refine_mesh: a coarse mesh moves onto the fine surface it approximates (RMS and Hausdorff
 // fall), faces neither flip nor intersect, connectivity and arrays are carried, a plane stays a
-// plane, locked and border vertices stay, bad input is refused.
+// plane, locked and border vertices stay, the result does not depend on the thread count, bad
+// input is refused.
 
 #include "isoforge/fit/refine.hpp"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -236,6 +239,33 @@ TEST(RefineMesh, BigMovesAreCheckedAndSomeUndone) {
   for (std::size_t c = 0; c < out.polys.size(); ++c) EXPECT_GT(norm2(face_normal(out, c)), 0) << c;
   EXPECT_LT(st.rms_after, 0.3 * st.rms_before);
   EXPECT_LT(st.hausdorff_after, st.hausdorff_before);
+}
+
+TEST(RefineMesh, ResultDoesNotDependOnTheThreads) {
+  // The case above (moves refused, measures after undoing that take over what stayed, flips)
+  // on one thread and on all: the same points and triangles, bit for bit.
+  const PolyData fine = bumpy_sphere(96, 192, 0.3);
+  const PolyData coarse = bumpy_sphere(8, 16, 0.06, 0.8);
+  RefineOptions o;
+  o.spring = 0;
+  o.outer_iterations = 6;
+  const auto all = refine_mesh(fine, coarse, o);
+  const auto one = [&] {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    return refine_mesh(fine, coarse, o);
+  }();
+  EXPECT_GT(all.stats.rejected_moves, 0u);
+  EXPECT_EQ(all.stats.rejected_moves, one.stats.rejected_moves);
+  EXPECT_EQ(all.stats.flips, one.stats.flips);
+  ASSERT_EQ(all.output.points.size(), one.output.points.size());
+  for (std::size_t i = 0; i < all.output.points.size(); ++i) {
+    EXPECT_EQ(all.output.points[i], one.output.points[i]) << i;
+  }
+  ASSERT_EQ(all.output.polys.size(), one.output.polys.size());
+  for (std::size_t c = 0; c < all.output.polys.size(); ++c) {
+    const auto a = all.output.polys.cell(c), b = one.output.polys.cell(c);
+    EXPECT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end())) << c;
+  }
 }
 
 TEST(RefineMesh, PlaneStaysPlanarAndBorderStays) {
