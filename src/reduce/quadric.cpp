@@ -1,7 +1,9 @@
 #include "reduce/quadric.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "isoforge/core/parallel.hpp"
 
@@ -78,12 +80,27 @@ void vertex_quadrics(const EditMesh& mesh, const DecimateOptions& options,
   parallel_for_range(
       nv, 1024,
       [&](std::size_t begin, std::size_t end) {
+        std::vector<Vid> ends;  // the other ends of v's edges, once per face (sorted)
         for (std::size_t i = begin; i < end; ++i) {
           if (!side.empty() && side[i] != which) continue;
           const Vid v = static_cast<Vid>(i);
           Quadric q;
           double area = 0;
           const Vec3& pv = mesh.position(v);
+          if (border) {
+            ends.clear();
+            for (Fid f : mesh.faces_of(v)) {
+              for (Vid w : mesh.face(f)) {
+                if (w != v) ends.push_back(w);
+              }
+            }
+            std::sort(ends.begin(), ends.end());
+          }
+          // The faces of the edge (v, w): as EditMesh::edge_faces, from v's list.
+          const auto edge_faces = [&](Vid w) {
+            const auto run = std::equal_range(ends.begin(), ends.end(), w);
+            return run.second - run.first;
+          };
           for (Fid f : mesh.faces_of(v)) {
             const Vec3 n = normal_of(f);
             const double len = norm(n);
@@ -100,7 +117,7 @@ void vertex_quadrics(const EditMesh& mesh, const DecimateOptions& options,
               if (a0 != v && a1 != v) continue;
               const Vid w = a0 == v ? a1 : a0;
               bool constrain = false;
-              if (border && mesh.edge_faces(v, w) == 1) constrain = true;
+              if (border && edge_faces(w) == 1) constrain = true;
               if (!constrain && features) {
                 for (Fid g : mesh.faces_of(v)) {
                   if (g == f) continue;
