@@ -6,6 +6,7 @@
 #include <limits>
 #include <numbers>
 
+#include "isoforge/core/error.hpp"
 #include "isoforge/core/predicates.hpp"
 
 namespace isoforge::reduce {
@@ -107,25 +108,63 @@ bool separated_by(const FacePlanes& f, const std::array<Vec3, 3>& q, const Tri& 
 
 }  // namespace
 
+void FaceLists::build(std::size_t vertices, std::span<const Tri> faces) {
+  constexpr std::uint32_t kSlack = 2;
+  slots_.assign(vertices, Slot{});
+  for (const Tri& t : faces) {
+    for (Vid v : t) ++slots_[v].capacity;
+  }
+  std::size_t total = 0;
+  for (Slot& s : slots_) {
+    s.start = static_cast<std::uint32_t>(total);
+    if (s.capacity > 0) s.capacity += kSlack;
+    total += s.capacity;
+    if (total > std::numeric_limits<std::uint32_t>::max() / 2) {
+      throw Error("decimation: too many faces around the vertices for one list pool");
+    }
+  }
+  pool_.reserve(total + total / 2);
+  pool_.resize(total);
+  for (Fid f = 0; f < faces.size(); ++f) {
+    for (Vid v : faces[f]) pool_[slots_[v].start + slots_[v].size++] = f;
+  }
+}
+
+void FaceLists::grow(Vid v) {
+  Slot& s = slots_[v];
+  const std::size_t capacity = std::max<std::size_t>(8, 2 * std::size_t{s.capacity});
+  const std::size_t start = pool_.size();
+  if (start + capacity > std::numeric_limits<std::uint32_t>::max()) {
+    throw Error("decimation: the list pool outgrew 32-bit offsets");
+  }
+  pool_.resize(start + capacity);
+  std::copy_n(pool_.begin() + s.start, s.size, pool_.begin() + static_cast<std::ptrdiff_t>(start));
+  s.start = static_cast<std::uint32_t>(start);
+  s.capacity = static_cast<std::uint32_t>(capacity);
+}
+
+void FaceLists::erase(Vid v, Fid f) {
+  Slot& s = slots_[v];
+  Fid* list = pool_.data() + s.start;
+  Fid* end = list + s.size;
+  Fid* it = std::find(list, end, f);
+  if (it != end) {
+    *it = end[-1];
+    --s.size;
+  }
+}
+
 EditMesh::EditMesh(std::vector<Vec3> positions, std::vector<Tri> triangles,
                    std::vector<std::uint8_t> locked, const EditSettings& settings)
     : positions_(std::move(positions)),
       faces_(std::move(triangles)),
       alive_(faces_.size(), 1),
       locked_(std::move(locked)),
-      vertex_faces_(positions_.size()),
       live_faces_(faces_.size()),
       settings_(settings),
       cos_turn_(std::cos(settings.max_normal_turn * std::numbers::pi / 180)),
       mark_(faces_.size(), 0) {
-  std::vector<std::uint32_t> count(positions_.size(), 0);
-  for (const Tri& t : faces_) {
-    for (Vid v : t) ++count[v];
-  }
-  for (std::size_t v = 0; v < positions_.size(); ++v) vertex_faces_[v].reserve(count[v]);
-  for (Fid f = 0; f < faces_.size(); ++f) {
-    for (Vid v : faces_[f]) vertex_faces_[v].push_back(f);
-  }
+  vertex_faces_.build(positions_.size(), faces_);
   border_.resize(positions_.size());
   for (std::size_t v = 0; v < positions_.size(); ++v) {
     border_[v] = on_border(static_cast<Vid>(v)) ? 1 : 0;
@@ -456,12 +495,7 @@ Refusal EditMesh::check_merge(std::span<const Vid> group, const Vec3& p) {
 }
 
 void EditMesh::detach(Fid f, Vid v) {
-  auto& list = vertex_faces_[v];
-  auto it = std::find(list.begin(), list.end(), f);
-  if (it != list.end()) {
-    *it = list.back();
-    list.pop_back();
-  }
+  vertex_faces_.erase(v, f);
 }
 
 std::size_t EditMesh::merge(std::span<const Vid> group, const Vec3& p) {
@@ -474,8 +508,9 @@ std::size_t EditMesh::merge(std::span<const Vid> group, const Vec3& p) {
   }
   positions_[keep] = p;
   std::size_t removed = 0;
-  std::vector<Fid>& kept = vertex_faces_[keep];
-  kept.clear();
+  // The merged fan is larger than either: it takes the largest slot.
+  for (std::size_t i = 1; i < group.size(); ++i) vertex_faces_.take_larger_slot(keep, group[i]);
+  vertex_faces_.clear(keep);
   for (Fid f : touched_) {
     Tri& t = faces_[f];
     int members = 0;
@@ -492,13 +527,10 @@ std::size_t EditMesh::merge(std::span<const Vid> group, const Vec3& p) {
     for (Vid& v : t) {
       if (member(v)) v = keep;
     }
-    kept.push_back(f);
+    vertex_faces_.push_back(keep, f);
     if (!unchecked_.empty()) unchecked_[f] = unchecked;
   }
-  for (std::size_t i = 1; i < group.size(); ++i) {
-    vertex_faces_[group[i]].clear();
-    vertex_faces_[group[i]].shrink_to_fit();
-  }
+  for (std::size_t i = 1; i < group.size(); ++i) vertex_faces_.clear(group[i]);
   if (!merged_into_.empty()) {
     for (std::size_t i = 1; i < group.size(); ++i) {
       merged_into_[group[i]] = keep;
@@ -513,12 +545,12 @@ std::size_t EditMesh::merge(std::span<const Vid> group, const Vec3& p) {
     for (Vid s : group) border_[keep] |= border_[s];
   } else {
     border_[keep] = on_border(keep) ? 1 : 0;
-    for (Fid f : kept) {
+    for (Fid f : vertex_faces_[keep]) {
       for (Vid v : faces_[f]) border_[v] = on_border(v) ? 1 : 0;
     }
   }
   if (use_grid_) {
-    for (Fid f : kept) grid_insert(f);
+    for (Fid f : vertex_faces_[keep]) grid_insert(f);
     if (2 * live_faces_ < grid_faces_ && live_faces_ > 0) build_grid();
   }
   return removed;
@@ -589,7 +621,7 @@ void EditMesh::replace(std::span<const Fid> old_faces, std::span<const Tri> new_
     mark_.push_back(0);
     if (!unchecked_.empty()) unchecked_.push_back(0);
     ++live_faces_;
-    for (Vid v : t) vertex_faces_[v].push_back(f);
+    for (Vid v : t) vertex_faces_.push_back(v, f);
     if (use_grid_) grid_insert(f);
   }
   for (const Tri& t : new_faces) {
