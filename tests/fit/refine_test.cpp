@@ -223,17 +223,24 @@ TEST(RefineMesh, EdgeFlipsAlignEdgesWithTheRulings) {
   EXPECT_EQ(same.polys, coarse.polys);
 }
 
+// A coarse, shrunken, nearly round mesh inside a strongly bumped sphere, without springs: the
+// solves want large moves, and some would turn a face over or through another (found by
+// trying: 192 moves are undone here).
+struct BigMoves {
+  PolyData fine = bumpy_sphere(96, 192, 0.3);
+  PolyData coarse = bumpy_sphere(8, 16, 0.06, 0.8);
+  RefineOptions options = [] {
+    RefineOptions o;
+    o.spring = 0;
+    o.outer_iterations = 6;
+    return o;
+  }();
+};
+
 TEST(RefineMesh, BigMovesAreCheckedAndSomeUndone) {
-  // A coarse, shrunken, nearly round mesh inside a strongly bumped sphere, without springs: the
-  // solves want large moves, and some would turn a face over or through another (found by
-  // trying: 192 moves are undone here). What remains has no self-intersection and no face that
-  // collapsed, and both errors fell.
-  const PolyData fine = bumpy_sphere(96, 192, 0.3);
-  const PolyData coarse = bumpy_sphere(8, 16, 0.06, 0.8);
-  RefineOptions o;
-  o.spring = 0;
-  o.outer_iterations = 6;
-  const auto [out, st] = refine_mesh(fine, coarse, o);
+  // What remains has no self-intersection and no face that collapsed, and both errors fell.
+  const BigMoves bm;
+  const auto [out, st] = refine_mesh(bm.fine, bm.coarse, bm.options);
   EXPECT_GT(st.rejected_moves, 0u);
   EXPECT_TRUE(self_intersections(out).empty());
   for (std::size_t c = 0; c < out.polys.size(); ++c) EXPECT_GT(norm2(face_normal(out, c)), 0) << c;
@@ -244,15 +251,11 @@ TEST(RefineMesh, BigMovesAreCheckedAndSomeUndone) {
 TEST(RefineMesh, ResultDoesNotDependOnTheThreads) {
   // The case above (moves refused, measures after undoing that take over what stayed, flips)
   // on one thread and on all: the same points and triangles, bit for bit.
-  const PolyData fine = bumpy_sphere(96, 192, 0.3);
-  const PolyData coarse = bumpy_sphere(8, 16, 0.06, 0.8);
-  RefineOptions o;
-  o.spring = 0;
-  o.outer_iterations = 6;
-  const auto all = refine_mesh(fine, coarse, o);
+  const BigMoves bm;
+  const auto all = refine_mesh(bm.fine, bm.coarse, bm.options);
   const auto one = [&] {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-    return refine_mesh(fine, coarse, o);
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    return refine_mesh(bm.fine, bm.coarse, bm.options);
   }();
   EXPECT_GT(all.stats.rejected_moves, 0u);
   EXPECT_EQ(all.stats.rejected_moves, one.stats.rejected_moves);
