@@ -35,6 +35,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <tuple>
 #include <vector>
 
 #include "fit/detail/fit_ops.hpp"
@@ -112,7 +113,71 @@ struct ReverseSamples {
   std::size_t energy_begin = 0, energy_end = 0;    // the samples of the sparse energy
   std::size_t measure_begin = 0, measure_end = 0;  // the samples of the measure (dense energy)
   std::vector<std::size_t> nearest_node;           // per sparse sample, the nearest measure sample
+  std::vector<std::array<int, 3>> nodes;  // per measure sample, its coordinates × the level
 };
+
+// The measure samples that neighbouring triangles share — a corner is a vertex, a node on an
+// edge lies on both its triangles — for one set of triangles: each such point is queried once.
+// The same point comes out of either triangle's formula bit for bit (the weights are the same
+// quotients, the third term is a zero and addition commutes), so its answer is the same.
+struct SharedNodes {
+  static constexpr std::uint32_t kVertex = 0x80000000u;  // `of` holds a vertex id
+  std::vector<Tri> tris;                                 // the triangles they were found for
+  std::vector<std::uint32_t> of;  // per (triangle, measure sample): kVertex | v, or an owner
+  std::vector<std::array<std::uint32_t, 2>> owners;  // (triangle, sample) querying a point
+};
+
+SharedNodes shared_nodes(const std::vector<Tri>& tris, const ReverseSamples& rs) {
+  SharedNodes sn;
+  sn.tris = tris;
+  const std::size_t per = rs.measure_end - rs.measure_begin;
+  sn.of.resize(tris.size() * per);
+  struct EdgeNode {
+    Id a, b;
+    int ma;
+    std::uint32_t at;  // index in `of`
+  };
+  std::vector<EdgeNode> edge_nodes;
+  for (std::size_t f = 0; f < tris.size(); ++f) {
+    for (std::size_t j = 0; j < per; ++j) {
+      const std::array<int, 3>& c = rs.nodes[j];
+      const int zeros = (c[0] == 0) + (c[1] == 0) + (c[2] == 0);
+      const auto at = std::uint32_t(f * per + j);
+      if (zeros == 2) {
+        const int s = c[0] != 0 ? 0 : (c[1] != 0 ? 1 : 2);
+        sn.of[at] = SharedNodes::kVertex | tris[f][s];
+      } else if (zeros == 1) {
+        const int s1 = c[0] == 0 ? 1 : 0, s2 = c[2] == 0 ? 1 : 2;
+        Id a = tris[f][s1], b = tris[f][s2];
+        int ma = c[s1];
+        if (a > b) {
+          std::swap(a, b);
+          ma = c[s2];
+        }
+        edge_nodes.push_back({a, b, ma, at});
+      } else {
+        sn.of[at] = std::uint32_t(sn.owners.size());
+        sn.owners.push_back({std::uint32_t(f), std::uint32_t(rs.measure_begin + j)});
+      }
+    }
+  }
+  std::sort(edge_nodes.begin(), edge_nodes.end(), [](const EdgeNode& x, const EdgeNode& y) {
+    return std::tie(x.a, x.b, x.ma, x.at) < std::tie(y.a, y.b, y.ma, y.at);
+  });
+  for (std::size_t i = 0; i < edge_nodes.size(); ++i) {
+    const EdgeNode& e = edge_nodes[i];
+    if (i == 0 || e.a != edge_nodes[i - 1].a || e.b != edge_nodes[i - 1].b ||
+        e.ma != edge_nodes[i - 1].ma) {
+      sn.owners.push_back(
+          {std::uint32_t(e.at / per), std::uint32_t(rs.measure_begin + e.at % per)});
+    }
+    sn.of[e.at] = std::uint32_t(sn.owners.size() - 1);
+  }
+  if (sn.owners.size() >= SharedNodes::kVertex || tris.size() * per >= SharedNodes::kVertex) {
+    throw Error("refine_mesh: too many samples of the simplified mesh");
+  }
+  return sn;
+}
 
 ReverseSamples reverse_samples(std::size_t forward_samples, std::size_t triangles) {
   const double per = double(forward_samples) / double(std::max<std::size_t>(triangles, 1));
@@ -125,6 +190,12 @@ ReverseSamples reverse_samples(std::size_t forward_samples, std::size_t triangle
   r.measure_begin = r.bary.size();
   grid_nodes(level, r.bary, r.weight);
   r.measure_end = r.bary.size();
+  for (std::size_t k = r.measure_begin; k < r.measure_end; ++k) {
+    std::array<int, 3> c{};
+    for (int s = 0; s < 3; ++s)
+      c[std::size_t(s)] = int(std::lround(r.bary[k][std::size_t(s)] * level));
+    r.nodes.push_back(c);
+  }
   for (std::size_t k = r.energy_begin; k < r.energy_end; ++k) {
     std::size_t best = r.measure_begin;
     double best_d = 1e300;
@@ -374,8 +445,9 @@ struct Original {
 // corners are the same points, of a vertex that stayed, and of an original's sample whose
 // closest triangle stayed, unless a changed triangle (looked up in a grid of those alone) now
 // comes closer. The result is the one a full measure gives (the same (distance, id) order).
+// `shared` holds the shared measure samples of `tris` (made again when the triangles differ).
 Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
-                const std::vector<Vec3>& samples, const ReverseSamples& rs,
+                const std::vector<Vec3>& samples, const ReverseSamples& rs, SharedNodes& shared,
                 const std::vector<char>& used, const Original& orig, bool sparse,
                 const Measure* prev = nullptr, const std::vector<Vec3>* prev_pos = nullptr,
                 const std::vector<Tri>* prev_tris = nullptr) {
@@ -472,7 +544,40 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
       m.fwd[i] = {f, {1 - q.s - q.t, q.s, q.t}, q.dist2};
     }
   });
-  const std::size_t nr = rb.size();
+  // The vertices (which are the triangles' corner samples too), then each point shared by
+  // triangles once, then every triangle's samples.
+  m.vert.resize(pos.size());
+  parallel_for_range(pos.size(), 1024, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) {
+      if (!used[v]) continue;
+      if (reuse && pos[v] == (*prev_pos)[v]) {
+        m.vert[v] = prev->vert[v];
+        continue;
+      }
+      m.vert[v] = orig.closest(pos[v], prev ? &prev->vert[v].tri : nullptr);
+    }
+  });
+  if (shared.tris != tris) shared = shared_nodes(tris, rs);
+  const std::size_t nr = rb.size(), per = rs.measure_end - rs.measure_begin;
+  std::vector<char> needed(shared.owners.size(), reuse ? 0 : 1);
+  if (reuse) {
+    for (std::uint32_t f : changed_ids) {
+      for (std::size_t j = 0; j < per; ++j) {
+        const std::uint32_t o = shared.of[f * per + j];
+        if ((o & SharedNodes::kVertex) == 0) needed[o] = 1;
+      }
+    }
+  }
+  std::vector<Reverse> points(shared.owners.size());
+  parallel_for_range(shared.owners.size(), 1024, [&](std::size_t b, std::size_t e) {
+    for (std::size_t u = b; u < e; ++u) {
+      if (!needed[u]) continue;
+      const auto [f, k] = shared.owners[u];
+      const Bary& w = rb[k];
+      const Vec3 y = w[0] * pos[tris[f][0]] + w[1] * pos[tris[f][1]] + w[2] * pos[tris[f][2]];
+      points[u] = orig.closest(y, prev ? &prev->rev[nr * f + k].tri : nullptr);
+    }
+  });
   m.rev.resize(nr * tris.size());
   parallel_for_range(tris.size(), 256, [&](std::size_t b, std::size_t e) {
     for (std::size_t f = b; f < e; ++f) {
@@ -483,10 +588,15 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
                   m.rev.begin() + std::ptrdiff_t(nr * f + k0));
         continue;
       }
-      for (std::size_t k = k0; k < rs.measure_end; ++k) {
+      for (std::size_t k = k0; k < rs.measure_begin; ++k) {  // the sparse samples
         const Bary& w = rb[k];
         const Vec3 y = w[0] * pos[tris[f][0]] + w[1] * pos[tris[f][1]] + w[2] * pos[tris[f][2]];
         m.rev[nr * f + k] = orig.closest(y, prev ? &prev->rev[nr * f + k].tri : nullptr);
+      }
+      for (std::size_t j = 0; j < per; ++j) {
+        const std::uint32_t o = shared.of[f * per + j];
+        m.rev[nr * f + rs.measure_begin + j] =
+            (o & SharedNodes::kVertex) != 0 ? m.vert[o & ~SharedNodes::kVertex] : points[o];
       }
     }
   });
@@ -504,17 +614,6 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
   m.rms = std::sqrt(sum / double(m.fwd.size() + tris.size() * (rs.measure_end - rs.measure_begin)));
   // The vertices count in the maximum (not in the RMS, which is by area): a vertex pushed off
   // the surface is where a sampled maximum misses the true one.
-  m.vert.resize(pos.size());
-  parallel_for_range(pos.size(), 1024, [&](std::size_t b, std::size_t e) {
-    for (std::size_t v = b; v < e; ++v) {
-      if (!used[v]) continue;
-      if (reuse && pos[v] == (*prev_pos)[v]) {
-        m.vert[v] = prev->vert[v];
-        continue;
-      }
-      m.vert[v] = orig.closest(pos[v], prev ? &prev->vert[v].tri : nullptr);
-    }
-  });
   for (const Reverse& r : m.vert) mx = std::max(mx, r.dist2);
   m.hausdorff = std::sqrt(mx);
   return m;
@@ -1186,10 +1285,11 @@ RefineResult fit_detail::refine_mesh(const PolyData& original, const PolyData& s
 
   RefineStats stats;
   const ReverseSamples rsamples = reverse_samples(samples.size(), tris.size());
+  SharedNodes shared;
   std::vector<char> used(pos.size(), 0);
   for (const Tri& t : tris)
     for (Id v : t) used[v] = 1;
-  Measure current = measure(pos, tris, samples, rsamples, used, orig, true);
+  Measure current = measure(pos, tris, samples, rsamples, shared, used, orig, true);
   stats.rms_before = current.rms;
   stats.hausdorff_before = current.hausdorff;
   const std::vector<Vec3> input = pos;
@@ -1211,7 +1311,8 @@ RefineResult fit_detail::refine_mesh(const PolyData& original, const PolyData& s
       const std::vector<Tri> kept = tris;
       const std::vector<std::vector<Id>> kept_faces = faces_of;
       if (flip_edges(pos, tris, faces_of, samples, rsamples, current, orig) > 0) {
-        Measure m = measure(pos, tris, samples, rsamples, used, orig, false, &current, &pos, &kept);
+        Measure m =
+            measure(pos, tris, samples, rsamples, shared, used, orig, false, &current, &pos, &kept);
         if (m.rms < current.rms && m.hausdorff <= hlimit) {
           current = std::move(m);
           edges = unique_edges(tris);
@@ -1241,7 +1342,7 @@ RefineResult fit_detail::refine_mesh(const PolyData& original, const PolyData& s
         trial[i] = is_finite(p) ? p : pos[i];
       }
       stats.rejected_moves += rejector.run(pos, trial);
-      Measure m = measure(trial, tris, samples, rsamples, used, orig, false, &current);
+      Measure m = measure(trial, tris, samples, rsamples, shared, used, orig, false, &current);
       // Where the step pushed a sample beyond the input's Hausdorff distance, the vertices of
       // the triangles involved go back (a few rounds): least squares may trade a little of the
       // maximum for the RMS, and this keeps the trade local instead of refusing the whole step.
@@ -1273,7 +1374,8 @@ RefineResult fit_detail::refine_mesh(const PolyData& original, const PolyData& s
         }
         if (!changed) break;
         stats.rejected_moves += rejector.run(pos, trial);
-        m = measure(trial, tris, samples, rsamples, used, orig, false, &m, &measured, &tris);
+        m = measure(trial, tris, samples, rsamples, shared, used, orig, false, &m, &measured,
+                    &tris);
       }
       if (m.rms <= current.rms && m.hausdorff <= hlimit) {
         pos = std::move(trial);
