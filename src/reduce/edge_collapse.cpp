@@ -226,6 +226,10 @@ DecimateStats Collapser::run() {
     while (mesh_.live_faces() > target && !heap_.empty()) {
       const Entry e = heap_.pop();
       if (stamp_[e.u] + stamp_[e.v] != e.stamps) continue;
+      // The merge's check reads the faces around both ends: asked for now, they arrive while
+      // the edge is evaluated.
+      mesh_.prefetch_faces(e.u);
+      mesh_.prefetch_faces(e.v);
       const Candidate c = evaluate(e.u, e.v);
       if (!c.valid) continue;
       if (prepared_.max_error > 0 && c.error > prepared_.max_error) {

@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "isoforge/core/prefetch.hpp"
 #include "isoforge/core/vec.hpp"
 #include "isoforge/spatial/self_intersections.hpp"
 
@@ -116,6 +117,11 @@ class EditMesh {
   /// The vertex v was merged into (v itself while it lives or if it was removed otherwise).
   [[nodiscard]] Vid merged_into(Vid v) const { return merged_into_.empty() ? v : merged_into_[v]; }
 
+  /// Asks for the records of v's faces before an edit around v looks at them (a hint: no
+  /// effect on results).
+  void prefetch_faces(Vid v) const {
+    for (Fid f : vertex_faces_[v]) prefetch(&faces_[f]);
+  }
   /// The distinct neighbours of v (vertices sharing a face), appended to `out` after clearing it.
   void neighbours(Vid v, std::vector<Vid>& out) const;
   /// Number of live faces containing the edge (u, v).
