@@ -81,21 +81,15 @@ PolyData icosphere(int levels, double radius) {
 // A grid of n × n quads split into triangles over [0, 1]² at z = 0; interior points moved by
 // `jitter` (in-plane, a fixed pattern).
 PolyData plane_grid(int n, double jitter) {
-  PolyData pd;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) {
-      const bool inside = i > 0 && j > 0 && i < n && j < n;
-      const double dx = inside ? jitter * std::sin(3.1 * i + 1.7 * j) : 0;
-      const double dy = inside ? jitter * std::cos(2.3 * i - 0.9 * j) : 0;
-      pd.points.push_back({(i + dx) / n, (j + dy) / n, 0});
-    }
-  const auto id = [n](int i, int j) { return Index(i + (n + 1) * j); };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      pd.polys.add({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      pd.polys.add({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-    }
-  return pd;
+  return test::grid_surface(
+      n,
+      [&](int i, int j) {
+        const bool inside = i > 0 && j > 0 && i < n && j < n;
+        const double dx = inside ? jitter * std::sin(3.1 * i + 1.7 * j) : 0;
+        const double dy = inside ? jitter * std::cos(2.3 * i - 0.9 * j) : 0;
+        return Vec3{(i + dx) / n, (j + dy) / n, 0};
+      },
+      [](int, int) { return true; });
 }
 
 Vec3 face_normal(const PolyData& pd, std::size_t c) {
@@ -176,24 +170,13 @@ TEST(RefineMesh, EdgeFlipsAlignEdgesWithTheRulings) {
   // the surface exactly up to the fine mesh's own error. The flips find the second split.
   const auto f = [](double x, double y) { return 0.6 * (x - y) * (x - y); };
   const auto grid = [&](int n, bool along) {
-    PolyData pd;
-    for (int j = 0; j <= n; ++j)
-      for (int i = 0; i <= n; ++i) {
-        const double x = double(i) / n, y = double(j) / n;
-        pd.points.push_back({x, y, f(x, y)});
-      }
-    const auto id = [n](int i, int j) { return Index(i + (n + 1) * j); };
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        if (along) {
-          pd.polys.add({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-          pd.polys.add({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-        } else {
-          pd.polys.add({id(i, j), id(i + 1, j), id(i, j + 1)});
-          pd.polys.add({id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
-        }
-      }
-    return pd;
+    return test::grid_surface(
+        n,
+        [&](int i, int j) {
+          const double x = double(i) / n, y = double(j) / n;
+          return Vec3{x, y, f(x, y)};
+        },
+        [along](int, int) { return along; });
   };
   const PolyData fine = grid(64, true), coarse = grid(4, false);
   RefineOptions fixed;

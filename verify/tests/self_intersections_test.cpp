@@ -14,6 +14,7 @@
 #include "isoforge/io/ply.hpp"
 #include "isoforge/spatial/self_intersections.hpp"
 #include "mesh_checks.hpp"
+#include "support/meshes.hpp"
 
 using namespace isoforge;
 
@@ -26,26 +27,13 @@ std::size_t cgal_count(const PolyData& m) {
 // An n × n grid of the unit square split into triangles (alternating diagonals), z = f(x, y).
 template <class F>
 PolyData grid(int n, F&& height) {
-  PolyData m;
-  for (int j = 0; j <= n; ++j) {
-    for (int i = 0; i <= n; ++i) {
-      const double x = double(i) / n, y = double(j) / n;
-      m.points.push_back({x, y, height(x, y)});
-    }
-  }
-  const auto id = [n](int i, int j) { return Index(i + (n + 1) * j); };
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
-      if ((i + j) % 2 == 0) {
-        m.polys.add({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-        m.polys.add({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-      } else {
-        m.polys.add({id(i, j), id(i + 1, j), id(i, j + 1)});
-        m.polys.add({id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
-      }
-    }
-  }
-  return m;
+  return test::grid_surface(
+      n,
+      [&](int i, int j) {
+        const double x = double(i) / n, y = double(j) / n;
+        return Vec3{x, y, height(x, y)};
+      },
+      [](int i, int j) { return (i + j) % 2 == 0; });
 }
 
 // Moves a fraction of the points by up to `amount` along the axes in `axes` (x, y, z flags).
