@@ -34,6 +34,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <numeric>
 #include <optional>
 #include <tuple>
 #include <vector>
@@ -358,6 +359,27 @@ struct Measure {
 // of cells about twice their mean edge long, and a query whose ball (about its candidate) fits
 // in a cell looks at the few triangles there instead of walking the tree from its root. The
 // answer is the locator's: the lowest (squared distance, id).
+// The triangles `ids` of `tris` (over `v`; not empty) in a grid of cells about twice their mean
+// edge long.
+std::unique_ptr<TriangleGrid> triangle_grid(const std::vector<Vec3>& v,
+                                            const std::vector<Tri>& tris,
+                                            const std::vector<std::uint32_t>& ids) {
+  Bounds b;
+  double edge_sum = 0;
+  for (std::uint32_t f : ids) {
+    for (int k = 0; k < 3; ++k) b.extend(v[tris[f][k]]);
+    edge_sum += norm(v[tris[f][1]] - v[tris[f][0]]);
+  }
+  auto grid = std::make_unique<TriangleGrid>(
+      b, triangle_grid_cell_size(b, ids.size(), edge_sum / double(ids.size())));
+  for (std::uint32_t f : ids) {
+    Bounds tb;
+    for (int k = 0; k < 3; ++k) tb.extend(v[tris[f][k]]);
+    grid->insert(f, tb.min, tb.max);
+  }
+  return grid;
+}
+
 class NearTriangles {
  public:
   /// `locator` over `set`, or null: then one is built when a query first needs it.
@@ -365,19 +387,9 @@ class NearTriangles {
                 const std::vector<Vec3>& v, const std::vector<Tri>& tris)
       : set_(set), locator_(locator) {
     if (tris.empty()) return;
-    Bounds b;
-    double edge_sum = 0;
-    for (const Tri& t : tris) {
-      for (int k = 0; k < 3; ++k) b.extend(v[t[k]]);
-      edge_sum += norm(v[t[1]] - v[t[0]]);
-    }
-    grid_ = std::make_unique<TriangleGrid>(
-        b, triangle_grid_cell_size(b, tris.size(), edge_sum / double(tris.size())));
-    for (std::size_t f = 0; f < tris.size(); ++f) {
-      Bounds tb;
-      for (int k = 0; k < 3; ++k) tb.extend(v[tris[f][k]]);
-      grid_->insert(std::uint32_t(f), tb.min, tb.max);
-    }
+    std::vector<std::uint32_t> all(tris.size());
+    std::iota(all.begin(), all.end(), 0u);
+    grid_ = triangle_grid(v, tris, all);
   }
 
   /// The nearest triangle to y given a candidate `c` (an id and its squared distance).
@@ -486,22 +498,8 @@ Measure measure(const std::vector<Vec3>& pos, const std::vector<Tri>& tris,
     loc.emplace(set);
   }
   // The changed triangles alone, for the samples whose closest triangle stayed.
-  std::optional<TriangleGrid> moved;
-  if (reuse && !changed_ids.empty()) {
-    Bounds bb;
-    double edge_sum = 0;
-    for (std::uint32_t f : changed_ids) {
-      for (int k = 0; k < 3; ++k) bb.extend(pos[tris[f][k]]);
-      edge_sum += norm(pos[tris[f][1]] - pos[tris[f][0]]);
-    }
-    moved.emplace(
-        bb, triangle_grid_cell_size(bb, changed_ids.size(), edge_sum / double(changed_ids.size())));
-    for (std::uint32_t f : changed_ids) {
-      Bounds tb;
-      for (int k = 0; k < 3; ++k) tb.extend(pos[tris[f][k]]);
-      moved->insert(f, tb.min, tb.max);
-    }
-  }
+  std::unique_ptr<TriangleGrid> moved;
+  if (reuse && !changed_ids.empty()) moved = triangle_grid(pos, tris, changed_ids);
   const std::size_t tb = set.triangle_begin();
   m.fwd.resize(samples.size());
   parallel_for_range(samples.size(), 1024, [&](std::size_t b, std::size_t e) {

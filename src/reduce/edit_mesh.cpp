@@ -245,27 +245,23 @@ int EditMesh::edge_faces(Vid u, Vid v) const {
   return n;
 }
 
-bool EditMesh::on_border(Vid v) const {
-  // The other ends of v's edges, once per face of the edge: an end seen once is a border edge's.
-  // Sorting the few of them is cheaper than counting each edge's faces (edge_faces per edge).
-  std::array<Vid, 48> small;
-  std::vector<Vid> large;
-  const std::size_t n = 2 * vertex_faces_[v].size();
-  Vid* ends = small.data();
-  if (n > small.size()) {
-    large.resize(n);
-    ends = large.data();
-  }
-  std::size_t k = 0;
+void EditMesh::edge_ends(Vid v, std::vector<Vid>& out) const {
+  out.clear();
   for (Fid f : vertex_faces_[v]) {
     for (Vid w : faces_[f]) {
-      if (w != v) ends[k++] = w;
+      if (w != v) out.push_back(w);
     }
   }
-  std::sort(ends, ends + k);
-  for (std::size_t i = 0; i < k;) {
+  std::sort(out.begin(), out.end());
+}
+
+bool EditMesh::on_border(Vid v) const {
+  // An end seen once is a border edge's (cheaper than counting each edge's faces).
+  thread_local std::vector<Vid> ends;
+  edge_ends(v, ends);
+  for (std::size_t i = 0; i < ends.size();) {
     std::size_t j = i + 1;
-    while (j < k && ends[j] == ends[i]) ++j;
+    while (j < ends.size() && ends[j] == ends[i]) ++j;
     if (j - i == 1) return true;
     i = j;
   }

@@ -124,6 +124,9 @@ class EditMesh {
   }
   /// The distinct neighbours of v (vertices sharing a face), appended to `out` after clearing it.
   void neighbours(Vid v, std::vector<Vid>& out) const;
+  /// The other ends of v's edges, once per face of the edge, sorted into `out` (cleared first):
+  /// an end seen k times is that of an edge with k faces.
+  void edge_ends(Vid v, std::vector<Vid>& out) const;
   /// Number of live faces containing the edge (u, v).
   [[nodiscard]] int edge_faces(Vid u, Vid v) const;
   /// Whether v has an edge with exactly one face (computed).

@@ -87,16 +87,8 @@ void vertex_quadrics(const EditMesh& mesh, const DecimateOptions& options,
           Quadric q;
           double area = 0;
           const Vec3& pv = mesh.position(v);
-          if (border) {
-            ends.clear();
-            for (Fid f : mesh.faces_of(v)) {
-              for (Vid w : mesh.face(f)) {
-                if (w != v) ends.push_back(w);
-              }
-            }
-            std::sort(ends.begin(), ends.end());
-          }
-          // The faces of the edge (v, w): as EditMesh::edge_faces, from v's list.
+          if (border) mesh.edge_ends(v, ends);
+          // The faces of the edge (v, w): as EditMesh::edge_faces, from the sorted ends.
           const auto edge_faces = [&](Vid w) {
             const auto run = std::equal_range(ends.begin(), ends.end(), w);
             return run.second - run.first;
