@@ -21,8 +21,8 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
     std::int64_t target = 0;
     double reduction = 0, max_error = 0, feature_angle = 180, max_turn = 90, boundary_weight = 10,
            attribute_weight = 0;
-    bool relative = false, preserve_boundary = true, preserve_topology = true, refine = false,
-         no_measure = false, no_intersection_check = false;
+    bool relative = false, preserve_boundary = true, preserve_topology = true,
+         preserve_volume = true, refine = false, no_measure = false, no_intersection_check = false;
     ColorBy color_by;
   };
   auto args = std::make_shared<Args>();
@@ -52,6 +52,10 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
   auto* boundary_opt =
       cmd->add_flag("--preserve-boundary,!--free-boundary", args->preserve_boundary,
                     "Keep borders in place with constraint planes (default on)");
+  auto* volume_opt = cmd->add_flag(
+      "--preserve-volume,!--free-volume", args->preserve_volume,
+      "Quadric method: place merged vertices so the surface keeps its volume (lower RMS "
+      "distance; default on); --free-volume: the quadric's own minimum (Garland-Heckbert)");
   cmd->add_flag("--preserve-topology,!--free-topology", args->preserve_topology,
                 "Never change genus, close holes or make non-manifold parts (default on)");
   cmd->add_option("--feature-angle", args->feature_angle,
@@ -92,7 +96,7 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
       "  isoforge decimate data/bunny.ply -e 0.001 --relative -o bunny_err.vtp\n"
       "  isoforge decimate data/bunny.ply -r 0.5 --color-by intensity --colormap inferno -o bunny_colored.ply");
   cmd->callback([args, &ctx, target_opt, reduction_opt, error_opt, relative_opt, boundary_opt,
-                 boundary_weight_opt, attribute_weight_opt] {
+                 boundary_weight_opt, attribute_weight_opt, volume_opt] {
     const FileFormat format = output_format(args->out, kSurfaceFormats, kSurfaceExtensions);
     exclude_each_other({target_opt, reduction_opt});
     if (target_opt->count() == 0 && reduction_opt->count() == 0 && error_opt->count() == 0) {
@@ -108,6 +112,7 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
     const bool removal = args->method == "vertex-removal";
     require_meaningful(attribute_weight_opt, args->method == "quadric",
                        "applies to --method quadric only");
+    require_meaningful(volume_opt, args->method == "quadric", "applies to --method quadric only");
     require_meaningful(boundary_opt, !removal,
                        "vertex removal has no border constraint planes (use --method quadric or "
                        "cell-collapse)");
@@ -126,6 +131,7 @@ void add_decimate_command(CLI::App& app, Context& ctx) {
     o.max_error_relative = args->relative;
     o.preserve_boundary = args->preserve_boundary;
     o.preserve_topology = args->preserve_topology;
+    o.preserve_volume = args->preserve_volume;
     o.feature_angle = args->feature_angle;
     o.max_normal_turn = args->max_turn;
     o.boundary_weight = args->boundary_weight;

@@ -27,8 +27,13 @@ namespace {
 struct Entry {
   std::uint32_t key;
   Vid u, v;
-  std::uint32_t stamps;
+  std::uint32_t stamps;  // the stamp sum (31 bits), and kExact once `key` is the exact cost
 };
+// With `preserve_volume` an edge is pushed with its unconstrained cost, a lower bound of the
+// volume-preserving one (a minimum under a constraint is never below the free minimum); popped,
+// it is evaluated exactly and pushed again with this flag, so edges still come out in the order
+// of their exact costs while only the popped ones pay for the constrained placement.
+constexpr std::uint32_t kExact = 0x80000000u;
 
 struct Candidate {
   bool valid = false;
@@ -61,6 +66,7 @@ class Collapser {
         record_(record) {
     const double w = options.attribute_weight * prepared.diagonal;
     attribute_scale2_ = attributes.empty() ? 0 : w * w;
+    preserve_volume_ = options.preserve_volume;
   }
 
   DecimateStats run();
@@ -71,7 +77,13 @@ class Collapser {
   void apply(Vid keep, Vid drop, const Vec3& p, double t, double error, DecimateStats& stats);
   /// Redoes the merges of the replay log up to the first one refused; false if one was.
   bool replay(RunLoop& loop, DecimateStats& stats);
-  [[nodiscard]] Candidate evaluate(Vid u, Vid v) const;
+  /// The best collapse of the edge (u, v): with `volume` the volume-preserving placement (which
+  /// reads the faces around both ends), otherwise the quadric's own minimum.
+  [[nodiscard]] Candidate evaluate(Vid u, Vid v, bool volume = false) const;
+  /// The volume-preserving placement of the merged (u, v) next to `mid`, or nullopt where the
+  /// constraint is not usable (minimize_on_plane).
+  [[nodiscard]] std::optional<Vec3> volume_placement(Vid u, Vid v, const Quadric& q,
+                                                     const Vec3& mid) const;
   /// Asks for the records of `vertices` before evaluating their edges: a vertex's neighbours
   /// are scattered, and an evaluation that waits on one cache miss at a time cost 9 % of a run.
   void prefetch_records(std::span<const Vid> vertices) const {
@@ -96,12 +108,40 @@ class Collapser {
   std::vector<MergeOp>* record_;
   bool replayed_all_ = false;
   double attribute_scale2_ = 0;
+  bool preserve_volume_ = false;
+  Entry last_{0, 0, 0, 0};  // the last entry pushed back with its exact cost, and its evaluation
+  Candidate last_candidate_;
+  std::size_t last_faces_ = 0;
   std::vector<std::uint32_t> stamp_;
   RadixHeap<Entry> heap_;
   std::vector<Vid> scratch_;
 };
 
-Candidate Collapser::evaluate(Vid u, Vid v) const {
+std::optional<Vec3> Collapser::volume_placement(Vid u, Vid v, const Quadric& q,
+                                                const Vec3& mid) const {
+  // The collapse replaces the faces around both ends (each once) by a fan around p; the volume
+  // between the two surfaces is the sum of the tetrahedra from p to the old faces,
+  // (p·n − s) / 6 with n = Σ (b − a) × (c − a) and s = Σ a·((b − a) × (c − a)). It is zero, and
+  // the enclosed volume unchanged, on the plane n·p = s.
+  Vec3 n{0, 0, 0};
+  double s = 0, scale = 0;
+  const auto add = [&](Fid f) {
+    const Tri& t = mesh_.face(f);
+    const Vec3& a = mesh_.position(t[0]);
+    const Vec3 m = cross(mesh_.position(t[1]) - a, mesh_.position(t[2]) - a);
+    n = n + m;
+    s += dot(a, m);
+    scale += norm(m);
+  };
+  for (Fid f : mesh_.faces_of(u)) add(f);
+  for (Fid f : mesh_.faces_of(v)) {
+    const Tri& t = mesh_.face(f);
+    if (t[0] != u && t[1] != u && t[2] != u) add(f);
+  }
+  return minimize_on_plane(q, mid, n, s, scale, norm(mesh_.position(v) - mesh_.position(u)));
+}
+
+Candidate Collapser::evaluate(Vid u, Vid v, bool volume) const {
   Candidate c;
   const bool lu = mesh_.locked(u), lv = mesh_.locked(v);
   if (lu && lv) return c;
@@ -117,7 +157,8 @@ Candidate Collapser::evaluate(Vid u, Vid v) const {
     c.keep = u;
     c.drop = v;
     const Vec3 mid = 0.5 * (pu + pv);
-    c.p = place(q, mid, {pu, pv, mid});
+    const std::optional<Vec3> p = volume ? volume_placement(u, v, q, mid) : std::nullopt;
+    c.p = p ? *p : place(q, mid, {pu, pv, mid});
   }
   c.p = prepared_.points->stored(c.p);  // checked and written as stored
   const double geometric = sum.planes(c.p);
@@ -140,7 +181,7 @@ void Collapser::push_edges_of(Vid v) {
     const Vid a = std::min(v, w), b = std::max(v, w);
     const Candidate c = evaluate(a, b);
     if (!c.valid) continue;
-    heap_.push({order_key(static_cast<float>(c.cost)), a, b, stamp_[a] + stamp_[b]});
+    heap_.push({order_key(static_cast<float>(c.cost)), a, b, (stamp_[a] + stamp_[b]) & ~kExact});
   }
 }
 
@@ -170,7 +211,8 @@ void Collapser::fill_heap() {
       for (Vid w : nb) {
         if (w <= v) continue;
         const Candidate c = evaluate(v, w);
-        entries[at] = {order_key(static_cast<float>(c.cost)), v, w, stamp_[v] + stamp_[w]};
+        entries[at] = {order_key(static_cast<float>(c.cost)), v, w,
+                       (stamp_[v] + stamp_[w]) & ~kExact};
         ok[at] = c.valid ? 1 : 0;
         ++at;
       }
@@ -225,13 +267,28 @@ DecimateStats Collapser::run() {
   for (;;) {
     while (mesh_.live_faces() > target && !heap_.empty()) {
       const Entry e = heap_.pop();
-      if (stamp_[e.u] + stamp_[e.v] != e.stamps) continue;
+      if (((stamp_[e.u] + stamp_[e.v]) & ~kExact) != (e.stamps & ~kExact)) continue;
       // The merge's check reads the faces around both ends: asked for now, they arrive while
       // the edge is evaluated.
       mesh_.prefetch_faces(e.u);
       mesh_.prefetch_faces(e.v);
-      const Candidate c = evaluate(e.u, e.v);
+      // An edge pushed back with its exact cost usually comes out next: its evaluation is kept
+      // if no merge has changed the faces around it since.
+      const bool again = (e.stamps & kExact) != 0 && e.u == last_.u && e.v == last_.v &&
+                         e.stamps == last_.stamps && mesh_.live_faces() == last_faces_;
+      const Candidate c = again ? last_candidate_ : evaluate(e.u, e.v, preserve_volume_);
       if (!c.valid) continue;
+      if (preserve_volume_ && (e.stamps & kExact) == 0) {
+        // The key was a lower bound: back in the queue with the exact cost, unless that is it.
+        const std::uint32_t key = order_key(static_cast<float>(c.cost));
+        if (key > e.key) {
+          last_ = {key, e.u, e.v, e.stamps | kExact};
+          last_candidate_ = c;
+          last_faces_ = mesh_.live_faces();
+          heap_.push(last_);
+          continue;
+        }
+      }
       if (prepared_.max_error > 0 && c.error > prepared_.max_error) {
         loop.skip_for_error();
         continue;

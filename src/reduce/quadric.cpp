@@ -3,34 +3,48 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 #include "isoforge/core/parallel.hpp"
 
 namespace isoforge::reduce {
 
+namespace {
+
+// A's adjugate (det × A⁻¹) when A is well conditioned (the common case on curved surfaces):
+// the smallest eigenvalue is det / (λmax λmid) ≥ det / I2 (I2 = the sum of the principal 2×2
+// minors = λ1λ2 + λ1λ3 + λ2λ3) and λmax ≤ trace, so det > cutoff × trace × I2 means every
+// eigenvalue is above cutoff × λmax and Cramer's rule is accurate. nullopt otherwise.
+struct Adjugate {
+  double c00, c01, c02, c11, c12, c22, det;
+
+  [[nodiscard]] Vec3 operator()(const Vec3& x) const {
+    return {c00 * x.x + c01 * x.y + c02 * x.z, c01 * x.x + c11 * x.y + c12 * x.z,
+            c02 * x.x + c12 * x.y + c22 * x.z};
+  }
+};
+
+std::optional<Adjugate> well_conditioned(const Quadric& q, double relative_cutoff) {
+  const double c00 = q.a11 * q.a22 - q.a12 * q.a12;
+  const double c01 = q.a02 * q.a12 - q.a01 * q.a22;
+  const double c02 = q.a01 * q.a12 - q.a02 * q.a11;
+  const double det = q.a00 * c00 + q.a01 * c01 + q.a02 * c02;
+  const double trace = q.a00 + q.a11 + q.a22;
+  const double c11 = q.a00 * q.a22 - q.a02 * q.a02;
+  const double c22 = q.a00 * q.a11 - q.a01 * q.a01;
+  const double minors = c00 + c11 + c22;
+  if (!(trace > 0 && minors > 0 && det > 2 * relative_cutoff * trace * minors)) return {};
+  return Adjugate{c00, c01, c02, c11, q.a01 * q.a02 - q.a00 * q.a12, c22, det};
+}
+
+}  // namespace
+
 Vec3 minimize(const Quadric& q, const Vec3& anchor, double relative_cutoff) {
-  // Well-conditioned systems (the common case on curved surfaces) by Cramer's rule: the
-  // smallest eigenvalue is det / (λmax λmid) ≥ det / I2 (I2 = the sum of the principal 2×2
-  // minors = λ1λ2 + λ1λ3 + λ2λ3) and λmax ≤ trace, so det > cutoff × trace × I2 means every
-  // eigenvalue is above cutoff × λmax and the pseudo-inverse below equals the inverse.
-  {
-    const double c00 = q.a11 * q.a22 - q.a12 * q.a12;
-    const double c01 = q.a02 * q.a12 - q.a01 * q.a22;
-    const double c02 = q.a01 * q.a12 - q.a02 * q.a11;
-    const double det = q.a00 * c00 + q.a01 * c01 + q.a02 * c02;
-    const double trace = q.a00 + q.a11 + q.a22;
-    const double c11 = q.a00 * q.a22 - q.a02 * q.a02;
-    const double c22 = q.a00 * q.a11 - q.a01 * q.a01;
-    const double minors = c00 + c11 + c22;
-    if (trace > 0 && minors > 0 && det > 2 * relative_cutoff * trace * minors) {
-      const double c12 = q.a01 * q.a02 - q.a00 * q.a12;
-      const double inv = 1 / det;
-      const Vec3 p{-(c00 * q.b0 + c01 * q.b1 + c02 * q.b2) * inv,
-                   -(c01 * q.b0 + c11 * q.b1 + c12 * q.b2) * inv,
-                   -(c02 * q.b0 + c12 * q.b1 + c22 * q.b2) * inv};
-      if (is_finite(p)) return p;
-    }
+  // Well-conditioned systems by Cramer's rule (the pseudo-inverse below equals the inverse).
+  if (const auto adj = well_conditioned(q, relative_cutoff)) {
+    const Vec3 p = (*adj)(Vec3{-q.b0, -q.b1, -q.b2}) * (1 / adj->det);
+    if (is_finite(p)) return p;
   }
   // Otherwise a damped step from the anchor: (A + λI) s = −(A m + b) with λ = cutoff/10 × trace.
   // Along eigenvectors with eigenvalues well above λ this is the exact step; along those well
@@ -62,6 +76,64 @@ Vec3 minimize(const Quadric& q, const Vec3& anchor, double relative_cutoff) {
          p.z + (c02 * r0 + c12 * r1 + c22 * r2) * inv};
   }
   return is_finite(p) ? p : anchor;
+}
+
+std::optional<Vec3> minimize_on_plane(const Quadric& q, const Vec3& anchor, const Vec3& n,
+                                      double offset, double normal_scale, double max_offset) {
+  const double nn = norm2(n);
+  if (!(nn > 1e-4 * normal_scale * normal_scale)) return std::nullopt;
+  const double shift = (offset - dot(n, anchor)) / nn;
+  if (!(shift * shift * nn <= max_offset * max_offset)) return std::nullopt;
+  // Well-conditioned A (the test of `minimize`): the Lagrange solution p = A⁻¹(−b − μ n) with μ
+  // such that n·p = offset. A's restriction to the plane is then well conditioned too, so this
+  // is the minimiser the projected system below would give.
+  if (const auto adj = well_conditioned(q, 1e-3)) {
+    const Vec3 free = (*adj)(Vec3{-q.b0, -q.b1, -q.b2});  // det × the unconstrained minimum
+    const Vec3 along = (*adj)(n);                         // det × A⁻¹ n
+    const double n_along = dot(n, along);
+    if (n_along > 0) {
+      const double mu = (dot(n, free) - offset * adj->det) / n_along;
+      const Vec3 p = (free - mu * along) / adj->det;
+      if (is_finite(p)) return p;
+    }
+  }
+  const Vec3 x0 = anchor + shift * n;  // the anchor's projection on the plane
+  // An orthonormal basis (t1, t2) of the plane.
+  const Vec3 u = n / std::sqrt(nn);
+  Vec3 t1 = std::abs(u.x) < 0.6 ? Vec3{0, -u.z, u.y} : Vec3{-u.y, u.x, 0};
+  t1 = t1 / norm(t1);
+  const Vec3 t2 = cross(u, t1);
+  const auto times_a = [&q](const Vec3& x) {
+    return Vec3{q.a00 * x.x + q.a01 * x.y + q.a02 * x.z, q.a01 * x.x + q.a11 * x.y + q.a12 * x.z,
+                q.a02 * x.x + q.a12 * x.y + q.a22 * x.z};
+  };
+  // q(x0 + y1 t1 + y2 t2) = yᵀ H y + 2 gᵀ y + const.
+  const Vec3 at1 = times_a(t1), at2 = times_a(t2);
+  double h11 = dot(t1, at1), h22 = dot(t2, at2);
+  const double h12 = dot(t1, at2);
+  const Vec3 r = times_a(x0) + Vec3{q.b0, q.b1, q.b2};
+  const double g1 = dot(t1, r), g2 = dot(t2, r);
+  const double trace = h11 + h22;
+  if (!(trace > 0) || !std::isfinite(trace)) return x0;
+  // det / trace² is at most 1/4 (equal eigenvalues); below 1e-3 the smaller eigenvalue is under
+  // about a thousandth of the larger, and the step is damped as in `minimize`, three times, so
+  // a strong direction (a border's constraint plane) is still solved to rounding.
+  const double det = h11 * h22 - h12 * h12;
+  if (det > 1e-3 * trace * trace) {
+    const Vec3 p = x0 - ((h22 * g1 - h12 * g2) / det) * t1 - ((h11 * g2 - h12 * g1) / det) * t2;
+    return is_finite(p) ? p : x0;
+  }
+  const double lambda = 1e-4 * trace;
+  const double m11 = h11 + lambda, m22 = h22 + lambda;
+  const double dm = m11 * m22 - h12 * h12;
+  double y1 = 0, y2 = 0;
+  for (int step = 0; step < 3; ++step) {
+    const double r1 = h11 * y1 + h12 * y2 + g1, r2 = h12 * y1 + h22 * y2 + g2;
+    y1 -= (m22 * r1 - h12 * r2) / dm;
+    y2 -= (m11 * r2 - h12 * r1) / dm;
+  }
+  const Vec3 p = x0 + y1 * t1 + y2 * t2;
+  return is_finite(p) ? p : x0;
 }
 
 void vertex_quadrics(const EditMesh& mesh, const DecimateOptions& options,

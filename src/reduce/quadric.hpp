@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <initializer_list>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -125,6 +126,16 @@ static_assert(sizeof(VertexQuadric) == 128);
 /// nearly singular system) places the vertex on the minimising set next to the anchor instead of
 /// far away along it.
 Vec3 minimize(const Quadric& q, const Vec3& anchor, double relative_cutoff = 1e-3);
+
+/// The minimiser of q on the plane n·p = offset, next to `anchor` (the edge midpoint): the
+/// volume-preserving placement (Lindstrom–Turk's first constraint). Within the plane the 2×2
+/// system is solved exactly when well conditioned and damped toward the anchor's projection
+/// otherwise, as `minimize` does in 3D. Returns nullopt when the constraint is not usable: n is
+/// short against `normal_scale` (the faces' normals nearly cancel, as at the tip of a spike) or
+/// the plane is farther from the anchor than `max_offset`.
+[[nodiscard]] std::optional<Vec3> minimize_on_plane(const Quadric& q, const Vec3& anchor,
+                                                    const Vec3& n, double offset,
+                                                    double normal_scale, double max_offset);
 
 /// Weight of the point quadric each vertex gets (× its faces' area): small enough not to move
 /// placements measurably, large enough to order collapses on flat regions (where every plane

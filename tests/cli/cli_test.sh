@@ -158,6 +158,8 @@ expect_usage empty_file "file: an empty value is not allowed" "$bin" info ''
 # A flag given both ways, and options the other options make unused, are errors.
 expect_usage flag_both_ways "--cap: given both ways \(--cap, --no-cap\)" "$bin" tube "$data/hello.vtk" -r 0.1 --cap --no-cap -o "$tmp/x.vtp"
 expect_usage decimate_free_preserve "given both ways" "$bin" decimate "$data/bunny.ply" -r 0.5 --free-boundary --preserve-boundary -o "$tmp/x.ply"
+expect_usage decimate_volume_method "--preserve-volume: applies to --method quadric only" "$bin" decimate "$data/bunny.ply" -r 0.5 -m cell-collapse --free-volume -o "$tmp/x.ply"
+expect_usage decimate_volume_both "given both ways" "$bin" decimate "$data/bunny.ply" -r 0.5 --free-volume --preserve-volume -o "$tmp/x.ply"
 expect_usage decimate_attr_weight "--attribute-weight: applies to --method quadric only" "$bin" decimate "$data/bunny.ply" -r 0.5 -m vertex-removal --attribute-weight 1 -o "$tmp/x.ply"
 expect_usage decimate_boundary_weight "--boundary-weight: .*--feature-angle" "$bin" decimate "$data/bunny.ply" -r 0.5 --free-boundary --boundary-weight 5 -o "$tmp/x.ply"
 expect_usage glyph_unused_vectors "--vectors: unused" "$bin" glyph "$data/bunny.ply" --orient none --vectors v -o "$tmp/x.vtp"
@@ -332,6 +334,7 @@ echo "keep" > "$tmp/keep.txt"
 # ---- decimate: exact counts, measured errors, validated options ----
 expect_ok decimate_count "wrote .*bunny10.ply: [0-9]+ points, 6945 triangles \(from 69451; quadric, target reached\)" "$bin" decimate "$data/bunny.ply" -r 0.9 -o "$tmp/bunny10.ply"
 expect_ok decimate_distance "distance to the input: Hausdorff [0-9.e-]+ \([0-9.]+e-0[34] of the diagonal\), RMS" "$bin" decimate "$data/bunny.ply" -t 5000 -o "$tmp/bunny5k.vtp"
+expect_ok decimate_free_volume "wrote .*: [0-9]+ points, 6945 triangles \(from 69451; quadric, target reached\)" "$bin" decimate "$data/bunny.ply" -r 0.9 --free-volume -o "$tmp/bunny10_gh.ply"
 expect_ok decimate_target "wrote .*: [0-9]+ points, 5000 triangles" "$bin" decimate "$data/bunny.ply" -t 5000 -m vertex-removal -o "$tmp/bunny5k_vr.vtp"
 expect_ok decimate_cells "wrote .*: [0-9]+ points, (499[7-9]|5000) triangles .*cell-collapse" "$bin" decimate "$data/bunny.ply" -t 5000 -m cell-collapse -o "$tmp/bunny5k_cc.vtp"
 expect_ok decimate_refine "refined in [0-9.]+ s: RMS" "$bin" decimate "$data/bunny.ply" -t 3000 --refine -o "$tmp/bunny3k.vtp"

@@ -47,6 +47,12 @@ struct DecimateOptions {
   bool preserve_topology =
       true;  ///< link condition: no non-manifold edges/vertices, no genus change
   bool preserve_boundary = true;  ///< constraint planes along border edges (quadric method)
+  /// Quadric method: place each merged vertex where the faces around the edge enclose the same
+  /// volume as before (Lindstrom–Turk's volume constraint), minimising the quadric on that
+  /// plane. Lower RMS distance (a surface does not shrink where it curves); `false`: the
+  /// quadric's unconstrained minimum (Garland–Heckbert), the lowest maximum distance on some
+  /// shapes.
+  bool preserve_volume = true;
   /// Weight of the border (and feature) constraint planes, × the edge length squared (≥ 0).
   /// 10 keeps borders in place as well as 1000 does on the verify cases, with lower errors.
   double boundary_weight = 10;
