@@ -6,7 +6,10 @@
 // 2 MiB pages). The global operator new of the program is replaced: it is malloc, plus
 // madvise(MADV_HUGEPAGE) over the 2 MiB-aligned interior of blocks of 4 MiB or more (the advice
 // only permits the kernel to use huge pages; it changes no contents and cannot fail in a way
-// that matters). The library itself is unchanged: programs linking it keep their allocator.
+// that matters). The over-aligned forms (`alignas` types such as the decimation's 128-byte
+// vertex quadrics) are replaced the same way, with aligned_alloc: left to the default they
+// took 4 KiB pages, and the 67 MB of quadrics of the 1M-triangle decimation alone cost 0.18 s
+// of page faults. The library itself is unchanged: programs linking it keep their allocator.
 // Left out under the sanitizers, which bring their own operator new.
 
 #if defined(__has_feature)
@@ -23,6 +26,7 @@
 
 #include <sys/mman.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <new>
@@ -31,9 +35,8 @@ namespace {
 
 constexpr std::uintptr_t kHugePage = std::uintptr_t{2} << 20;
 
-void* allocate(std::size_t n) {
-  void* p = std::malloc(n != 0 ? n : 1);
-  if (p == nullptr) throw std::bad_alloc();
+// Advises huge pages over the 2 MiB-aligned interior of the block [p, p + n).
+void advise(void* p, std::size_t n) {
   if (n >= 2 * kHugePage) {
     const auto begin = reinterpret_cast<std::uintptr_t>(p);
     const std::uintptr_t first = (begin + kHugePage - 1) & ~(kHugePage - 1);
@@ -42,6 +45,23 @@ void* allocate(std::size_t n) {
       madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
     }
   }
+}
+
+void* allocate(std::size_t n) {
+  void* p = std::malloc(n != 0 ? n : 1);
+  if (p == nullptr) throw std::bad_alloc();
+  advise(p, n);
+  return p;
+}
+
+void* allocate(std::size_t n, std::align_val_t alignment) {
+  const auto a = static_cast<std::size_t>(alignment);
+  // aligned_alloc wants a size that is a multiple of the alignment (a power of two).
+  const std::size_t rounded = n <= SIZE_MAX - (a - 1) ? (n + a - 1) & ~(a - 1) : 0;
+  if (rounded == 0 && n != 0) throw std::bad_alloc();
+  void* p = std::aligned_alloc(a, rounded != 0 ? rounded : a);
+  if (p == nullptr) throw std::bad_alloc();
+  advise(p, n);
   return p;
 }
 
@@ -83,6 +103,45 @@ void operator delete(void* p, const std::nothrow_t&) noexcept {
   std::free(p);
 }
 void operator delete[](void* p, const std::nothrow_t&) noexcept {
+  std::free(p);
+}
+
+void* operator new(std::size_t n, std::align_val_t a) {
+  return allocate(n, a);
+}
+void* operator new[](std::size_t n, std::align_val_t a) {
+  return allocate(n, a);
+}
+void* operator new(std::size_t n, std::align_val_t a, const std::nothrow_t&) noexcept {
+  try {
+    return allocate(n, a);
+  } catch (...) {
+    return nullptr;
+  }
+}
+void* operator new[](std::size_t n, std::align_val_t a, const std::nothrow_t&) noexcept {
+  try {
+    return allocate(n, a);
+  } catch (...) {
+    return nullptr;
+  }
+}
+void operator delete(void* p, std::align_val_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::align_val_t) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept {
   std::free(p);
 }
 
