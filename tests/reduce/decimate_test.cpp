@@ -4,6 +4,7 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <random>
 
@@ -129,6 +130,64 @@ TEST(Decimate, PreserveVolumeKeepsTheEnclosedVolume) {
     const auto free = decimate(in, o);
     EXPECT_LT(enclosed_volume(free.output) / before, 0.99);
   }
+}
+
+// The cube [-1, 1]³, each face an n × n grid of quads split into triangles, outward oriented.
+PolyData cube(int n) {
+  PolyData pd;
+  std::map<std::array<int, 3>, Index> ids;
+  auto id = [&](std::array<int, 3> c) {
+    const auto [it, added] = ids.try_emplace(c, Index(pd.points.size()));
+    if (added) pd.points.push_back({2.0 * c[0] / n - 1, 2.0 * c[1] / n - 1, 2.0 * c[2] / n - 1});
+    return it->second;
+  };
+  for (int a = 0; a < 3; ++a) {
+    const int b = (a + 1) % 3, c = (a + 2) % 3;  // e_b × e_c = e_a
+    for (const int side : {0, n}) {
+      for (int u = 0; u < n; ++u) {
+        for (int v = 0; v < n; ++v) {
+          auto at = [&](int du, int dv) {
+            std::array<int, 3> k{};
+            k[a] = side;
+            k[b] = u + du;
+            k[c] = v + dv;
+            return id(k);
+          };
+          const Index p0 = at(0, 0), p1 = at(1, 0), p2 = at(1, 1), p3 = at(0, 1);
+          if (side == n) {
+            pd.polys.add({p0, p1, p2});
+            pd.polys.add({p0, p2, p3});
+          } else {
+            pd.polys.add({p0, p2, p1});
+            pd.polys.add({p0, p3, p2});
+          }
+        }
+      }
+    }
+  }
+  return pd;
+}
+
+TEST(Decimate, ACubeWithFeaturesStaysACube) {
+  // Volume preservation and the feature planes together: merged vertices stay on the faces
+  // (the volume plane of a flat neighbourhood is its face) and on the edges, the corners stay.
+  const PolyData in = cube(12);
+  ASSERT_NEAR(enclosed_volume(in), 8.0, 1e-12);
+  DecimateOptions o = to_count(100);
+  o.feature_angle = 40;
+  const auto [out, stats] = decimate(in, o);
+  EXPECT_EQ(stats.stop, DecimateStop::Target);
+  EXPECT_LE(stats.output_triangles, 100u);
+  expect_valid(out, true, 0, 0);
+  EXPECT_NEAR(enclosed_volume(out), 8.0, 1e-5);
+  int corners = 0;
+  for (std::size_t i = 0; i < out.num_points(); ++i) {
+    const Vec3 p = out.points[i];
+    const double ax = std::abs(p.x), ay = std::abs(p.y), az = std::abs(p.z);
+    EXPECT_NEAR(std::max({ax, ay, az}), 1.0, 1e-6);  // on the surface
+    if (std::min({ax, ay, az}) > 1 - 1e-6) ++corners;
+  }
+  EXPECT_EQ(corners, 8);
 }
 
 TEST(Decimate, EveryMethodKeepsTheGenusOfATorus) {
