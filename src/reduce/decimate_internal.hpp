@@ -9,6 +9,7 @@
 #include <optional>
 #include <vector>
 
+#include "isoforge/core/buffer.hpp"
 #include "isoforge/reduce/decimate.hpp"
 #include "reduce/edit_mesh.hpp"
 
@@ -102,7 +103,7 @@ struct MergeOp {
 /// joined (or only) run. A later run with more merges tested redoes them in order — testing
 /// those it must — up to the first one refused, and chooses afresh from there on.
 struct MergeLog {
-  std::array<std::vector<MergeOp>, 3> parts;
+  std::array<Buffer<MergeOp>, 3> parts;  // Buffers: their growth reuses mapped blocks
 };
 
 /// A method's finished run: the edited mesh, the carried point arrays and the counts.

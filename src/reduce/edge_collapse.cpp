@@ -12,6 +12,7 @@
 #include <optional>
 #include <span>
 
+#include "isoforge/core/buffer.hpp"
 #include "isoforge/core/parallel.hpp"
 #include "isoforge/core/prefetch.hpp"
 #include "reduce/decimate_internal.hpp"
@@ -54,7 +55,7 @@ class Collapser {
   Collapser(EditMesh& mesh, CarriedAttributes& attributes, Quadrics& quadrics,
             const Prepared& prepared, const DecimateOptions& options, std::size_t target,
             ProgressCallback progress, const std::atomic<bool>* stop_flag = nullptr,
-            const std::vector<MergeOp>* replay = nullptr, std::vector<MergeOp>* record = nullptr)
+            const Buffer<MergeOp>* replay = nullptr, Buffer<MergeOp>* record = nullptr)
       : mesh_(mesh),
         attributes_(attributes),
         quadric_(quadrics),
@@ -104,8 +105,8 @@ class Collapser {
   std::size_t target_;
   ProgressCallback progress_;
   const std::atomic<bool>* stop_flag_;
-  const std::vector<MergeOp>* replay_;
-  std::vector<MergeOp>* record_;
+  const Buffer<MergeOp>* replay_;
+  Buffer<MergeOp>* record_;
   bool replayed_all_ = false;
   double attribute_scale2_ = 0;
   bool preserve_volume_ = false;
@@ -188,7 +189,8 @@ void Collapser::push_edges_of(Vid v) {
 void Collapser::fill_heap() {
   // Every live edge once (from its smaller end), evaluated in parallel, in a fixed order.
   const std::size_t nv = mesh_.vertex_count();
-  std::vector<std::uint32_t> start(nv + 1, 0);
+  Buffer<std::uint32_t> start(nv + 1);  // every entry written
+  start[0] = 0;
   {
     std::vector<Vid> nb;
     for (Vid v = 0; v < nv; ++v) {
@@ -198,8 +200,8 @@ void Collapser::fill_heap() {
       start[v + 1] = start[v] + k;
     }
   }
-  std::vector<Entry> entries(start[nv]);
-  std::vector<std::uint8_t> ok(start[nv], 0);
+  Buffer<Entry> entries(start[nv]);  // every entry written
+  Buffer<std::uint8_t> ok(start[nv]);
   parallel_for_range(nv, 512, [&](std::size_t begin, std::size_t end) {
     std::vector<Vid> nb;
     for (std::size_t i = begin; i < end; ++i) {
@@ -218,10 +220,12 @@ void Collapser::fill_heap() {
       }
     }
   });
-  heap_.clear();
+  std::size_t kept = 0;
   for (std::size_t i = 0; i < entries.size(); ++i) {
-    if (ok[i]) heap_.push(entries[i]);
+    if (ok[i]) entries[kept++] = entries[i];
   }
+  entries.resize(kept);
+  heap_.assign(entries);
 }
 
 void Collapser::apply(Vid keep, Vid drop, const Vec3& p, double t, double error,

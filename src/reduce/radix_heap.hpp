@@ -9,11 +9,17 @@
 // A radix heap is monotone: a key pushed below the last key popped is raised to it, and so comes
 // out next, as it would from an exact heap. Entries of equal key come out last in first. The
 // order depends only on the sequence of pushes and pops.
+//
+// The buckets are Buffers (core/buffer.hpp): their growth takes mapped blocks from its cache
+// instead of fresh pages, whose first touch was a third of a 100k-triangle decimation's page
+// faults.
 
 #include <array>
 #include <bit>
 #include <cstdint>
 #include <vector>
+
+#include "isoforge/core/buffer.hpp"
 
 namespace isoforge::reduce {
 
@@ -37,6 +43,24 @@ class RadixHeap {
     last_ = 0;
   }
 
+  /// Empties the heap and fills it with `items`, as pushing them in order would; when they all
+  /// fall in one bucket (keys of costs ≥ 0 all have the top bit set) it takes over their storage
+  /// (`items` gets the bucket's old storage, empty).
+  void assign(Buffer<T>& items) {
+    clear();
+    if (items.empty()) return;
+    const std::size_t b = bucket(items.front().key);
+    bool one = true;
+    for (const T& x : items) one = one && bucket(x.key) == b;
+    if (one) {
+      buckets_[b].swap(items);
+      size_ = buckets_[b].size();
+      return;
+    }
+    for (const T& x : items) push(x);
+    items.clear();
+  }
+
   void push(T item) {
     if (item.key < last_) item.key = last_;
     buckets_[bucket(item.key)].push_back(item);
@@ -48,7 +72,7 @@ class RadixHeap {
     if (buckets_[0].empty()) {
       std::size_t i = 1;
       while (buckets_[i].empty()) ++i;
-      std::vector<T>& from = buckets_[i];
+      Buffer<T>& from = buckets_[i];
       std::uint32_t smallest = from.front().key;
       for (const T& x : from) smallest = x.key < smallest ? x.key : smallest;
       last_ = smallest;
@@ -66,7 +90,7 @@ class RadixHeap {
     return key == last_ ? 0 : static_cast<std::size_t>(32 - std::countl_zero(key ^ last_));
   }
 
-  std::array<std::vector<T>, 33> buckets_;
+  std::array<Buffer<T>, 33> buckets_;
   std::uint32_t last_ = 0;
   std::size_t size_ = 0;
 };

@@ -78,5 +78,30 @@ TEST(RadixHeap, KeysBelowTheLastPopComeOutNext) {
   EXPECT_EQ(heap.pop().key, 3u);
 }
 
+TEST(RadixHeap, AssignPopsAsPushingInOrderWould) {
+  // Keys with the top bit set (all in one bucket: the storage is taken over), then keys spread
+  // over buckets; ties included, whose order (last in, first out) must be the pushes' too.
+  std::mt19937 rng(11);
+  for (const std::uint32_t low : {0x80000000u, 0u}) {
+    std::uniform_int_distribution<std::uint32_t> key(low, low + 40);
+    Buffer<Item> items;
+    RadixHeap<Item> pushed;
+    for (unsigned i = 0; i < 500; ++i) {
+      items.push_back({key(rng), i});
+      pushed.push(items.back());
+    }
+    RadixHeap<Item> assigned;
+    assigned.push({1, 1000});  // left over: assign empties the heap first
+    assigned.assign(items);
+    ASSERT_EQ(assigned.size(), pushed.size());
+    while (!pushed.empty()) {
+      const Item a = assigned.pop(), b = pushed.pop();
+      ASSERT_EQ(a.key, b.key);
+      ASSERT_EQ(a.id, b.id);
+    }
+    EXPECT_TRUE(assigned.empty());
+  }
+}
+
 }  // namespace
 }  // namespace isoforge::reduce
