@@ -372,23 +372,34 @@ std::optional<Partitioned> decimate_halves(const Prepared& prepared, CarriedAttr
   for (std::size_t v = 0; v < nv; ++v) sides[v] = prepared.positions[v][axis] < cut ? 0 : 1;
   auto side = [&](Vid v) { return static_cast<int>(sides[v]); };
 
-  std::array<std::vector<Tri>, 2> faces;
-  std::array<std::vector<std::uint8_t>, 2> locks{prepared.locked, prepared.locked};
+  // The faces of each side and those crossing the cut, counted first: a target too deep for the
+  // cut is known before anything is copied.
+  std::array<std::size_t, 2> own{0, 0};
   std::size_t crossing = 0;
+  for (const Tri& t : prepared.triangles) {
+    const int s0 = side(t[0]), s1 = side(t[1]), s2 = side(t[2]);
+    if (s0 == s1 && s1 == s2) {
+      ++own[static_cast<std::size_t>(s0)];
+    } else {
+      ++crossing;
+    }
+  }
+  if (prepared.target > 0 && prepared.target < kPartitionMinTargetPerCrossing * crossing) {
+    return std::nullopt;
+  }
+  std::array<std::vector<Tri>, 2> faces;
+  for (std::size_t h = 0; h < 2; ++h) faces[h].reserve(own[h] + crossing);
+  std::array<std::vector<std::uint8_t>, 2> locks{prepared.locked, prepared.locked};
   for (const Tri& t : prepared.triangles) {
     const int s0 = side(t[0]), s1 = side(t[1]), s2 = side(t[2]);
     if (s0 == s1 && s1 == s2) {
       faces[static_cast<std::size_t>(s0)].push_back(t);
       continue;
     }
-    ++crossing;
     for (int h = 0; h < 2; ++h) {
       faces[static_cast<std::size_t>(h)].push_back(t);
       for (Vid v : t) locks[static_cast<std::size_t>(h)][v] = 1;
     }
-  }
-  if (prepared.target > 0 && prepared.target < kPartitionMinTargetPerCrossing * crossing) {
-    return std::nullopt;
   }
   // Each half goes a little above its share of the target, so the joined run still has work
   // to do along the cut.
