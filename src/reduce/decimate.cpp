@@ -375,6 +375,73 @@ void mark_near(const MethodRun& run, const std::vector<std::array<Fid, 2>>& pair
   }
 }
 
+// Fills log.test with the merges a redone run tests. For each pair the finished mesh's test
+// found, with a the face made earlier and b the later one: the merge that made b as it is (a
+// then stood as it does, so tested it is refused); with `wide`, also every merge between the
+// two whose vertex ends in a vertex of a or b — the ones that made b's earlier forms around
+// there, which stand again when that merge is refused. The first redone run tests the last
+// merges only: tests need the grid of faces, which the run then builds late, when it reaches the
+// first of them, and most finished meshes are clean after it (the head's skin to 2 %: the
+// redone run 0.05 s instead of 0.25 s wide). Faces of the two halves of a partitioned run cannot
+// meet; the joined run's merges come after both halves'.
+void mark_tests(const MethodRun& run, const std::vector<std::array<Fid, 2>>& pairs, bool wide,
+                MergeLog& log) {
+  const EditMesh& mesh = *run.mesh;
+  std::vector<Vid> merged = run.merged_into;
+  for (auto& t : log.test) t.clear();
+  const auto part_of = [](std::uint32_t w) { return w >> kWriterPartShift; };
+  const auto number_of = [](std::uint32_t w) { return w & kWriterNumberMask; };
+  // Scans positions [from, to) of a part for merges into the pair's vertices.
+  const auto scan = [&](std::size_t part, std::size_t from, std::size_t to,
+                        const std::array<Vid, 6>& ends) {
+    const Buffer<MergeOp>& ops = log.parts[part];
+    to = std::min(to, ops.size());
+    for (std::size_t i = from; i < to; ++i) {
+      const Vid root = find_root(merged, ops[i].keep);
+      if (std::find(ends.begin(), ends.end(), root) != ends.end()) {
+        log.test[part].push_back(static_cast<std::uint32_t>(i));
+      }
+    }
+  };
+  for (auto [a, b] : pairs) {
+    std::uint32_t wa = mesh.face_writer(a), wb = mesh.face_writer(b);
+    // Order: input faces (0) first, then by part (the halves before the joined run), number.
+    if (wa > wb) {
+      std::swap(a, b);
+      std::swap(wa, wb);
+    }
+    if (wb == 0 || number_of(wb) == kWriterNumberMask || part_of(wb) >= log.parts.size()) continue;
+    const Tri& ta = mesh.face(a);
+    const Tri& tb = mesh.face(b);
+    const std::array<Vid, 6> ends{ta[0], ta[1], ta[2], tb[0], tb[1], tb[2]};
+    const std::size_t pb = part_of(wb), nb = number_of(wb);
+    if (!wide) {
+      log.test[pb].push_back(static_cast<std::uint32_t>(nb - 1));
+      continue;
+    }
+    if (wa == 0) {
+      // b's earlier forms may go back to the start: before it, the halves (for the joined run).
+      for (std::size_t p = 0; p < pb && pb == 2; ++p) scan(p, 0, log.parts[p].size(), ends);
+      scan(pb, 0, nb, ends);
+      continue;
+    }
+    const std::size_t pa = part_of(wa), na = number_of(wa);
+    if (pa == pb) {
+      scan(pb, na - 1, nb, ends);
+    } else if (pb == 2) {
+      scan(pa, na - 1, log.parts[pa].size(), ends);
+      scan(pb, 0, nb, ends);
+    } else {
+      log.test[pa].push_back(static_cast<std::uint32_t>(na - 1));
+      log.test[pb].push_back(static_cast<std::uint32_t>(nb - 1));
+    }
+  }
+  for (auto& t : log.test) {
+    std::sort(t.begin(), t.end());
+    t.erase(std::unique(t.begin(), t.end()), t.end());
+  }
+}
+
 }  // namespace
 }  // namespace reduce
 
@@ -421,6 +488,7 @@ DecimateResult decimate(const PolyData& input, const DecimateOptions& options) {
         near.resize(run.mesh->vertex_count(), 0);
         mark_near(run, pairs, near);
         log = std::move(run.log);
+        mark_tests(run, pairs, /*wide=*/reruns > 0, log);
         ++reruns;
         from += 1.05 * width;
         width = 0.5 * (1 - from);

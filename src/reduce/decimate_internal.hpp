@@ -100,10 +100,14 @@ struct MergeOp {
 };
 
 /// The merges of an edge collapse run, per part: the two halves of a partitioned run and the
-/// joined (or only) run. A later run with more merges tested redoes them in order — testing
-/// those it must — up to the first one refused, and chooses afresh from there on.
+/// joined (or only) run. A later run redoes them in order, testing those in `test`, up to the
+/// first one refused, and chooses afresh from there on (testing the merges of marked vertices).
 struct MergeLog {
   std::array<Buffer<MergeOp>, 3> parts;  // Buffers: their growth reuses mapped blocks
+  /// Per part, ascending: the 0-based positions of the merges to test when redone — each the
+  /// later of the two merges that made a pair of faces the finished mesh's test found
+  /// intersecting.
+  std::array<std::vector<std::uint32_t>, 3> test;
 };
 
 /// A method's finished run: the edited mesh, the carried point arrays and the counts.

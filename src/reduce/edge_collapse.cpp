@@ -55,7 +55,8 @@ class Collapser {
   Collapser(EditMesh& mesh, CarriedAttributes& attributes, Quadrics& quadrics,
             const Prepared& prepared, const DecimateOptions& options, std::size_t target,
             ProgressCallback progress, const std::atomic<bool>* stop_flag = nullptr,
-            const Buffer<MergeOp>* replay = nullptr, Buffer<MergeOp>* record = nullptr)
+            const Buffer<MergeOp>* replay = nullptr,
+            std::span<const std::uint32_t> replay_tests = {}, Buffer<MergeOp>* record = nullptr)
       : mesh_(mesh),
         attributes_(attributes),
         quadric_(quadrics),
@@ -64,6 +65,7 @@ class Collapser {
         progress_(std::move(progress)),
         stop_flag_(stop_flag),
         replay_(replay),
+        replay_tests_(replay_tests),
         record_(record) {
     const double w = options.attribute_weight * prepared.diagonal;
     attribute_scale2_ = attributes.empty() ? 0 : w * w;
@@ -75,7 +77,8 @@ class Collapser {
   [[nodiscard]] bool replayed_all() const { return replayed_all_; }
 
  private:
-  void apply(Vid keep, Vid drop, const Vec3& p, double t, double error, DecimateStats& stats);
+  void apply(Vid keep, Vid drop, const Vec3& p, double t, double error, DecimateStats& stats,
+             MergeTest test = MergeTest::ByMarks);
   /// Redoes the merges of the replay log up to the first one refused; false if one was.
   bool replay(RunLoop& loop, DecimateStats& stats);
   /// The best collapse of the edge (u, v): with `volume` the volume-preserving placement (which
@@ -106,6 +109,7 @@ class Collapser {
   ProgressCallback progress_;
   const std::atomic<bool>* stop_flag_;
   const Buffer<MergeOp>* replay_;
+  std::span<const std::uint32_t> replay_tests_;  // positions in replay_ to test (ascending)
   Buffer<MergeOp>* record_;
   bool replayed_all_ = false;
   double attribute_scale2_ = 0;
@@ -229,9 +233,9 @@ void Collapser::fill_heap() {
 }
 
 void Collapser::apply(Vid keep, Vid drop, const Vec3& p, double t, double error,
-                      DecimateStats& stats) {
+                      DecimateStats& stats, MergeTest test) {
   const std::array<Vid, 2> group{keep, drop};
-  mesh_.merge(group, p);
+  mesh_.merge(group, p, test);
   const std::array<std::size_t, 2> from{keep, drop};
   const std::array<double, 2> weights{1 - t, t};
   attributes_.blend(keep, from, weights);
@@ -244,12 +248,22 @@ void Collapser::apply(Vid keep, Vid drop, const Vec3& p, double t, double error,
 
 bool Collapser::replay(RunLoop& loop, DecimateStats& stats) {
   // Until a merge is refused the mesh is the one the logged run had at the same step, so the
-  // merges that need no test now are valid as they were; the others are checked.
-  for (const MergeOp& op : *replay_) {
+  // merges are valid as they were, except where the finished mesh's test found an intersection:
+  // the later merge of each pair of faces found is tested now (and, when this run defers no
+  // test, every merge). The merges of marked vertices were all tested here before: nearly all
+  // of them early merges whose faces later merges remade, a quarter of a deep run's merges and
+  // half its time.
+  auto next_test = replay_tests_.begin();
+  for (std::size_t i = 0; i < replay_->size(); ++i) {
     if (mesh_.live_faces() <= target_) break;
+    const MergeOp& op = (*replay_)[i];
     const std::array<Vid, 2> group{op.keep, op.drop};
-    if (mesh_.tests_now(group) && !loop.accept(mesh_.check_merge(group, op.p))) return false;
-    apply(op.keep, op.drop, op.p, op.t, op.error, stats);
+    while (next_test != replay_tests_.end() && *next_test < i) ++next_test;
+    const bool test = (next_test != replay_tests_.end() && *next_test == i) ||
+                      (!mesh_.defers_tests() && mesh_.tests_now(group));
+    if (test && !loop.accept(mesh_.check_merge(group, op.p, MergeTest::Now))) return false;
+    apply(op.keep, op.drop, op.p, op.t, op.error, stats,
+          test ? MergeTest::Now : MergeTest::Deferred);
     loop.done(mesh_.live_faces(), stop_flag_);
   }
   return true;
@@ -261,7 +275,13 @@ DecimateStats Collapser::run() {
   stamp_.assign(mesh_.vertex_count(), 0);
   const std::size_t target = target_;
   RunLoop loop(stats, target, progress_);
-  if (replay_ != nullptr) replayed_all_ = replay(loop, stats);
+  // Past the first merge refused, the run chooses afresh: those merges are tested as they are
+  // made, so the test of the finished mesh finds nothing new there (faces the log's merges made
+  // can still meet where the merges that remade them in the logged run are not redone).
+  if (replay_ != nullptr) {
+    replayed_all_ = replay(loop, stats);
+    if (!replayed_all_) mesh_.test_every_merge();
+  }
   if (mesh_.live_faces() <= target) {
     stats.stop = loop.stop(mesh_.live_faces());
     return stats;
@@ -339,7 +359,7 @@ struct Partitioned {
   Quadrics quadrics;
   DecimateStats stats;
   std::vector<Vid> merged_into;
-  std::vector<std::uint8_t> unchecked;  // per triangle: made by an untested merge
+  std::vector<std::uint32_t> writers;   // per triangle: EditMesh::face_writer
   bool replayed_all = false;            // both halves redid their whole logs
 };
 
@@ -430,10 +450,13 @@ std::optional<Partitioned> decimate_halves(const Prepared& prepared, CarriedAttr
     settings.side_axis = axis;
     settings.side_cut = cut;
     settings.side_below = h == 0;
+    settings.log_part = static_cast<std::uint32_t>(h);
     meshes[i].emplace(prepared.positions, std::move(faces[i]), std::move(locks[i]), settings);
     vertex_quadrics(*meshes[i], options, out.quadrics, {}, sides, static_cast<std::uint8_t>(h));
     Collapser collapser(*meshes[i], attributes, out.quadrics, prepared, options, targets[i], report,
                         &stop, replay != nullptr ? &replay->parts[i] : nullptr,
+                        replay != nullptr ? std::span<const std::uint32_t>(replay->test[i])
+                                          : std::span<const std::uint32_t>{},
                         record != nullptr ? &record->parts[i] : nullptr);
     stats[i] = collapser.run();
     replayed[i] = collapser.replayed_all();
@@ -475,7 +498,7 @@ std::optional<Partitioned> decimate_halves(const Prepared& prepared, CarriedAttr
       const bool crosses = side(t[0]) != side(t[1]) || side(t[1]) != side(t[2]);
       if (crosses && h == 1) continue;
       out.triangles.push_back(t);
-      out.unchecked.push_back(m.face_unchecked(f) ? 1 : 0);
+      out.writers.push_back(m.face_writer(f));
     }
     add_stats(out.stats, stats[static_cast<std::size_t>(h)]);
   }
@@ -496,10 +519,11 @@ MethodRun decimate_quadric(const PolyData& input, const Prepared& prepared,
   Quadrics quadrics;
   std::vector<Vec3> positions;
   std::vector<Tri> triangles;
-  std::vector<std::uint8_t> halves_unchecked;
+  std::vector<std::uint32_t> halves_writers;
   MergeLog* record = settings.defer_intersections ? &run.log : nullptr;
   double from = 0;
   std::optional<Partitioned> partitioned;
+  bool test_all = false;
   if (prepared.triangles.size() >= kPartitionMinFaces &&
       (prepared.target == 0 || static_cast<double>(prepared.target) <
                                    0.7 * static_cast<double>(prepared.triangles.size()))) {
@@ -509,13 +533,17 @@ MethodRun decimate_quadric(const PolyData& input, const Prepared& prepared,
   const bool split = partitioned.has_value();
   if (split) {
     Partitioned& halves = *partitioned;
-    // The joined run's log continues from the halves' results: only valid if they are the same.
-    if (!halves.replayed_all) replay = nullptr;
+    // The joined run's log continues from the halves' results: only valid if they are the same;
+    // otherwise the joined run is new, and tests every merge (as a run past its first refusal).
+    if (!halves.replayed_all && replay != nullptr) {
+      replay = nullptr;
+      test_all = true;
+    }
     positions = std::move(halves.positions);
     triangles = std::move(halves.triangles);
     quadrics = std::move(halves.quadrics);
     run.merged_into = std::move(halves.merged_into);
-    halves_unchecked = std::move(halves.unchecked);
+    halves_writers = std::move(halves.writers);
     add_stats(stats, halves.stats);
     from = 0.85;
   } else {
@@ -529,11 +557,12 @@ MethodRun decimate_quadric(const PolyData& input, const Prepared& prepared,
       if (joined.check_near[v] != 0) joined.check_near[find_root(run.merged_into, v)] = 1;
     }
   }
-  std::vector<std::uint8_t> unchecked = std::move(halves_unchecked);
+  const std::vector<std::uint32_t> writers = std::move(halves_writers);
   run.mesh.emplace(std::move(positions), std::move(triangles), prepared.locked, joined);
   EditMesh& mesh = *run.mesh;
-  for (Fid f = 0; f < unchecked.size(); ++f) {
-    if (unchecked[f] != 0) mesh.mark_unchecked(f);
+  if (test_all) mesh.test_every_merge();
+  for (Fid f = 0; f < writers.size(); ++f) {
+    if (writers[f] != 0) mesh.mark_unchecked(f, writers[f]);
   }
   if (!split) {
     vertex_quadrics(mesh, options, quadrics, progress_range(options.progress, 0, 0.05));
@@ -541,6 +570,8 @@ MethodRun decimate_quadric(const PolyData& input, const Prepared& prepared,
   Collapser collapser(mesh, attributes, quadrics, prepared, options, prepared.target,
                       progress_range(options.progress, from, 1.0), nullptr,
                       replay != nullptr ? &replay->parts[2] : nullptr,
+                      replay != nullptr ? std::span<const std::uint32_t>(replay->test[2])
+                                        : std::span<const std::uint32_t>{},
                       record != nullptr ? &record->parts[2] : nullptr);
   const DecimateStats last = collapser.run();
   add_stats(stats, last);

@@ -172,18 +172,14 @@ EditMesh::EditMesh(std::vector<Vec3> positions, std::vector<Tri> triangles,
   if (settings_.check_intersections && settings_.defer_intersections) {
     check_near_ = std::move(settings_.check_near);
     check_near_.resize(positions_.size(), 0);
-    unchecked_.assign(faces_.size(), 0);
+    writer_.assign(faces_.size(), 0);
     merged_into_.resize(positions_.size());
     for (Vid v = 0; v < positions_.size(); ++v) merged_into_[v] = v;
   }
   settings_.check_near.clear();
-  // Deferred with nothing marked: no edit is tested now, so no grid.
-  use_grid_ = settings_.check_intersections && !faces_.empty() &&
-              (check_near_.empty() ||
-               std::find(check_near_.begin(), check_near_.end(), 1) != check_near_.end());
-  if (use_grid_) {
-    build_grid();
-  }
+  // The grid is built when the first test needs it: a deferred run may test no edit, or
+  // only late ones (a redone run testing the merges a finished mesh's test pointed to).
+  use_grid_ = settings_.check_intersections && !faces_.empty();
 }
 
 // The grid's cells follow the faces' size: as decimation makes faces larger, the grid is rebuilt
@@ -379,13 +375,14 @@ bool EditMesh::intersects(std::span<const Tri> faces, std::span<const std::array
     return false;
   }
   if (!use_grid_) return false;
+  if (!grid_) build_grid();
   grid_->for_each_candidate(all.lo, all.hi, test);
   return hit;
 }
 
 bool EditMesh::tests_now(std::span<const Vid> group) const {
   if (!settings_.check_intersections) return false;
-  if (check_near_.empty()) return true;
+  if (check_near_.empty() || test_all_) return true;
   for (Vid v : group) {
     if (check_near_[v] != 0) return true;
   }
@@ -405,7 +402,7 @@ void EditMesh::gather_faces(std::span<const Vid> group) {
   }
 }
 
-Refusal EditMesh::check_merge(std::span<const Vid> group, const Vec3& p) {
+Refusal EditMesh::check_merge(std::span<const Vid> group, const Vec3& p, MergeTest test) {
   const Vid keep = group[0];
   auto member = [&](Vid v) { return std::find(group.begin(), group.end(), v) != group.end(); };
   bool border = false;
@@ -483,7 +480,7 @@ Refusal EditMesh::check_merge(std::span<const Vid> group, const Vec3& p) {
   // a face: nearly every intersection a merge can make is there, so a test of the finished mesh
   // rarely finds one to redo.
   if (!settings_.check_intersections) return Refusal::None;
-  const bool now = tests_now(group);
+  const bool now = test == MergeTest::ByMarks ? tests_now(group) : test == MergeTest::Now;
   if ((now || turns) && intersects(new_faces_, new_pos_, /*local=*/!now)) {
     return Refusal::Intersection;
   }
@@ -494,12 +491,14 @@ void EditMesh::detach(Fid f, Vid v) {
   vertex_faces_.erase(v, f);
 }
 
-std::size_t EditMesh::merge(std::span<const Vid> group, const Vec3& p) {
+std::size_t EditMesh::merge(std::span<const Vid> group, const Vec3& p, MergeTest test) {
   const Vid keep = group[0];
   auto member = [&](Vid v) { return std::find(group.begin(), group.end(), v) != group.end(); };
-  const std::uint8_t unchecked = tests_now(group) ? 0 : 1;
+  const bool tested = test == MergeTest::ByMarks ? tests_now(group) : test == MergeTest::Now;
+  merges_ = std::min(merges_ + 1, kWriterNumberMask);  // saturated: no longer a log position
+  const std::uint32_t writer = tested ? 0 : (settings_.log_part << kWriterPartShift) | merges_;
   gather_faces(group);
-  if (use_grid_) {
+  if (grid_) {
     for (Fid f : touched_) grid_remove(f);
   }
   positions_[keep] = p;
@@ -524,7 +523,7 @@ std::size_t EditMesh::merge(std::span<const Vid> group, const Vec3& p) {
       if (member(v)) v = keep;
     }
     vertex_faces_.push_back(keep, f);
-    if (!unchecked_.empty()) unchecked_[f] = unchecked;
+    if (!writer_.empty()) writer_[f] = writer;
   }
   for (std::size_t i = 1; i < group.size(); ++i) vertex_faces_.clear(group[i]);
   if (!merged_into_.empty()) {
@@ -545,7 +544,7 @@ std::size_t EditMesh::merge(std::span<const Vid> group, const Vec3& p) {
       for (Vid v : faces_[f]) border_[v] = on_border(v) ? 1 : 0;
     }
   }
-  if (use_grid_) {
+  if (grid_) {
     for (Fid f : vertex_faces_[keep]) grid_insert(f);
     if (2 * live_faces_ < grid_faces_ && live_faces_ > 0) build_grid();
   }
@@ -605,7 +604,7 @@ Refusal EditMesh::check_replace(std::span<const Fid> old_faces, std::span<const 
 
 void EditMesh::replace(std::span<const Fid> old_faces, std::span<const Tri> new_faces) {
   for (Fid f : old_faces) {
-    if (use_grid_) grid_remove(f);
+    if (grid_) grid_remove(f);
     alive_[f] = 0;
     --live_faces_;
     for (Vid v : faces_[f]) detach(f, v);
@@ -615,15 +614,15 @@ void EditMesh::replace(std::span<const Fid> old_faces, std::span<const Tri> new_
     faces_.push_back(t);
     alive_.push_back(1);
     mark_.push_back(0);
-    if (!unchecked_.empty()) unchecked_.push_back(0);
+    if (!writer_.empty()) writer_.push_back(0);
     ++live_faces_;
     for (Vid v : t) vertex_faces_.push_back(v, f);
-    if (use_grid_) grid_insert(f);
+    if (grid_) grid_insert(f);
   }
   for (const Tri& t : new_faces) {
     for (Vid v : t) border_[v] = on_border(v) ? 1 : 0;
   }
-  if (use_grid_ && 2 * live_faces_ < grid_faces_ && live_faces_ > 0) build_grid();
+  if (grid_ && 2 * live_faces_ < grid_faces_ && live_faces_ > 0) build_grid();
 }
 
 }  // namespace isoforge::reduce

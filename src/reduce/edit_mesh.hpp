@@ -54,7 +54,19 @@ struct EditSettings {
   /// (decimate.cpp, `certify`).
   bool defer_intersections = false;
   std::vector<std::uint8_t> check_near;
+  /// Deferred mode: the part of a partitioned run's merge log this mesh's merges go to (0, 1:
+  /// the halves; 2: the joined or only run), kept in the faces' writer ids (`face_writer`).
+  std::uint32_t log_part = 2;
 };
+
+/// Whether a merge is tested for intersections with every face near it: as the vertex marks
+/// say (`EditMesh::tests_now`), or told by the caller (a redone merge whose test is known).
+enum class MergeTest : std::uint8_t { ByMarks, Now, Deferred };
+
+/// A face's writer id in deferred mode: the log part in the top bits, the merge's 1-based
+/// number in that part's log below (0: the face was made by a tested merge or is an input face).
+inline constexpr std::uint32_t kWriterPartShift = 30;
+inline constexpr std::uint32_t kWriterNumberMask = (1u << kWriterPartShift) - 1;
 
 /// The faces around each vertex, in one pool: each vertex has a slot (start, size, capacity)
 /// in it, with room for two more faces than it starts with; a list that outgrows its slot
@@ -107,12 +119,18 @@ class EditMesh {
   [[nodiscard]] std::span<const Fid> faces_of(Vid v) const { return vertex_faces_[v]; }
   [[nodiscard]] const std::vector<Vec3>& positions() const { return positions_; }
   /// Whether face f was last made or moved by a merge that was not tested for intersections.
-  [[nodiscard]] bool face_unchecked(Fid f) const {
-    return !unchecked_.empty() && unchecked_[f] != 0;
-  }
-  /// Flags face f as made by an untested merge (deferred mode; a mesh rebuilt from another).
-  void mark_unchecked(Fid f) {
-    if (!unchecked_.empty()) unchecked_[f] = 1;
+  [[nodiscard]] bool face_unchecked(Fid f) const { return face_writer(f) != 0; }
+  /// Whether intersection tests are deferred (merges flag their faces instead).
+  [[nodiscard]] bool defers_tests() const { return !writer_.empty(); }
+  /// From now on every merge is tested when made (`tests_now` is true), marked or not.
+  void test_every_merge() { test_all_ = true; }
+  /// The writer id (kWriterPartShift) of the untested merge that last made or moved face f;
+  /// 0 if none (deferred mode only).
+  [[nodiscard]] std::uint32_t face_writer(Fid f) const { return writer_.empty() ? 0 : writer_[f]; }
+  /// Gives face f the writer id of an untested merge (deferred mode; a mesh rebuilt from
+  /// another).
+  void mark_unchecked(Fid f, std::uint32_t writer) {
+    if (!writer_.empty()) writer_[f] = writer;
   }
   /// The vertex v was merged into (v itself while it lives or if it was removed otherwise).
   [[nodiscard]] Vid merged_into(Vid v) const { return merged_into_.empty() ? v : merged_into_[v]; }
@@ -139,12 +157,14 @@ class EditMesh {
   /// was on the border) with preserve_topology, no duplicate face or edge of three faces, no face
   /// normal turned by more than the limit or made zero, and no new face intersecting another one
   /// (exact). Locked members must all sit at `p`.
-  [[nodiscard]] Refusal check_merge(std::span<const Vid> group, const Vec3& p);
+  [[nodiscard]] Refusal check_merge(std::span<const Vid> group, const Vec3& p,
+                                    MergeTest test = MergeTest::ByMarks);
   /// Whether a merge of `group` is tested for intersections when it is made (always, unless
   /// the tests are deferred and no member is marked).
   [[nodiscard]] bool tests_now(std::span<const Vid> group) const;
-  /// Applies a merge that `check_merge` accepted; returns the number of faces removed.
-  std::size_t merge(std::span<const Vid> group, const Vec3& p);
+  /// Applies a merge that `check_merge` accepted (`test`: as it was checked); returns the
+  /// number of faces removed.
+  std::size_t merge(std::span<const Vid> group, const Vec3& p, MergeTest test = MergeTest::ByMarks);
 
   /// Whether replacing the live faces `old_faces` by `new_faces` (over existing vertices; the
   /// vertices only in old faces disappear) keeps the mesh valid: no new face duplicates a
@@ -183,7 +203,9 @@ class EditMesh {
   std::vector<std::uint8_t> locked_;
   std::vector<std::uint8_t> border_;
   std::vector<std::uint8_t> check_near_;  // deferred mode: per vertex, test its merges now
-  std::vector<std::uint8_t> unchecked_;   // deferred mode: per face
+  std::vector<std::uint32_t> writer_;     // deferred mode: per face (face_writer)
+  std::uint32_t merges_ = 0;              // merges made (deferred mode: the writer numbers)
+  bool test_all_ = false;                 // test_every_merge
   std::vector<Vid> merged_into_;          // deferred mode: per vertex
   FaceLists vertex_faces_;
   std::size_t live_faces_ = 0;
