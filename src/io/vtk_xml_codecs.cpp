@@ -246,7 +246,7 @@ CompressedBlocks compress_blocks(BlockCodec codec, int level, const std::byte* i
     }
   };
   // Slices of the input, each compressed in parallel, with progress between them.
-  constexpr std::size_t kSliceBlocks = 256;  // 8 MiB of 32 KiB blocks
+  constexpr std::size_t kSliceBlocks = 256;  // 64 MiB of the writer's 256 KiB blocks
   const std::size_t slice = progress ? kSliceBlocks : nblocks;
   for (std::size_t begin = 0; begin < nblocks; begin += slice) {
     const std::size_t end = std::min(nblocks, begin + slice);

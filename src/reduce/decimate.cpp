@@ -328,8 +328,8 @@ namespace reduce {
 namespace {
 
 // Deferred runs before one with every edit tested (docs/algorithms/decimation.md,
-// "Certification").
-constexpr int kDeferredRuns = 3;
+// "Deferred tests and certification").
+constexpr int kDeferredRuns = 4;
 
 // The pairs of live faces of `mesh` that intersect (exact) where one face was made by an
 // untested merge: the only pairs that can be new (a tested edit met no face it intersects, and
@@ -382,8 +382,11 @@ void mark_near(const MethodRun& run, const std::vector<std::array<Fid, 2>>& pair
 // there, which stand again when that merge is refused. The first redone run tests the last
 // merges only: tests need the grid of faces, which the run then builds late, when it reaches the
 // first of them, and most finished meshes are clean after it (the head's skin to 2 %: the
-// redone run 0.05 s instead of 0.25 s wide). Faces of the two halves of a partitioned run cannot
-// meet; the joined run's merges come after both halves'.
+// redone run 0.05 s instead of 0.25 s wide). The third also tests the merges of the vertices
+// marked around every pair found so far (MergeLog::test_marked), as all redone runs once did:
+// dearer, but it refuses early merges whose faces would stand again; so does the first when the
+// pairs are everywhere (decimate()). Faces of the two halves of
+// a partitioned run cannot meet; the joined run's merges come after both halves'.
 void mark_tests(const MethodRun& run, const std::vector<std::array<Fid, 2>>& pairs, bool wide,
                 MergeLog& log) {
   const EditMesh& mesh = *run.mesh;
@@ -488,7 +491,11 @@ DecimateResult decimate(const PolyData& input, const DecimateOptions& options) {
         near.resize(run.mesh->vertex_count(), 0);
         mark_near(run, pairs, near);
         log = std::move(run.log);
-        mark_tests(run, pairs, /*wide=*/reruns > 0, log);
+        // Intersections everywhere (as many pairs as a quarter of the faces: two shells closer
+        // than the faces grow) are not a few merges to refuse: marks from the first redone run.
+        const bool widespread = 4 * pairs.size() >= run.mesh->live_faces();
+        mark_tests(run, pairs, /*wide=*/reruns > 0 || widespread, log);
+        log.test_marked = reruns > 1 || widespread;
         ++reruns;
         from += 1.05 * width;
         width = 0.5 * (1 - from);

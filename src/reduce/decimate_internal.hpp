@@ -108,6 +108,8 @@ struct MergeLog {
   /// later of the two merges that made a pair of faces the finished mesh's test found
   /// intersecting.
   std::array<std::vector<std::uint32_t>, 3> test;
+  /// Also test the merges of marked vertices (EditSettings::check_near) when redone.
+  bool test_marked = false;
 };
 
 /// A method's finished run: the edited mesh, the carried point arrays and the counts.

@@ -55,8 +55,8 @@ class Collapser {
   Collapser(EditMesh& mesh, CarriedAttributes& attributes, Quadrics& quadrics,
             const Prepared& prepared, const DecimateOptions& options, std::size_t target,
             ProgressCallback progress, const std::atomic<bool>* stop_flag = nullptr,
-            const Buffer<MergeOp>* replay = nullptr,
-            std::span<const std::uint32_t> replay_tests = {}, Buffer<MergeOp>* record = nullptr)
+            const MergeLog* replay = nullptr, std::size_t part = 2,
+            Buffer<MergeOp>* record = nullptr)
       : mesh_(mesh),
         attributes_(attributes),
         quadric_(quadrics),
@@ -64,9 +64,12 @@ class Collapser {
         target_(target),
         progress_(std::move(progress)),
         stop_flag_(stop_flag),
-        replay_(replay),
-        replay_tests_(replay_tests),
+        replay_(replay != nullptr ? &replay->parts[part] : nullptr),
         record_(record) {
+    if (replay != nullptr) {
+      replay_tests_ = replay->test[part];
+      replay_marked_ = replay->test_marked;
+    }
     const double w = options.attribute_weight * prepared.diagonal;
     attribute_scale2_ = attributes.empty() ? 0 : w * w;
     preserve_volume_ = options.preserve_volume;
@@ -110,6 +113,7 @@ class Collapser {
   const std::atomic<bool>* stop_flag_;
   const Buffer<MergeOp>* replay_;
   std::span<const std::uint32_t> replay_tests_;  // positions in replay_ to test (ascending)
+  bool replay_marked_ = false;                   // also test the merges of marked vertices
   Buffer<MergeOp>* record_;
   bool replayed_all_ = false;
   double attribute_scale2_ = 0;
@@ -260,7 +264,7 @@ bool Collapser::replay(RunLoop& loop, DecimateStats& stats) {
     const std::array<Vid, 2> group{op.keep, op.drop};
     while (next_test != replay_tests_.end() && *next_test < i) ++next_test;
     const bool test = (next_test != replay_tests_.end() && *next_test == i) ||
-                      (!mesh_.defers_tests() && mesh_.tests_now(group));
+                      ((replay_marked_ || !mesh_.defers_tests()) && mesh_.tests_now(group));
     if (test && !loop.accept(mesh_.check_merge(group, op.p, MergeTest::Now))) return false;
     apply(op.keep, op.drop, op.p, op.t, op.error, stats,
           test ? MergeTest::Now : MergeTest::Deferred);
@@ -454,10 +458,7 @@ std::optional<Partitioned> decimate_halves(const Prepared& prepared, CarriedAttr
     meshes[i].emplace(prepared.positions, std::move(faces[i]), std::move(locks[i]), settings);
     vertex_quadrics(*meshes[i], options, out.quadrics, {}, sides, static_cast<std::uint8_t>(h));
     Collapser collapser(*meshes[i], attributes, out.quadrics, prepared, options, targets[i], report,
-                        &stop, replay != nullptr ? &replay->parts[i] : nullptr,
-                        replay != nullptr ? std::span<const std::uint32_t>(replay->test[i])
-                                          : std::span<const std::uint32_t>{},
-                        record != nullptr ? &record->parts[i] : nullptr);
+                        &stop, replay, i, record != nullptr ? &record->parts[i] : nullptr);
     stats[i] = collapser.run();
     replayed[i] = collapser.replayed_all();
   };
@@ -568,10 +569,7 @@ MethodRun decimate_quadric(const PolyData& input, const Prepared& prepared,
     vertex_quadrics(mesh, options, quadrics, progress_range(options.progress, 0, 0.05));
   }
   Collapser collapser(mesh, attributes, quadrics, prepared, options, prepared.target,
-                      progress_range(options.progress, from, 1.0), nullptr,
-                      replay != nullptr ? &replay->parts[2] : nullptr,
-                      replay != nullptr ? std::span<const std::uint32_t>(replay->test[2])
-                                        : std::span<const std::uint32_t>{},
+                      progress_range(options.progress, from, 1.0), nullptr, replay, 2,
                       record != nullptr ? &record->parts[2] : nullptr);
   const DecimateStats last = collapser.run();
   add_stats(stats, last);
