@@ -377,16 +377,17 @@ void mark_near(const MethodRun& run, const std::vector<std::array<Fid, 2>>& pair
 
 // Fills log.test with the merges a redone run tests. For each pair the finished mesh's test
 // found, with a the face made earlier and b the later one: the merge that made b as it is (a
-// then stood as it does, so tested it is refused); with `wide`, also every merge between the
-// two whose vertex ends in a vertex of a or b — the ones that made b's earlier forms around
-// there, which stand again when that merge is refused. The first redone run tests the last
-// merges only: tests need the grid of faces, which the run then builds late, when it reaches the
-// first of them, and most finished meshes are clean after it (the head's skin to 2 %: the
-// redone run 0.05 s instead of 0.25 s wide). The third also tests the merges of the vertices
-// marked around every pair found so far (MergeLog::test_marked), as all redone runs once did:
-// dearer, but it refuses early merges whose faces would stand again; so does the first when the
-// pairs are everywhere (decimate()). Faces of the two halves of
-// a partitioned run cannot meet; the joined run's merges come after both halves'.
+// then stood as it does, so tested it is refused); with `wide`, or when a was made by no untested
+// merge (an input face, which b's earlier forms may all cut: the input's own intersections),
+// also every merge between the two whose vertex ends in a vertex of a or b — the ones that made
+// b's earlier forms around there, which stand again when that merge is refused. The first redone
+// run tests the last merges only: tests need the grid of faces, which the run then builds late,
+// when it reaches the first of them, and most finished meshes are clean after it (the head's skin
+// to 2 %: the redone run 0.05 s instead of 0.25 s wide). The third also tests the merges of the
+// vertices marked around every pair found so far (MergeLog::test_marked), as all redone runs once
+// did: dearer, but it refuses early merges whose faces would stand again; so does the first when
+// the pairs are everywhere (decimate()). Faces of the two halves of a partitioned run cannot meet;
+// the joined run's merges come after both halves'.
 void mark_tests(const MethodRun& run, const std::vector<std::array<Fid, 2>>& pairs, bool wide,
                 MergeLog& log) {
   const EditMesh& mesh = *run.mesh;
@@ -418,7 +419,7 @@ void mark_tests(const MethodRun& run, const std::vector<std::array<Fid, 2>>& pai
     const Tri& tb = mesh.face(b);
     const std::array<Vid, 6> ends{ta[0], ta[1], ta[2], tb[0], tb[1], tb[2]};
     const std::size_t pb = part_of(wb), nb = number_of(wb);
-    if (!wide) {
+    if (!wide && wa != 0) {
       log.test[pb].push_back(static_cast<std::uint32_t>(nb - 1));
       continue;
     }
