@@ -443,6 +443,56 @@ TEST(Decimate, ADeepTargetOnTheHeadsSkinIsRedoneWithTheMergesFoundTestedUntilCle
             sum(in_t, &SurfaceComponent::border_loops));
 }
 
+TEST(Decimate, TwoCloseShellsDecimatedInHalvesAreRedoneTheSameForAnyThreadCount) {
+  // Two spheres 10⁻⁴ apart, 190 000 triangles: decimated in two halves (the target 20 times the
+  // faces crossing the cut), whose coarse faces cut the other shell, so the finished mesh is
+  // tested and the run redone — each half from its own part of the log, faces keeping the id
+  // of the merge that made them across the join.
+  PolyData shells = sphere(200, 240, 1.0);
+  const PolyData inner = sphere(200, 240, 1.0 - 1e-4);
+  const Index base = Index(shells.num_points());
+  for (std::size_t i = 0; i < inner.num_points(); ++i) shells.points.push_back(inner.points[i]);
+  for (std::size_t c = 0; c < inner.polys.size(); ++c) {
+    const auto f = inner.polys.cell(c);
+    shells.polys.add({f[0] + base, f[2] + base, f[1] + base});
+  }
+  const std::size_t target = 50000;
+  {
+    std::vector<double> xs;
+    for (std::size_t i = 0; i < shells.num_points(); ++i) xs.push_back(shells.points[i].x);
+    std::nth_element(xs.begin(), xs.begin() + xs.size() / 2, xs.end());
+    const double cut = xs[xs.size() / 2];
+    std::size_t crossing = 0;
+    for (std::size_t c = 0; c < shells.polys.size(); ++c) {
+      int below = 0;
+      for (Index i : shells.polys.cell(c)) below += shells.points[i].x < cut ? 1 : 0;
+      crossing += below == 1 || below == 2 ? 1 : 0;
+    }
+    ASSERT_GE(shells.polys.size(), 150000u);
+    ASSERT_GE(target, 20 * crossing);
+  }
+  PolyData one, two;
+  DecimateStats stats;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = decimate(shells, to_count(target)).output;
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    auto r = decimate(shells, to_count(target));
+    two = std::move(r.output);
+    stats = r.stats;
+  }
+  EXPECT_EQ(one.points, two.points);
+  EXPECT_EQ(one.polys, two.polys);
+  EXPECT_GE(stats.intersection_reruns, 1u);
+  EXPECT_EQ(stats.output_triangles, target);
+  EXPECT_TRUE(self_intersections(two).empty());
+  const SurfaceTopology t = analyze_topology(two);
+  EXPECT_TRUE(t.manifold());
+  EXPECT_EQ(t.components.size(), 2u);
+}
+
 TEST(Decimate, OutputDoesNotDependOnTheThreadCount) {
   const PolyData in = torus(80, 30);
   PolyData one, two;
