@@ -480,7 +480,7 @@ Refusal EditMesh::check_merge(std::span<const Vid> group, const Vec3& p, MergeTe
   // a face: nearly every intersection a merge can make is there, so a test of the finished mesh
   // rarely finds one to redo.
   if (!settings_.check_intersections) return Refusal::None;
-  const bool now = test == MergeTest::ByMarks ? tests_now(group) : test == MergeTest::Now;
+  const bool now = tests_now(group, test);
   if ((now || turns) && intersects(new_faces_, new_pos_, /*local=*/!now)) {
     return Refusal::Intersection;
   }
@@ -494,7 +494,7 @@ void EditMesh::detach(Fid f, Vid v) {
 std::size_t EditMesh::merge(std::span<const Vid> group, const Vec3& p, MergeTest test) {
   const Vid keep = group[0];
   auto member = [&](Vid v) { return std::find(group.begin(), group.end(), v) != group.end(); };
-  const bool tested = test == MergeTest::ByMarks ? tests_now(group) : test == MergeTest::Now;
+  const bool tested = tests_now(group, test);
   merges_ = std::min(merges_ + 1, kWriterNumberMask);  // saturated: no longer a log position
   const std::uint32_t writer = tested ? 0 : (settings_.log_part << kWriterPartShift) | merges_;
   gather_faces(group);

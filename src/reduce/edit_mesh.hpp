@@ -162,6 +162,10 @@ class EditMesh {
   /// Whether a merge of `group` is tested for intersections when it is made (always, unless
   /// the tests are deferred and no member is marked).
   [[nodiscard]] bool tests_now(std::span<const Vid> group) const;
+  /// Whether a merge of `group` checked or made as `test` says is tested now.
+  [[nodiscard]] bool tests_now(std::span<const Vid> group, MergeTest test) const {
+    return test == MergeTest::ByMarks ? tests_now(group) : test == MergeTest::Now;
+  }
   /// Applies a merge that `check_merge` accepted (`test`: as it was checked); returns the
   /// number of faces removed.
   std::size_t merge(std::span<const Vid> group, const Vec3& p, MergeTest test = MergeTest::ByMarks);

@@ -69,9 +69,8 @@ Vec3 minimize(const Quadric& q, const Vec3& anchor, double relative_cutoff) {
   // would, to a relative 1e-12, while directions far below λ still hardly move.
   Vec3 p = anchor;
   for (int step = 0; step < 3; ++step) {
-    const double r0 = -(q.a00 * p.x + q.a01 * p.y + q.a02 * p.z + q.b0);
-    const double r1 = -(q.a01 * p.x + q.a11 * p.y + q.a12 * p.z + q.b1);
-    const double r2 = -(q.a02 * p.x + q.a12 * p.y + q.a22 * p.z + q.b2);
+    const Vec3 ap = q.times_a(p);
+    const double r0 = -(ap.x + q.b0), r1 = -(ap.y + q.b1), r2 = -(ap.z + q.b2);
     p = {p.x + (c00 * r0 + c01 * r1 + c02 * r2) * inv, p.y + (c01 * r0 + c11 * r1 + c12 * r2) * inv,
          p.z + (c02 * r0 + c12 * r1 + c22 * r2) * inv};
   }
@@ -103,15 +102,11 @@ std::optional<Vec3> minimize_on_plane(const Quadric& q, const Vec3& anchor, cons
   Vec3 t1 = std::abs(u.x) < 0.6 ? Vec3{0, -u.z, u.y} : Vec3{-u.y, u.x, 0};
   t1 = t1 / norm(t1);
   const Vec3 t2 = cross(u, t1);
-  const auto times_a = [&q](const Vec3& x) {
-    return Vec3{q.a00 * x.x + q.a01 * x.y + q.a02 * x.z, q.a01 * x.x + q.a11 * x.y + q.a12 * x.z,
-                q.a02 * x.x + q.a12 * x.y + q.a22 * x.z};
-  };
   // q(x0 + y1 t1 + y2 t2) = yᵀ H y + 2 gᵀ y + const.
-  const Vec3 at1 = times_a(t1), at2 = times_a(t2);
+  const Vec3 at1 = q.times_a(t1), at2 = q.times_a(t2);
   double h11 = dot(t1, at1), h22 = dot(t2, at2);
   const double h12 = dot(t1, at2);
-  const Vec3 r = times_a(x0) + Vec3{q.b0, q.b1, q.b2};
+  const Vec3 r = q.times_a(x0) + Vec3{q.b0, q.b1, q.b2};
   const double g1 = dot(t1, r), g2 = dot(t2, r);
   const double trace = h11 + h22;
   if (!(trace > 0) || !std::isfinite(trace)) return x0;

@@ -55,12 +55,15 @@ struct Quadric {
   }
   friend Quadric operator+(Quadric a, const Quadric& b) { return a += b; }
 
+  /// A x.
+  [[nodiscard]] Vec3 times_a(const Vec3& x) const {
+    return {a00 * x.x + a01 * x.y + a02 * x.z, a01 * x.x + a11 * x.y + a12 * x.z,
+            a02 * x.x + a12 * x.y + a22 * x.z};
+  }
   /// Q(p), clamped at 0 (rounding can make it slightly negative).
   [[nodiscard]] double operator()(const Vec3& p) const {
-    const double ax = a00 * p.x + a01 * p.y + a02 * p.z;
-    const double ay = a01 * p.x + a11 * p.y + a12 * p.z;
-    const double az = a02 * p.x + a12 * p.y + a22 * p.z;
-    const double v = p.x * ax + p.y * ay + p.z * az + 2 * (b0 * p.x + b1 * p.y + b2 * p.z) + c;
+    const Vec3 a = times_a(p);
+    const double v = p.x * a.x + p.y * a.y + p.z * a.z + 2 * (b0 * p.x + b1 * p.y + b2 * p.z) + c;
     return v > 0 ? v : 0;
   }
 };

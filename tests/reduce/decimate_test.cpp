@@ -31,6 +31,42 @@ PolyData sphere(int rings, int segments, double r = 1) {
   });
 }
 
+// Two shells: the sphere of radius 1 and, `gap` inside it, one facing inward.
+PolyData nested_spheres(int rings, int segments, double gap) {
+  PolyData shells = sphere(rings, segments, 1.0);
+  const PolyData inner = sphere(rings, segments, 1.0 - gap);
+  const Index base = Index(shells.num_points());
+  for (std::size_t i = 0; i < inner.num_points(); ++i) shells.points.push_back(inner.points[i]);
+  for (std::size_t c = 0; c < inner.polys.size(); ++c) {
+    const auto f = inner.polys.cell(c);
+    shells.polys.add({f[0] + base, f[2] + base, f[1] + base});
+  }
+  return shells;
+}
+
+// The faces crossing the median x of the points: the cut of a partitioned run on a mesh whose
+// longest axis is x (docs/algorithms/decimation.md, "Two cores").
+std::size_t faces_crossing_median_x(const PolyData& mesh) {
+  std::vector<double> xs;
+  for (std::size_t i = 0; i < mesh.num_points(); ++i) xs.push_back(mesh.points[i].x);
+  std::nth_element(xs.begin(), xs.begin() + xs.size() / 2, xs.end());
+  const double cut = xs[xs.size() / 2];
+  std::size_t crossing = 0;
+  for (std::size_t c = 0; c < mesh.polys.size(); ++c) {
+    int below = 0;
+    for (Index i : mesh.polys.cell(c)) below += mesh.points[i].x < cut ? 1 : 0;
+    crossing += below == 1 || below == 2 ? 1 : 0;
+  }
+  return crossing;
+}
+
+// decimate() with TBB limited to `threads`.
+DecimateResult decimate_on(int threads, const PolyData& in, const DecimateOptions& o) {
+  tbb::global_control c(tbb::global_control::max_allowed_parallelism,
+                        static_cast<std::size_t>(threads));
+  return decimate(in, o);
+}
+
 // A torus (genus 1) of n × m quads split into triangles, outward oriented.
 PolyData torus(int n, int m, double big = 1, double small = 0.3) {
   PolyData pd;
@@ -391,14 +427,7 @@ TEST(Decimate, IntersectionsBetweenSeparateShellsAreFoundAndRedone) {
   // Two nested spheres 0.03 apart: coarse faces of the outer one cut into the inner one. Those
   // merges share no vertex with what they would cut, so only the test of the finished mesh
   // sees them: the run is redone with them tested.
-  PolyData shells = sphere(24, 48, 1.0);
-  const PolyData inner = sphere(24, 48, 0.97);
-  const Index base = Index(shells.num_points());
-  for (std::size_t i = 0; i < inner.num_points(); ++i) shells.points.push_back(inner.points[i]);
-  for (std::size_t c = 0; c < inner.polys.size(); ++c) {
-    const auto f = inner.polys.cell(c);
-    shells.polys.add({f[0] + base, f[2] + base, f[1] + base});
-  }
+  const PolyData shells = nested_spheres(24, 48, 0.03);
   DecimateOptions unchecked = to_count(120);
   unchecked.check_self_intersections = false;
   EXPECT_FALSE(self_intersections(decimate(shells, unchecked).output).empty());
@@ -448,41 +477,12 @@ TEST(Decimate, TwoCloseShellsDecimatedInHalvesAreRedoneTheSameForAnyThreadCount)
   // faces crossing the cut), whose coarse faces cut the other shell, so the finished mesh is
   // tested and the run redone — each half from its own part of the log, faces keeping the id
   // of the merge that made them across the join.
-  PolyData shells = sphere(200, 240, 1.0);
-  const PolyData inner = sphere(200, 240, 1.0 - 1e-4);
-  const Index base = Index(shells.num_points());
-  for (std::size_t i = 0; i < inner.num_points(); ++i) shells.points.push_back(inner.points[i]);
-  for (std::size_t c = 0; c < inner.polys.size(); ++c) {
-    const auto f = inner.polys.cell(c);
-    shells.polys.add({f[0] + base, f[2] + base, f[1] + base});
-  }
+  const PolyData shells = nested_spheres(200, 240, 1e-4);
   const std::size_t target = 50000;
-  {
-    std::vector<double> xs;
-    for (std::size_t i = 0; i < shells.num_points(); ++i) xs.push_back(shells.points[i].x);
-    std::nth_element(xs.begin(), xs.begin() + xs.size() / 2, xs.end());
-    const double cut = xs[xs.size() / 2];
-    std::size_t crossing = 0;
-    for (std::size_t c = 0; c < shells.polys.size(); ++c) {
-      int below = 0;
-      for (Index i : shells.polys.cell(c)) below += shells.points[i].x < cut ? 1 : 0;
-      crossing += below == 1 || below == 2 ? 1 : 0;
-    }
-    ASSERT_GE(shells.polys.size(), 150000u);
-    ASSERT_GE(target, 20 * crossing);
-  }
-  PolyData one, two;
-  DecimateStats stats;
-  {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-    one = decimate(shells, to_count(target)).output;
-  }
-  {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
-    auto r = decimate(shells, to_count(target));
-    two = std::move(r.output);
-    stats = r.stats;
-  }
+  ASSERT_GE(shells.polys.size(), 150000u);
+  ASSERT_GE(target, 20 * faces_crossing_median_x(shells));
+  const PolyData one = decimate_on(1, shells, to_count(target)).output;
+  const auto [two, stats] = decimate_on(2, shells, to_count(target));
   EXPECT_EQ(one.points, two.points);
   EXPECT_EQ(one.polys, two.polys);
   EXPECT_GE(stats.intersection_reruns, 1u);
@@ -495,15 +495,8 @@ TEST(Decimate, TwoCloseShellsDecimatedInHalvesAreRedoneTheSameForAnyThreadCount)
 
 TEST(Decimate, OutputDoesNotDependOnTheThreadCount) {
   const PolyData in = torus(80, 30);
-  PolyData one, two;
-  {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-    one = decimate(in, to_count(600)).output;
-  }
-  {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
-    two = decimate(in, to_count(600)).output;
-  }
+  const PolyData one = decimate_on(1, in, to_count(600)).output;
+  const PolyData two = decimate_on(2, in, to_count(600)).output;
   EXPECT_EQ(one.points, two.points);
   EXPECT_EQ(one.polys, two.polys);
 }
@@ -514,33 +507,11 @@ TEST(Decimate, TheTwoHalvesOfALargeMeshGiveTheSameOutputForAnyThreadCount) {
   // crossing the cut, as the partition requires (docs/algorithms/decimation.md, "Two cores").
   const PolyData in = torus(400, 200);
   const std::size_t target = 20000;
-  {
-    std::vector<double> xs;
-    for (std::size_t i = 0; i < in.num_points(); ++i) xs.push_back(in.points[i].x);
-    std::nth_element(xs.begin(), xs.begin() + xs.size() / 2, xs.end());
-    const double cut = xs[xs.size() / 2];
-    std::size_t crossing = 0;
-    for (std::size_t c = 0; c < in.polys.size(); ++c) {
-      const auto ids = in.polys.cell(c);
-      int below = 0;
-      for (Index i : ids) below += in.points[i].x < cut ? 1 : 0;
-      crossing += below == 1 || below == 2 ? 1 : 0;
-    }
-    ASSERT_GT(crossing, 0u);
-    ASSERT_GE(target, 20 * crossing);
-  }
-  PolyData one, two;
-  DecimateStats stats;
-  {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-    one = decimate(in, to_count(target)).output;
-  }
-  {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
-    auto r = decimate(in, to_count(target));
-    two = std::move(r.output);
-    stats = r.stats;
-  }
+  const std::size_t crossing = faces_crossing_median_x(in);
+  ASSERT_GT(crossing, 0u);
+  ASSERT_GE(target, 20 * crossing);
+  const PolyData one = decimate_on(1, in, to_count(target)).output;
+  const auto [two, stats] = decimate_on(2, in, to_count(target));
   EXPECT_EQ(one.points, two.points);
   EXPECT_EQ(one.polys, two.polys);
   EXPECT_EQ(stats.output_triangles, target);
