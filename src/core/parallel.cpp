@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 
 namespace isoforge {
 
@@ -30,6 +31,22 @@ void parallel_for_range(std::size_t n, std::size_t grain,
     report_progress(progress, static_cast<double>(end) / static_cast<double>(n), operation);
   }
   if (n == 0) report_progress(progress, 1.0, operation);
+}
+
+std::size_t parallel_find_first(std::size_t n, std::size_t grain,
+                                const std::function<std::size_t(std::size_t, std::size_t)>& first) {
+  std::atomic<std::size_t> found{n};
+  if (n == 0) return n;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, std::max<std::size_t>(grain, 1)),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      if (r.begin() >= found.load(std::memory_order_relaxed)) return;
+                      const std::size_t i = first(r.begin(), r.end());
+                      if (i >= r.end()) return;
+                      std::size_t seen = found.load(std::memory_order_relaxed);
+                      while (i < seen && !found.compare_exchange_weak(seen, i)) {
+                      }
+                    });
+  return found.load();
 }
 
 }  // namespace isoforge

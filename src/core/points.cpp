@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "isoforge/core/parallel.hpp"
+
 namespace isoforge {
 
 Points::Points(std::size_t n, ScalarType type) : data_("Points", type, 3, n) {
@@ -68,11 +70,12 @@ Bounds Points::bounds() const {
 }
 
 std::size_t Points::first_non_finite() const {
-  const std::size_t n = size();
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!is_finite((*this)[i])) return i;
-  }
-  return n;
+  return parallel_find_first(size(), std::size_t{1} << 15, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      if (!is_finite((*this)[i])) return i;
+    }
+    return e;
+  });
 }
 
 }  // namespace isoforge

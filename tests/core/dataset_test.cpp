@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
+#include <vector>
 
 using namespace isoforge;
 
@@ -123,4 +125,57 @@ TEST(Points, Float64AndNonFinite) {
   EXPECT_EQ(p[0].x, 1e-300);
   EXPECT_EQ(p.first_non_finite(), 1u);
   EXPECT_THROW(Points(2, ScalarType::Int32), Error);
+}
+
+TEST(CellArray, ValidateNamesTheFirstBadCellOfALargeArray) {
+  // 300 000 cells over several of the check's parallel ranges, every tenth one empty: the error
+  // names the lowest bad cell (found from its position by the sorted offsets), for any thread
+  // count.
+  const std::size_t cells = 300'000;
+  std::vector<Index> offsets{0}, connectivity;
+  for (std::size_t c = 0; c < cells; ++c) {
+    if (c % 10 != 3) {
+      for (Index k = 0; k < 3; ++k) connectivity.push_back(static_cast<Index>((c + k) % 1000));
+    }
+    offsets.push_back(static_cast<Index>(connectivity.size()));
+  }
+  const auto error_of = [](const CellArray& a) {
+    try {
+      a.validate(1000, "polys");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error_of(CellArray(offsets, connectivity)), "");
+  // Bad ids in cells 250 000, 120 001 and (negative) 270 000: cell 120 001 is named.
+  std::vector<Index> bad = connectivity;
+  const auto first_of = [&](std::size_t c) { return static_cast<std::size_t>(offsets[c]); };
+  bad[first_of(250'000) + 1] = 1000;
+  bad[first_of(120'001) + 2] = 5000;
+  bad[first_of(270'000)] = -4;
+  EXPECT_EQ(error_of(CellArray(offsets, bad)),
+            "polys: cell 120001 refers to point 5000, outside [0, 1000)");
+  bad[first_of(120'001) + 2] = 1;
+  EXPECT_EQ(error_of(CellArray(offsets, bad)),
+            "polys: cell 250000 refers to point 1000, outside [0, 1000)");
+  // Decreasing offsets, named by the first cell whose end comes before its start.
+  std::vector<Index> down = offsets;
+  down[200'001] = down[200'000] - 1;
+  down[100'002] = down[100'001] - 1;
+  try {
+    CellArray a(down, connectivity);
+    ADD_FAILURE() << "decreasing offsets accepted";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "CellArray: offsets decrease at cell 100001");
+  }
+}
+
+TEST(Points, FirstNonFiniteOfALargeSetIsTheLowest) {
+  Points p(500'000, ScalarType::Float32);
+  for (std::size_t i = 0; i < p.size(); ++i) p.set(i, {double(i), 1, 2});
+  EXPECT_EQ(p.first_non_finite(), p.size());
+  p.set(420'000, {0, std::numeric_limits<double>::infinity(), 0});
+  p.set(333'333, {0, 0, std::numeric_limits<double>::quiet_NaN()});
+  EXPECT_EQ(p.first_non_finite(), 333'333u);
 }

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <tbb/global_control.h>
+
 #include <atomic>
 #include <vector>
 
@@ -71,4 +73,28 @@ TEST(ProgressRange, MapsIntoTheParentsInterval) {
   EXPECT_TRUE(child(1.0));
   EXPECT_EQ(seen, (std::vector<double>{0.25, 0.5, 0.75}));
   EXPECT_FALSE(static_cast<bool>(progress_range({}, 0, 1)));
+}
+
+TEST(ParallelFindFirst, FindsTheLowestIndexForAnyGrainAndThreadCount) {
+  const std::size_t n = 1'000'003;
+  // Marked indices in several chunks; the lowest must come back whichever chunk finishes first.
+  std::vector<char> bad(n, 0);
+  for (std::size_t i : {999'999u, 700'001u, 523'457u, 523'458u}) bad[i] = 1;
+  const auto first = [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      if (bad[i]) return i;
+    }
+    return e;
+  };
+  for (const int threads : {1, 2, 4}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    for (const std::size_t grain : {1u, 7u, 1000u, 65536u, 2'000'000u}) {
+      EXPECT_EQ(parallel_find_first(n, grain, first), 523'457u) << threads << " " << grain;
+    }
+  }
+  bad.assign(n, 0);
+  EXPECT_EQ(parallel_find_first(n, 1000, first), n);  // none: n
+  bad[0] = 1;
+  EXPECT_EQ(parallel_find_first(n, 1000, first), 0u);
+  EXPECT_EQ(parallel_find_first(0, 1000, first), 0u);  // empty range: n = 0
 }

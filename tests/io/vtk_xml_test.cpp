@@ -1576,6 +1576,38 @@ TEST(VtkXmlBad, ZlibErrorsAndLyingBlockHeaders) {
   expect_read_error(file(lie7, b), "lie7.vtp", {"last block size 36 exceeds the block size 8"});
 }
 
+TEST(VtkXmlBad, LargeCellListsNameTheFirstBadCell) {
+  // 200 000 triangles and quads, checked in parallel ranges: the lowest bad cell is named,
+  // whichever range finds its error first.
+  const std::size_t cells = 200'000;
+  const auto make = [&](std::size_t bad_cell, long long bad_id, std::size_t down_cell) {
+    std::string conn, off;
+    long long at = 0;
+    for (std::size_t c = 0; c < cells; ++c) {
+      const int size = c % 7 == 5 ? 4 : 3;
+      for (int k = 0; k < size; ++k) {
+        conn +=
+            std::to_string(c == bad_cell && k == 1 ? bad_id : static_cast<long long>((c + k) % 3)) +
+            ' ';
+      }
+      at += size;
+      off += std::to_string(c == down_cell ? at - 5 : at) + ' ';  // before the cell's start
+    }
+    std::string f = replace(kTriangle, "NumberOfPolys=\"1\"",
+                            "NumberOfPolys=\"" + std::to_string(cells) + "\"");
+    f = replace(f, "Int32\" Name=\"connectivity\" format=\"ascii\">0 1 2<",
+                "Int64\" Name=\"connectivity\" format=\"ascii\">" + conn + "<");
+    return replace(f, "Int32\" Name=\"offsets\" format=\"ascii\">3<",
+                   "Int64\" Name=\"offsets\" format=\"ascii\">" + off + "<");
+  };
+  EXPECT_EQ(num_cells(read_string(make(cells, 0, cells), "good.vtp")), cells);
+  expect_read_error(make(123'456, 3, cells), "big_oor.vtp",
+                    {"'connectivity'", "cell 123456 refers to point 3, outside [0, 3)"});
+  expect_read_error(make(199'999, -2, cells), "big_neg.vtp", {"cell 199999 refers to point -2"});
+  expect_read_error(make(cells, 0, 150'001), "big_down.vtp",
+                    {"'offsets'", "not monotonic: cell 150001 ends at"});
+}
+
 TEST(VtkXmlBad, OutOfRangeConnectivity) {
   expect_read_error(replace(kTriangle, ">0 1 2<", ">0 1 3<"), "oor.vtp",
                     {"Polys/DataArray 'connectivity'", "cell 0 refers to point 3, outside [0, 3)"});

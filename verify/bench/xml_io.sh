@@ -33,13 +33,21 @@ if [ ! -f "$surf" ]; then
 fi
 
 # best WALL CPU CALL of REPEATS runs of a command: "wall cpu call" (seconds; CALL: the least
-# number the command printed, the peer's time of the read/write call alone, else 0).
+# number the command printed, the peer's time of the read/write call alone, else 0). With
+# FRESH=FILE in the environment, FILE is removed before each run: a writer replacing the file of
+# the run before would also pay for the kernel freeing that file's page cache.
 best() {
   local bw=1e9 bc=1e9 bk=1e9 w u s k
   for _ in $(seq "$repeats"); do
+    if [ -n "${FRESH:-}" ]; then rm -f "$FRESH"; fi
+    # Wall time in milliseconds from the clock (time's %e counts hundredths: ±15 % at 0.07 s).
+    local t0 t1
+    t0=$(date +%s%N)
     /usr/bin/time -f "%e %U %S" -o "$work/time.txt" "$@" >"$work/out.txt" 2>"$work/err.txt" ||
       { cat "$work/err.txt" >&2; exit 1; }
+    t1=$(date +%s%N)
     read -r w u s < "$work/time.txt"
+    w=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.3f", (b - a) / 1e9 }')
     k=$(awk 'NR == 1 && $1 ~ /^[0-9.]+$/ { print $1 }' "$work/out.txt"); k=${k:-0}
     read -r bw bc bk < <(awk -v w="$w" -v c="$(awk -v u="$u" -v s="$s" 'BEGIN { print u + s }')" \
       -v k="$k" -v bw="$bw" -v bc="$bc" -v bk="$bk" \
@@ -55,7 +63,7 @@ mb_of() { awk -v b="$(stat -c %s "$1")" 'BEGIN { printf "%.2f", b / 1e6 }'; }
 row() {
   awk -v d="$1" -v c="$2" -v op="$3" -v iw="$4" -v ic="$5" -v vw="$6" -v vc="$7" -v vk="$8" \
       -v mb="$9" -v sz="${10}" \
-    'BEGIN { printf "| %s | %s | %s | %.2f (%.2f) | %.2f (%.2f) | %.2f | %.0f | %.0f | %.1f | %s |\n",
+    'BEGIN { printf "| %s | %s | %s | %.3f (%.2f) | %.3f (%.2f) | %.2f | %.0f | %.0f | %.1f | %s |\n",
              d, c, op, iw, ic, vw, vc, vk, mb / iw, mb / vw, vw / iw, sz }'
 }
 
@@ -69,8 +77,8 @@ for pair in "volume:$vol:vti" "surface:$surf:vtp"; do
     opts=(--compressor "$c") vopts=("$c")
     [ "$c" = zlib10 ] && opts=(--compressor zlib --level 10) vopts=(zlib)
     # write (from the raw file; both sides read it first)
-    read -r iw ic _ < <(best "$bin" -q --threads "$threads" convert "$raw" "$ours" "${opts[@]}")
-    read -r vw vc vk < <(best "$py" "$peer" write "$raw" "$theirs" "${vopts[@]}")
+    read -r iw ic _ < <(FRESH=$ours best "$bin" -q --threads "$threads" convert "$raw" "$ours" "${opts[@]}")
+    read -r vw vc vk < <(FRESH=$theirs best "$py" "$peer" write "$raw" "$theirs" "${vopts[@]}")
     row "$name" "$c" write "$iw" "$ic" "$vw" "$vc" "$vk" "$mb" "$(mb_of "$ours") / $(mb_of "$theirs")"
     "$py" "$peer" read "$ours" >/dev/null  # VTK reads what we wrote
     [ "$c" = zlib10 ] && continue

@@ -20,4 +20,12 @@ void parallel_for_range(std::size_t n, std::size_t grain,
                         const std::function<void(std::size_t, std::size_t)>& body,
                         const ProgressCallback& progress = {}, const char* operation = "");
 
+/// The lowest index in [0, n) that `first` finds, or n if none: `first(begin, end)` returns the
+/// lowest index in [begin, end) it looks for, or `end`. Ranges of about `grain` items run in
+/// parallel, and a range wholly past an index already found is skipped. The result does not
+/// depend on the thread count (a check of every element that reports the first bad one).
+[[nodiscard]] std::size_t parallel_find_first(
+    std::size_t n, std::size_t grain,
+    const std::function<std::size_t(std::size_t, std::size_t)>& first);
+
 }  // namespace isoforge

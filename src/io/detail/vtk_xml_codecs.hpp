@@ -54,6 +54,7 @@ struct BlockFailure {
 /// compressed size of each.
 struct CompressedBlocks {
   std::unique_ptr<std::byte[]> data;  ///< uninitialized beyond `bytes` (pages never touched)
+  std::size_t capacity = 0;           ///< bytes allocated at `data`
   std::size_t bytes = 0;
   std::vector<std::uint64_t> sizes;
 };
@@ -61,9 +62,12 @@ struct CompressedBlocks {
 /// Compresses `n` bytes at `in` in blocks of `block` bytes (the last may be shorter), in
 /// parallel; the result depends only on the input, `codec` and `level` (1-12; 0: the default).
 /// `progress(bytes)` is called from the calling thread as slices of the input are done.
+/// `reuse`: a result no longer needed, whose storage is taken when large enough (a writer that
+/// compresses slice after slice then touches the same pages again instead of fresh ones).
 /// \throw Error if the codec fails (out of memory).
 [[nodiscard]] CompressedBlocks compress_blocks(BlockCodec codec, int level, const std::byte* in,
                                                std::size_t n, std::size_t block,
-                                               const std::function<void(std::size_t)>& progress);
+                                               const std::function<void(std::size_t)>& progress,
+                                               CompressedBlocks reuse = {});
 
 }  // namespace isoforge::io_detail
