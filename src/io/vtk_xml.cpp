@@ -1168,13 +1168,7 @@ CellArray Reader::read_cells(pugi::xml_node el, const XmlWhere& w, std::uint64_t
   // The checks and the copy are flat passes on all threads (a 1.5M-cell surface spent a tenth of
   // its LZ4 conversion in them when serial).
   constexpr std::size_t kGrain = std::size_t{1} << 16;
-  const std::size_t down =
-      parallel_find_first(ends.size(), kGrain, [&](std::size_t b, std::size_t e) {
-        for (std::size_t c = b; c < e; ++c) {
-          if (ends[c] < (c > 0 ? ends[c - 1] : 0)) return c;
-        }
-        return e;
-      });
+  const std::size_t down = first_decrease(ends);
   if (down < ends.size()) {
     ow.fail("offsets are not monotonic: cell " + num(down) + " ends at " +
             std::to_string(ends[down]) + " before it starts at " +
@@ -1187,14 +1181,7 @@ CellArray Reader::read_cells(pugi::xml_node el, const XmlWhere& w, std::uint64_t
   } else {
     const XmlWhere cw = w.child(conn_el, "DataArray 'connectivity'");
     conn = read_index_array(conn_el, cw, nconn);
-    const auto n = static_cast<std::uint64_t>(np);
-    const std::size_t bad =
-        parallel_find_first(conn.size(), kGrain, [&](std::size_t b, std::size_t e) {
-          for (std::size_t k = b; k < e; ++k) {
-            if (static_cast<std::uint64_t>(conn[k]) >= n) return k;  // negative ids wrap above n
-          }
-          return e;
-        });
+    const std::size_t bad = first_out_of_range(conn, np);
     if (bad < conn.size()) {
       // The cell holding position `bad`: the first whose end is past it.
       const auto cell = static_cast<std::size_t>(

@@ -15,6 +15,14 @@ namespace isoforge {
 /// Point index type used by all connectivity.
 using Index = std::int64_t;
 
+/// The first position whose value is below the one before it (or below 0, at position 0), or
+/// values.size() if they are sorted and non-negative: the check of cell offsets and ends. A flat
+/// pass on all threads.
+[[nodiscard]] std::size_t first_decrease(std::span<const Index> values);
+/// The first position whose id lies outside [0, num_points), or ids.size(): the check of
+/// connectivity. A flat pass on all threads.
+[[nodiscard]] std::size_t first_out_of_range(std::span<const Index> ids, std::size_t num_points);
+
 /// Cells stored as `offsets` (size = cells + 1, offsets[0] = 0, non-decreasing) and
 /// `connectivity` (point ids, cell i is connectivity[offsets[i] .. offsets[i+1])).
 class CellArray {
