@@ -66,6 +66,16 @@ void CellArray::clear() {
   connectivity_.clear();
 }
 
+std::size_t CellArray::first_smaller_than(std::size_t min_points) const {
+  const auto min = static_cast<Index>(min_points);
+  return parallel_find_first(size(), kCheckGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t c = b; c < e; ++c) {
+      if (offsets_[c + 1] - offsets_[c] < min) return c;
+    }
+    return e;
+  });
+}
+
 void CellArray::validate(std::size_t num_points, const char* what) const {
   // Flat passes over the offsets and the connectivity, on all threads; the cell of a bad index is
   // found afterwards (the offsets are then known to be sorted).

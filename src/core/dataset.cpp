@@ -3,6 +3,8 @@
 #include <cmath>
 #include <string>
 
+#include "isoforge/core/parallel.hpp"
+
 namespace isoforge {
 
 namespace {
@@ -162,23 +164,17 @@ void PolyData::validate() const {
   lines.validate(np, "lines");
   polys.validate(np, "polys");
   strips.validate(np, "strips");
-  for (std::size_t c = 0; c < verts.size(); ++c) {
-    if (verts.cell_size(c) < 1) throw Error("verts: cell " + std::to_string(c) + " is empty");
+  if (const std::size_t c = verts.first_smaller_than(1); c < verts.size()) {
+    throw Error("verts: cell " + std::to_string(c) + " is empty");
   }
-  for (std::size_t c = 0; c < lines.size(); ++c) {
-    if (lines.cell_size(c) < 2) {
-      throw Error("lines: cell " + std::to_string(c) + " has fewer than 2 points");
-    }
+  if (const std::size_t c = lines.first_smaller_than(2); c < lines.size()) {
+    throw Error("lines: cell " + std::to_string(c) + " has fewer than 2 points");
   }
-  for (std::size_t c = 0; c < polys.size(); ++c) {
-    if (polys.cell_size(c) < 3) {
-      throw Error("polys: cell " + std::to_string(c) + " has fewer than 3 points");
-    }
+  if (const std::size_t c = polys.first_smaller_than(3); c < polys.size()) {
+    throw Error("polys: cell " + std::to_string(c) + " has fewer than 3 points");
   }
-  for (std::size_t c = 0; c < strips.size(); ++c) {
-    if (strips.cell_size(c) < 3) {
-      throw Error("strips: cell " + std::to_string(c) + " has fewer than 3 points");
-    }
+  if (const std::size_t c = strips.first_smaller_than(3); c < strips.size()) {
+    throw Error("strips: cell " + std::to_string(c) + " has fewer than 3 points");
   }
   validate_attributes(point_data, cell_data, np, num_cells());
 }
@@ -196,19 +192,29 @@ void UnstructuredGrid::validate() const {
                 std::to_string(cells.size()) + " cells");
   }
   cells.validate(points.size(), "cells");
-  for (std::size_t c = 0; c < types.size(); ++c) {
+  // The first cell of an unknown type or of a wrong size, in a flat pass on all threads.
+  const auto bad = [&](std::size_t c) {
+    if (!is_valid_cell_type(static_cast<int>(types[c]))) return true;
+    const int fixed = cell_fixed_size(types[c]);
+    const auto n = static_cast<int>(cells.cell_size(c));
+    return (fixed > 0 && n != fixed) || n < cell_min_size(types[c]);
+  };
+  const std::size_t c =
+      parallel_find_first(types.size(), std::size_t{1} << 16, [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) {
+          if (bad(i)) return i;
+        }
+        return e;
+      });
+  if (c < types.size()) {
     const int t = static_cast<int>(types[c]);
     if (!is_valid_cell_type(t)) {
       throw Error("unstructured grid: cell " + std::to_string(c) + " has unknown type " +
                   std::to_string(t));
     }
-    const int fixed = cell_fixed_size(types[c]);
-    const auto n = static_cast<int>(cells.cell_size(c));
-    if ((fixed > 0 && n != fixed) || n < cell_min_size(types[c])) {
-      throw Error("unstructured grid: cell " + std::to_string(c) + " (" +
-                  std::string(cell_type_name(types[c])) + ") has " + std::to_string(n) +
-                  " points");
-    }
+    throw Error("unstructured grid: cell " + std::to_string(c) + " (" +
+                std::string(cell_type_name(types[c])) + ") has " +
+                std::to_string(cells.cell_size(c)) + " points");
   }
   validate_attributes(point_data, cell_data, points.size(), types.size());
 }

@@ -171,6 +171,69 @@ TEST(CellArray, ValidateNamesTheFirstBadCellOfALargeArray) {
   }
 }
 
+TEST(PolyData, ValidateNamesTheFirstShortCellOfALargeArray) {
+  // 300 000 triangles over several parallel ranges; short cells at 210 000 and 140 001 (a
+  // two-point polygon) and an empty vertex: the lowest of each list is named.
+  PolyData pd;
+  for (int i = 0; i < 10; ++i) pd.points.push_back({double(i), 0, 0});
+  const auto triangles = [&](std::size_t short_a, std::size_t short_b) {
+    CellArray a;
+    for (std::size_t c = 0; c < 300'000; ++c) {
+      if (c == short_a || c == short_b) {
+        a.add({1, 2});
+      } else {
+        a.add({0, 1, 2});
+      }
+    }
+    return a;
+  };
+  pd.polys = triangles(1'000'000, 1'000'000);
+  EXPECT_NO_THROW(pd.validate());
+  pd.polys = triangles(210'000, 140'001);
+  try {
+    pd.validate();
+    ADD_FAILURE() << "short polygons accepted";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "polys: cell 140001 has fewer than 3 points");
+  }
+  EXPECT_EQ(pd.polys.first_smaller_than(3), 140'001u);
+  EXPECT_EQ(pd.polys.first_smaller_than(2), pd.polys.size());
+  pd.strips = triangles(250'000, 1'000'000);
+  pd.polys = triangles(1'000'000, 1'000'000);
+  EXPECT_THROW(pd.validate(), Error);
+  pd.strips = CellArray();
+  pd.verts = CellArray(std::vector<Index>{0, 1, 1}, std::vector<Index>{5});  // cell 1 empty
+  try {
+    pd.validate();
+    ADD_FAILURE() << "empty vertex accepted";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "verts: cell 1 is empty");
+  }
+}
+
+TEST(UnstructuredGrid, ValidateNamesTheFirstBadCellOfALargeGrid) {
+  // 200 000 tetrahedra; a hexahedron of 4 points at 150 000 and an unknown type at 90 000: the
+  // lowest is named, with its problem.
+  UnstructuredGrid ug;
+  for (int i = 0; i < 4; ++i) ug.points.push_back({double(i == 1), double(i == 2), double(i == 3)});
+  for (std::size_t c = 0; c < 200'000; ++c) {
+    ug.add_cell(c == 150'000 ? CellType::Hexahedron : CellType::Tetra, {0, 1, 2, 3});
+  }
+  try {
+    ug.validate();
+    ADD_FAILURE() << "a 4-point hexahedron accepted";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "unstructured grid: cell 150000 (hexahedron) has 4 points");
+  }
+  ug.types[90'000] = static_cast<CellType>(200);
+  try {
+    ug.validate();
+    ADD_FAILURE() << "an unknown type accepted";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "unstructured grid: cell 90000 has unknown type 200");
+  }
+}
+
 TEST(Points, FirstNonFiniteOfALargeSetIsTheLowest) {
   Points p(500'000, ScalarType::Float32);
   for (std::size_t i = 0; i < p.size(); ++i) p.set(i, {double(i), 1, 2});

@@ -62,6 +62,8 @@ class CellArray {
   /// Checks the offsets invariant and that every id is in [0, num_points).
   /// \throw Error mentioning `what` (e.g. "polys") and the first bad cell.
   void validate(std::size_t num_points, const char* what) const;
+  /// The first cell of fewer than `min_points` points, or size(). A flat pass on all threads.
+  [[nodiscard]] std::size_t first_smaller_than(std::size_t min_points) const;
 
   friend bool operator==(const CellArray&, const CellArray&) = default;
 
