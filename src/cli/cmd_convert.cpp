@@ -121,9 +121,11 @@ void add_convert_command(CLI::App& app, Context& ctx) {
     const CLI::Option* compressor_opt = cmd->get_option("--compressor");
     if (draco_out) {
       require_meaningful(compressor_opt, false, "applies to VTK XML output only, not Draco");
-    } else if (!xml && xml_compression_given()) {
-      throw UsageError(std::string(compressor_opt->count() ? "--compressor" : "--level") +
-                       ": applies to VTK XML (.vti .vts .vtp .vtu) and Draco output only, not " +
+      require_meaningful(cmd->get_option("--id-type"), false,
+                         "applies to VTK XML output only, not Draco");
+    } else if (const std::string given = xml_option_given(); !xml && !given.empty()) {
+      throw UsageError(given + ": applies to VTK XML (.vti .vts .vtp .vtu)" +
+                       (given == "--id-type" ? "" : " and Draco") + " output only, not " +
                        args->out);
     } else if (xml) {
       check_xml_compression(args->vtk_xml ? FileFormat::VtkPolyData : format, args->out);

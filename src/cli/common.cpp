@@ -143,7 +143,8 @@ namespace {
 struct XmlCompressionCli {
   std::string compressor;  // "" = not given
   std::int64_t level = 0;  // 0 = not given
-  std::vector<const CLI::Option*> compressor_opts, level_opts;
+  std::string id_type;     // "" = not given
+  std::vector<const CLI::Option*> compressor_opts, level_opts, id_type_opts;
 };
 
 XmlCompressionCli& xml_cli() {
@@ -173,6 +174,12 @@ void add_xml_compression_options(CLI::App& app) {
                         "VTK XML output: compressor of the binary data: zlib (default; opens "
                         "everywhere), lz4 (several times faster, larger; VTK 8.2+) or none")
             ->check(CLI::IsMember({"zlib", "lz4", "none"})));
+    x.id_type_opts.push_back(
+        cmd->add_option("--id-type", x.id_type,
+                        "VTK XML output: integer type of the cell connectivity and offsets: auto "
+                        "(default: Int32 when every id fits, half the bytes), int32 (an error when "
+                        "they do not fit) or int64 (as VTK writes by default)")
+            ->check(CLI::IsMember({"auto", "int32", "int64"})));
     if (const CLI::Option* own = cmd->get_option_no_throw("--level")) {
       x.level_opts.push_back(own);  // convert: Draco's --level, read through xml_level()
       continue;
@@ -184,8 +191,12 @@ void add_xml_compression_options(CLI::App& app) {
   }
 }
 
-bool xml_compression_given() {
-  return given(xml_cli().compressor_opts) || given(xml_cli().level_opts);
+std::string xml_option_given() {
+  const XmlCompressionCli& x = xml_cli();
+  if (given(x.compressor_opts)) return "--compressor";
+  if (given(x.level_opts)) return "--level";
+  if (given(x.id_type_opts)) return "--id-type";
+  return {};
 }
 
 namespace {
@@ -202,12 +213,13 @@ std::optional<std::int64_t> xml_level() {
 
 void check_xml_compression(FileFormat format, const std::string& path) {
   const XmlCompressionCli& x = xml_cli();
-  const bool compressor = given(x.compressor_opts), level = given(x.level_opts);
-  if (!compressor && !level) return;
+  const std::string option = xml_option_given();
+  if (option.empty()) return;
   if (!is_vtk_xml(format)) {
-    throw UsageError(std::string(compressor ? "--compressor" : "--level") +
-                     ": applies to VTK XML output (.vti .vts .vtp .vtu) only, not " + path);
+    throw UsageError(option + ": applies to VTK XML output (.vti .vts .vtp .vtu) only, not " +
+                     path);
   }
+  const bool level = given(x.level_opts);
   if (level) {
     if (x.compressor == "none") {
       throw UsageError("--level: there is no level without compression (--compressor none)");
@@ -230,6 +242,11 @@ void apply_xml_compression(WriteOptions& options) {
     if (x.compressor == "zlib") options.xml_compressor = VtkXmlCompressor::Zlib;
   }
   if (const auto l = xml_level()) options.xml_level = static_cast<int>(*l);
+  if (given(x.id_type_opts)) {
+    options.xml_id_type = x.id_type == "int32"   ? VtkXmlIdType::Int32
+                          : x.id_type == "int64" ? VtkXmlIdType::Int64
+                                                 : VtkXmlIdType::Auto;
+  }
 }
 
 CLI::Option* add_dims_option(CLI::App& cmd, const std::string& name, std::vector<Index>& dims,

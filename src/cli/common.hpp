@@ -95,19 +95,20 @@ CLI::Option* add_grid_option(CLI::App& cmd, std::string& grid);
 /// \throw UsageError if --grid was given but `input` is not a .vdb file.
 void require_vdb_input(const CLI::Option* grid_option, const std::string& input);
 
-/// Adds "--compressor zlib|lz4|none" and "--level N" (VTK XML output compression) once to every
+/// Adds "--compressor zlib|lz4|none", "--level N" (VTK XML output compression) and "--id-type
+/// auto|int32|int64" once to every
 /// subcommand of `app` that writes datasets (those with an -o/--output or `output` option, but
 /// `fit`, which writes text); a subcommand that has its own --level (convert: Draco) keeps it, and
 /// its value serves both. Call once, after the subcommands are added. output_format() then
 /// refuses the options for a non-XML output, and write_output() applies them.
 void add_xml_compression_options(CLI::App& app);
-/// \throw UsageError when --compressor/--level were given and `format` (of `path`) is not VTK
-/// XML, when --level is out of the compressor's range, or is given with --compressor none.
+/// \throw UsageError when --compressor/--level/--id-type were given and `format` (of `path`) is
+/// not VTK XML, when --level is out of the compressor's range, or is given with --compressor none.
 void check_xml_compression(FileFormat format, const std::string& path);
-/// The --compressor/--level given, applied to write options (unchanged when not given).
+/// The --compressor/--level/--id-type given, applied to write options (unchanged when not given).
 void apply_xml_compression(WriteOptions& options);
-/// Whether --compressor or --level was given on the command line.
-[[nodiscard]] bool xml_compression_given();
+/// The first of --compressor, --level and --id-type given on the command line ("" if none).
+[[nodiscard]] std::string xml_option_given();
 
 /// `read(path, options)` reporting to `bar`'s current stage.
 [[nodiscard]] Dataset read_input(const std::string& path, ProgressBar& bar,

@@ -194,6 +194,7 @@ void write(DatasetRef ds, const std::filesystem::path& path, const WriteOptions&
       o.compress = options.compress;
       o.compressor = options.xml_compressor;
       o.level = options.xml_level;
+      o.id_type = options.xml_id_type;
       o.progress = options.progress;
       write_vtk_xml(ds, path, o);
       return;

@@ -22,15 +22,17 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <condition_variable>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
-#include <future>
 #include <limits>
+#include <mutex>
 #include <new>
 #include <optional>
 #include <pugixml.hpp>
 #include <string>
+#include <thread>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -446,6 +448,7 @@ struct ArrayRequest {
   std::optional<std::uint64_t> tuples;  ///< required tuple count (nullopt: any)
   int components = 0;                   ///< required components (0: any)
   bool skippable = true;                ///< String/Bit arrays are skipped (else an error)
+  std::size_t lead = 0;  ///< zero values before the payload's (one-component arrays: offsets)
 };
 
 struct StructuredPiece {
@@ -642,7 +645,9 @@ class Reader {
   void read_attributes(pugi::xml_node el, const XmlWhere& w, std::optional<std::uint64_t> tuples,
                        Attributes& out);
   Points read_points(pugi::xml_node piece, const XmlWhere& w, std::uint64_t np);
-  Buffer<Index> read_index_array(pugi::xml_node el, const XmlWhere& w, std::uint64_t count);
+  /// An integer array of `count` values as Index, after `lead` zeros.
+  Buffer<Index> read_index_array(pugi::xml_node el, const XmlWhere& w, std::uint64_t count,
+                                 std::size_t lead = 0);
   CellArray read_cells(pugi::xml_node el, const XmlWhere& w, std::uint64_t ncells, std::uint64_t np);
 
   Extent read_extent(pugi::xml_node el, const char* name, const XmlWhere& w, bool allow_empty);
@@ -1041,6 +1046,7 @@ std::optional<DataArray> Reader::read_array(pugi::xml_node el, const XmlWhere& w
                 " components");
       }
       charge(vec.size() * sizeof(T), tw);
+      if (req.lead > 0) vec.insert(vec.begin(), req.lead, T{});
       return DataArray::from_vector<T>(name, ncomp, std::move(vec));
     };
     switch (type) {
@@ -1075,12 +1081,17 @@ std::optional<DataArray> Reader::read_array(pugi::xml_node el, const XmlWhere& w
   // Not zero-filled: read_payload writes every byte (a raw payload is read whole, and every
   // block must decode to exactly its size), and zeroing first doubled the pages' first touch.
   std::optional<DataArray> out;
+  const std::size_t lead_bytes = req.lead * esize;
   WholeTarget target([&](std::uint64_t n) -> std::byte* {
-    out.emplace(DataArray::uninitialized(name, type, ncomp, static_cast<std::size_t>(n / unit)));
-    return out->bytes();
+    out.emplace(
+        DataArray::uninitialized(name, type, ncomp, static_cast<std::size_t>(n / unit) + req.lead));
+    std::memset(out->bytes(), 0, lead_bytes);
+    return out->bytes() + lead_bytes;
   });
   read_payload(*src, dw, bytes, unit, target);
-  if (endian_ != kHostEndian) io_detail::swap_elements(out->bytes(), out->size(), esize);
+  if (endian_ != kHostEndian) {
+    io_detail::swap_elements(out->bytes() + lead_bytes, out->size() - req.lead, esize);
+  }
   return out;
 }
 
@@ -1126,8 +1137,12 @@ Points Reader::read_points(pugi::xml_node piece, const XmlWhere& w, std::uint64_
   return pts;
 }
 
-Buffer<Index> Reader::read_index_array(pugi::xml_node el, const XmlWhere& w, std::uint64_t count) {
-  auto arr = read_array(el, w, ArrayRequest{count, 1, false});
+/// Values per task of the index arrays' passes.
+constexpr std::size_t kIndexGrain = std::size_t{1} << 16;
+
+Buffer<Index> Reader::read_index_array(pugi::xml_node el, const XmlWhere& w, std::uint64_t count,
+                                       std::size_t lead) {
+  auto arr = read_array(el, w, ArrayRequest{count, 1, false, lead});
   Buffer<Index> out;
   arr->visit([&](const auto& v) {
     using T = typename std::decay_t<decltype(v)>::value_type;
@@ -1136,15 +1151,24 @@ Buffer<Index> Reader::read_index_array(pugi::xml_node el, const XmlWhere& w, std
     } else if constexpr (std::is_same_v<T, Index>) {
       out = std::move(arr->vector<Index>());
     } else {
-      out.resize(v.size());
-      for (std::size_t i = 0; i < v.size(); ++i) {
-        if constexpr (std::is_same_v<T, std::uint64_t>) {
-          if (v[i] > static_cast<std::uint64_t>(std::numeric_limits<Index>::max())) {
-            w.fail("value " + num(i) + " (" + num(v[i]) + ") is out of range");
-          }
+      // Widened on all threads (a file written with 32-bit ids: the whole connectivity).
+      if constexpr (std::is_same_v<T, std::uint64_t>) {
+        constexpr auto kMax = static_cast<std::uint64_t>(std::numeric_limits<Index>::max());
+        const std::size_t bad =
+            parallel_find_first(v.size(), kIndexGrain, [&](std::size_t b, std::size_t e) {
+              for (std::size_t i = b; i < e; ++i) {
+                if (v[i] > kMax) return i;
+              }
+              return e;
+            });
+        if (bad < v.size()) {
+          w.fail("value " + num(bad - lead) + " (" + num(v[bad]) + ") is out of range");
         }
-        out[i] = static_cast<Index>(v[i]);
       }
+      out.resize(v.size());  // every element written below
+      parallel_for_range(v.size(), kIndexGrain, [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) out[i] = static_cast<Index>(v[i]);
+      });
     }
   });
   return out;
@@ -1164,10 +1188,11 @@ CellArray Reader::read_cells(pugi::xml_node el, const XmlWhere& w, std::uint64_t
   if (ncells == 0 && !off_el && !conn_el) return CellArray();
   if (!off_el) w.fail("missing DataArray 'offsets' for " + num(ncells) + " cells");
   const XmlWhere ow = w.child(off_el, "DataArray 'offsets'");
-  Buffer<Index> ends = read_index_array(off_el, ow, ncells);
-  // The checks and the copy are flat passes on all threads (a 1.5M-cell surface spent a tenth of
-  // its LZ4 conversion in them when serial).
-  constexpr std::size_t kGrain = std::size_t{1} << 16;
+  // The file's offsets are the cells' ends: read after a leading 0, they are the CellArray's.
+  Buffer<Index> offsets = read_index_array(off_el, ow, ncells, 1);
+  const std::span<const Index> ends = std::span<const Index>(offsets).subspan(1);
+  // The checks are flat passes on all threads (a 1.5M-cell surface spent a tenth of its LZ4
+  // conversion in them when serial).
   const std::size_t down = first_decrease(ends);
   if (down < ends.size()) {
     ow.fail("offsets are not monotonic: cell " + num(down) + " ends at " +
@@ -1190,14 +1215,6 @@ CellArray Reader::read_cells(pugi::xml_node el, const XmlWhere& w, std::uint64_t
               ", outside [0, " + num(np) + ")");
     }
   }
-  Buffer<Index> offsets;
-  offsets.resize(ends.size() + 1);  // every element written below
-  offsets[0] = 0;
-  parallel_for_range(ends.size(), kGrain, [&](std::size_t b, std::size_t e) {
-    std::copy(ends.begin() + static_cast<std::ptrdiff_t>(b),
-              ends.begin() + static_cast<std::ptrdiff_t>(e),
-              offsets.begin() + static_cast<std::ptrdiff_t>(b) + 1);
-  });
   return CellArray(std::move(offsets), std::move(conn));
 }
 
@@ -2177,11 +2194,27 @@ struct ArrayView {
   int components = 1;
   std::size_t values = 0;  ///< scalars in all
   const std::byte* bytes = nullptr;
+  /// `bytes` holds Index values written as `type` Int32 (cell ids that all fit).
+  bool narrow = false;
 
   static ArrayView of(const DataArray& a) {
     return {a.name(), a.type(), a.components(), a.size(), a.bytes()};
   }
+  /// Bytes written (of `type`).
   [[nodiscard]] std::size_t size_bytes() const { return values * scalar_size(type); }
+
+  /// Writes values [first, first + count) as `type` to `out`, in the host's byte order.
+  void copy_values(std::size_t first, std::size_t count, std::byte* out) const {
+    if (!narrow) {
+      std::memcpy(out, bytes + first * scalar_size(type), count * scalar_size(type));
+      return;
+    }
+    const auto* in = reinterpret_cast<const Index*>(bytes) + first;
+    auto* to = reinterpret_cast<std::int32_t*>(out);
+    parallel_for_range(count, std::size_t{1} << 16, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) to[i] = static_cast<std::int32_t>(in[i]);
+    });
+  }
 };
 
 /// One array's binary payload in the appended section: its header words and its data (a view of
@@ -2191,7 +2224,66 @@ struct Payload {
   const std::byte* data = nullptr;
   std::size_t size = 0;
   io_detail::CompressedBlocks compressed;
-  std::vector<std::byte> swapped;
+  std::vector<std::byte> converted;  ///< narrowed and/or byte-swapped values
+  /// Uncompressed narrowed ids: `data` is the array's view, narrowed piece by piece as written.
+  std::optional<ArrayView> narrowed;
+};
+
+/// One thread writing buffers to a stream in turn, for the whole document (a thread started for
+/// each slice cost more than some of the writes). The stream is the caller's again after wait().
+class BackgroundWrites {
+ public:
+  explicit BackgroundWrites(std::ostream& os) : os_(os), thread_([this] { run(); }) {}
+  BackgroundWrites(const BackgroundWrites&) = delete;
+  BackgroundWrites& operator=(const BackgroundWrites&) = delete;
+  ~BackgroundWrites() {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    changed_.notify_all();
+    thread_.join();
+  }
+
+  /// Waits until the buffer before is written, then starts writing [data, data + n) (which must
+  /// stay until the next write() or wait()).
+  void write(const std::byte* data, std::size_t n) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [this] { return data_ == nullptr; });
+    data_ = data;
+    size_ = n;
+    lock.unlock();
+    changed_.notify_all();
+  }
+  /// Waits until the buffer handed over is written.
+  void wait() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [this] { return data_ == nullptr; });
+  }
+
+ private:
+  void run() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    for (;;) {
+      changed_.wait(lock, [this] { return data_ != nullptr || stop_; });
+      if (data_ == nullptr) return;  // stopped
+      const std::byte* data = data_;
+      const std::size_t n = size_;
+      lock.unlock();
+      os_.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(n));
+      lock.lock();
+      data_ = nullptr;
+      changed_.notify_all();
+    }
+  }
+
+  std::ostream& os_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  const std::byte* data_ = nullptr;  // being written (nullptr: idle)
+  std::size_t size_ = 0;
+  bool stop_ = false;
+  std::thread thread_;  // last: started once the members above exist
 };
 
 class Writer {
@@ -2201,6 +2293,7 @@ class Writer {
         compress_(o.encoding != VtkXmlEncoding::Ascii && o.compress),
         codec_(o.compressor == VtkXmlCompressor::Lz4 ? BlockCodec::Lz4 : BlockCodec::Zlib),
         level_(o.level),
+        id_type_(o.id_type),
         callback_(o.progress) {
     if (compress_ && o.level != 0) {
       const auto [lo, hi] = vtk_xml_level_range(o.compressor);
@@ -2238,6 +2331,7 @@ class Writer {
       x_ += '"';
     }
     x_ += ">\n";
+    narrow_ids_ = narrow_ids(ds);
     ds.visit([&](const auto& d) { body(d); });
     constexpr std::string_view kAppended = "  <AppendedData encoding=\"raw\">\n   _";
     constexpr std::string_view kAppendedEnd = "\n  </AppendedData>\n";
@@ -2252,9 +2346,22 @@ class Writer {
     if (appended) {
       x_ += kAppended;
       io_detail::write_blocks(os, x_.data(), x_.size(), out);
+      std::unique_ptr<std::byte[]> piece;
       for (const Payload& p : app_) {
         io_detail::write_blocks(os, p.header.data(), p.header.size(), out);
-        io_detail::write_blocks(os, reinterpret_cast<const char*>(p.data), p.size, out);
+        if (!p.narrowed) {
+          io_detail::write_blocks(os, reinterpret_cast<const char*>(p.data), p.size, out);
+          continue;
+        }
+        // Narrowed a piece at a time: memory stays the dataset's.
+        constexpr std::size_t kPiece = std::size_t{1} << 20;  // values
+        if (!piece) piece.reset(new std::byte[kPiece * sizeof(std::int32_t)]);
+        for (std::size_t v = 0; v < p.narrowed->values; v += kPiece) {
+          const std::size_t m = std::min(kPiece, p.narrowed->values - v);
+          p.narrowed->copy_values(v, m, piece.get());
+          io_detail::write_blocks(os, reinterpret_cast<const char*>(piece.get()),
+                                  m * sizeof(std::int32_t), out);
+        }
       }
       x_ = kAppendedEnd;
     }
@@ -2386,16 +2493,44 @@ class Writer {
     array(v, 4, false);
     x_ += "      </Points>\n";
   }
+  /// Whether the cell ids are written as Int32: every id and offset fits (ids lie in
+  /// [0, points), offsets in [0, connectivity size]; the dataset is validated), unless Int64 is
+  /// asked for. \throw Error if Int32 is asked for and they do not fit.
+  bool narrow_ids(DatasetRef ds) const {
+    if (id_type_ == VtkXmlIdType::Int64) return false;
+    constexpr auto kMax = static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max());
+    std::size_t largest = 0;  // the largest id or offset that can occur
+    const auto add = [&](std::size_t points, const CellArray& c) {
+      if (c.connectivity().empty()) return;
+      largest = std::max({largest, points - 1, c.connectivity().size()});
+    };
+    ds.visit(Overloaded{[](const ImageData&) {}, [](const StructuredGrid&) {},
+                        [&](const PolyData& d) {
+                          for (const CellArray* c : {&d.verts, &d.lines, &d.strips, &d.polys}) {
+                            add(d.points.size(), *c);
+                          }
+                        },
+                        [&](const UnstructuredGrid& d) { add(d.points.size(), d.cells); }});
+    if (largest <= kMax) return true;
+    if (id_type_ == VtkXmlIdType::Int32) {
+      throw Error("VTK XML writer: id type Int32 cannot hold the cell ids and offsets (up to " +
+                  num(largest) + "); use Int64 or Auto");
+    }
+    return false;
+  }
+
   void cell_arrays(const CellArray& c, int level) {
     static_assert(std::is_same_v<Index, std::int64_t>);
     const auto& conn = c.connectivity();
     const auto& offs = c.offsets();  // [0, end of cell 0, ...]: VTK stores the ends
-    array({"connectivity", ScalarType::Int64, 1, conn.size(),
-           reinterpret_cast<const std::byte*>(conn.data())},
+    const ScalarType type = narrow_ids_ ? ScalarType::Int32 : ScalarType::Int64;
+    array({"connectivity", type, 1, conn.size(), reinterpret_cast<const std::byte*>(conn.data()),
+           narrow_ids_},
           level, false);
-    array({"offsets", ScalarType::Int64, 1, offs.empty() ? 0 : offs.size() - 1,
-           offs.empty() ? nullptr : reinterpret_cast<const std::byte*>(offs.data() + 1)},
-          level, false);
+    array(
+        {"offsets", type, 1, offs.empty() ? 0 : offs.size() - 1,
+         offs.empty() ? nullptr : reinterpret_cast<const std::byte*>(offs.data() + 1), narrow_ids_},
+        level, false);
   }
   void cells(const char* tag, const CellArray& c) {
     x_ += "      <";
@@ -2413,10 +2548,14 @@ class Writer {
     const std::size_t n = a.size_bytes();
     const std::size_t es = scalar_size(a.type);
     const std::byte* bytes = a.bytes;
-    if (kHostEndian != Endian::Little && es > 1 && n > 0) {
-      p.swapped.assign(bytes, bytes + n);
-      io_detail::swap_elements(p.swapped.data(), a.values, es);
-      bytes = p.swapped.data();
+    const bool swap = kHostEndian != Endian::Little && es > 1 && n > 0;
+    if (a.narrow && !compress_ && enc_ == VtkXmlEncoding::Appended && !swap) {
+      p.narrowed = a;  // narrowed as written, a piece at a time
+    } else if (a.narrow || swap) {
+      p.converted.resize(n);
+      a.copy_values(0, a.values, p.converted.data());
+      if (swap) io_detail::swap_elements(p.converted.data(), a.values, es);
+      bytes = p.converted.data();
     }
     auto put_word = [&](std::uint64_t v) {
       unsigned char b[8];
@@ -2481,7 +2620,7 @@ class Writer {
         x_ += " format=\"ascii\">\n";
         DataArray copy(std::string(a.name), a.type, a.components,
                        a.values / static_cast<std::size_t>(a.components));
-        if (a.values > 0) std::memcpy(copy.bytes(), a.bytes, a.size_bytes());
+        if (a.values > 0) a.copy_values(0, a.values, copy.bytes());
         ascii_values(copy, level + 1);
         break;
       }
@@ -2533,6 +2672,20 @@ class Writer {
     std::vector<std::uint64_t> offsets;
     std::uint64_t at = 0;  // bytes of the appended data so far
     std::string header;
+    // Each slice is written by another thread while the next one is compressed, into the storage
+    // of the slice before: two buffers in turn for the whole document, their pages touched once
+    // (fresh pages cost the kernel's zeroing, a tenth of a surface's conversion when every array
+    // took two new ones).
+    std::size_t largest = 0;
+    for (const Deferred& d : deferred_) largest = std::max(largest, d.array.size_bytes());
+    const std::size_t slice_blocks =
+        (std::min(largest, kStreamSlice) + kWriteBlockSize - 1) / kWriteBlockSize;
+    io_detail::CompressedBlocks writing =
+        io_detail::compress_storage(codec_, kWriteBlockSize, slice_blocks);
+    io_detail::CompressedBlocks spare =
+        io_detail::compress_storage(codec_, kWriteBlockSize, slice_blocks);
+    std::unique_ptr<std::byte[]> narrowed;  // a slice of narrowed ids
+    BackgroundWrites writes(os);
     for (const Deferred& d : deferred_) {
       offsets.push_back(at);
       const ArrayView& a = d.array;
@@ -2558,14 +2711,16 @@ class Writer {
       os.write(header.data(), static_cast<std::streamsize>(header.size()));
       std::uint64_t data_bytes = 0;
       std::size_t reported = 0;
-      // Each slice is written by another thread while the next one is compressed, into the
-      // storage of the slice before (two buffers in turn, their pages touched once).
-      io_detail::CompressedBlocks writing, spare;
-      std::future<void> written;
       for (std::size_t s = 0; s < n; s += kStreamSlice) {
         const std::size_t m = std::min(kStreamSlice, n - s);
+        const std::byte* in = a.bytes + s;
+        if (a.narrow) {  // narrowed a slice at a time
+          if (!narrowed) narrowed.reset(new std::byte[kStreamSlice]);
+          a.copy_values(s / es, m / es, narrowed.get());
+          in = narrowed.get();
+        }
         io_detail::CompressedBlocks c = io_detail::compress_blocks(
-            codec_, level_, a.bytes + s, m, kWriteBlockSize,
+            codec_, level_, in, m, kWriteBlockSize,
             [&](std::size_t done) {
               progress_.add((s + done - reported) / es);
               reported = s + done;
@@ -2573,15 +2728,12 @@ class Writer {
             std::move(spare));
         sizes.insert(sizes.end(), c.sizes.begin(), c.sizes.end());
         data_bytes += c.bytes;
-        if (written.valid()) written.get();
+        writes.wait();
         spare = std::move(writing);
         writing = std::move(c);
-        written = std::async(std::launch::async, [&os, &writing] {
-          os.write(reinterpret_cast<const char*>(writing.data.get()),
-                   static_cast<std::streamsize>(writing.bytes));
-        });
+        writes.write(writing.data.get(), writing.bytes);
       }
-      if (written.valid()) written.get();
+      writes.wait();
       if (!os) throw Error("VTK XML writer: writing the compressed data failed");
       const std::streampos end = os.tellp();
       make_header();
@@ -2618,6 +2770,8 @@ class Writer {
   bool compress_;
   BlockCodec codec_;
   int level_;
+  VtkXmlIdType id_type_;
+  bool narrow_ids_ = false;  // cell ids written as Int32
   const ProgressCallback& callback_;
   io_detail::Progress progress_;  // of building the document
   std::string x_;                 // XML text

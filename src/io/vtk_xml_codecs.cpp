@@ -191,6 +191,26 @@ BlockFailure decompress_blocks(BlockCodec codec, std::span<const BlockJob> jobs,
   return first;
 }
 
+namespace {
+
+/// The most bytes one block of `block` bytes compresses to.
+std::size_t block_bound(BlockCodec codec, std::size_t block) {
+  if (codec == BlockCodec::Zlib) return libdeflate_zlib_compress_bound(nullptr, block);
+  if (block > static_cast<std::size_t>(LZ4_MAX_INPUT_SIZE)) {
+    throw Error("VTK XML writer: block too large for LZ4");
+  }
+  return static_cast<std::size_t>(LZ4_compressBound(static_cast<int>(block)));
+}
+
+}  // namespace
+
+CompressedBlocks compress_storage(BlockCodec codec, std::size_t block, std::size_t nblocks) {
+  CompressedBlocks out;
+  out.capacity = nblocks * block_bound(codec, block);
+  out.data.reset(new std::byte[out.capacity]);  // no zero fill: only written pages count
+  return out;
+}
+
 CompressedBlocks compress_blocks(BlockCodec codec, int level, const std::byte* in, std::size_t n,
                                  std::size_t block,
                                  const std::function<void(std::size_t)>& progress,
@@ -202,20 +222,12 @@ CompressedBlocks compress_blocks(BlockCodec codec, int level, const std::byte* i
   out.sizes.assign(nblocks, 0);
   if (nblocks == 0) return out;
   // Every block gets a slot of the codec's bound; the slots are compacted afterwards.
-  std::size_t bound = 0;
-  if (codec == BlockCodec::Zlib) {
-    bound = libdeflate_zlib_compress_bound(nullptr, block);
-  } else {
-    if (block > static_cast<std::size_t>(LZ4_MAX_INPUT_SIZE)) {
-      throw Error("VTK XML writer: block too large for LZ4");
-    }
-    bound = static_cast<std::size_t>(LZ4_compressBound(static_cast<int>(block)));
-  }
+  const std::size_t bound = block_bound(codec, block);
   if (reuse.data && reuse.capacity >= nblocks * bound) {
     out.data = std::move(reuse.data);
     out.capacity = reuse.capacity;
   } else {
-    out.data.reset(new std::byte[nblocks * bound]);  // no zero fill: only written pages count
+    out.data = std::move(compress_storage(codec, block, nblocks).data);
     out.capacity = nblocks * bound;
   }
   std::mutex mutex;

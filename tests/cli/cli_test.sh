@@ -471,6 +471,20 @@ expect_usage xml_convert_no_compress "--compressor and --no-compress exclude eac
 expect_usage xml_convert_ascii "--level and --ascii exclude each other" "$bin" convert "$data/bunny.ply" "$tmp/x.vtp" --level 4 --ascii
 expect_ok xml_convert_level "wrote" "$bin" convert "$data/bunny.ply" "$tmp/bunny9.vtp" --level 9
 expect_usage xml_fit_none "--compressor" "$bin" fit "$data/bunny.ply" --primitive plane --compressor lz4
+# --id-type: Int32 cell ids when they fit (the default) or Int64; the same mesh either way.
+expect_ok xml_ids_auto "wrote" "$bin" convert "$data/bunny.ply" "$tmp/bunny_auto.vtp" --compressor none
+expect_ok xml_ids_64 "wrote" "$bin" convert "$data/bunny.ply" "$tmp/bunny_64.vtp" --compressor none --id-type int64
+expect_ok xml_ids_32 "wrote" "$bin" convert "$data/bunny.ply" "$tmp/bunny_32.vtp" --compressor none --id-type int32
+grep -q 'type="Int32" Name="connectivity"' "$tmp/bunny_auto.vtp" || fail "xml_ids_auto: connectivity is not Int32"
+grep -q 'type="Int64" Name="offsets"' "$tmp/bunny_64.vtp" || fail "xml_ids_64: offsets are not Int64"
+cmp -s "$tmp/bunny_auto.vtp" "$tmp/bunny_32.vtp" || fail "xml_ids_32: differs from auto"
+[ "$("$bin" info "$tmp/bunny_64.vtp" 2>&1 | grep -v bunny_64)" = "$("$bin" info "$tmp/bunny_auto.vtp" 2>&1 | grep -v bunny_auto)" ] || fail "xml_ids_same: info differs"
+expect_ok xml_ids_roundtrip "wrote" "$bin" convert "$tmp/bunny_64.vtp" "$tmp/bunny_back.vtp" --compressor none
+cmp -s "$tmp/bunny_auto.vtp" "$tmp/bunny_back.vtp" || fail "xml_ids_roundtrip: Int64 file converted back differs"
+expect_usage xml_ids_bogus "--id-type: int16 not in" "$bin" convert "$data/bunny.ply" "$tmp/x.vtp" --id-type int16
+expect_usage xml_ids_ply "--id-type: applies to VTK XML \(.vti .vts .vtp .vtu\) output only, not .*x.ply" "$bin" convert "$data/bunny.ply" "$tmp/x.ply" --id-type int64
+expect_usage xml_ids_drc "--id-type: applies to VTK XML output only, not Draco" "$bin" convert "$data/bunny.ply" "$tmp/x.drc" --id-type int64
+expect_usage xml_ids_legacy "--id-type: applies to VTK XML output \(.vti .vts .vtp .vtu\) only, not .*x.vtk" "$bin" decimate "$data/bunny.ply" -t 100 --id-type int32 -o "$tmp/x.vtk"
 
 # ---- one form for every error, one exit code per kind (README "Exit status") ----
 expect_usage no_subcommand "subcommand is required.*isoforge --help" "$bin"

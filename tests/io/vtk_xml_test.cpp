@@ -472,8 +472,10 @@ TEST(VtkXmlWrite, HeaderAndConnectivityTypes) {
   EXPECT_NE(text.find("header_type=\"UInt64\""), std::string::npos);
   EXPECT_NE(text.find("compressor=\"vtkZLibDataCompressor\""), std::string::npos);
   EXPECT_NE(text.find("byte_order=\"LittleEndian\""), std::string::npos);
-  EXPECT_NE(text.find("type=\"Int64\" Name=\"connectivity\""), std::string::npos);
-  EXPECT_NE(text.find("type=\"Int64\" Name=\"offsets\""), std::string::npos);
+  // The ids fit: Int32 (VTK's SetIdTypeToInt32), half the bytes.
+  EXPECT_NE(text.find("type=\"Int32\" Name=\"connectivity\""), std::string::npos);
+  EXPECT_NE(text.find("type=\"Int32\" Name=\"offsets\""), std::string::npos);
+  EXPECT_EQ(text.find("Int64\" Name=\"connectivity"), std::string::npos);
   EXPECT_NE(text.find("type=\"UInt8\" Name=\"types\""), std::string::npos);
   EXPECT_NE(text.find("<PointData Scalars=\"pressure\" Tensors=\"stress\">"), std::string::npos);
   EXPECT_NE(text.find("<AppendedData encoding=\"raw\">"), std::string::npos);
@@ -967,6 +969,13 @@ std::string run(const std::string& cmd) {
 
 const char* kSummaryPy = R"(
 import sys, vtk
+import numpy
+from vtk.util.numpy_support import vtk_to_numpy
+def ids(name, cells):
+    c = vtk_to_numpy(cells.GetConnectivityArray()).astype('int64')
+    o = vtk_to_numpy(cells.GetOffsetsArray()).astype('int64')
+    w = numpy.arange(len(c), dtype='int64') % 1000 + 1
+    print('ids', name, len(c), int(c.sum()), int((c * w).sum()), len(o), int(o.sum()))
 def summary(path):
     ext = path.rsplit('.', 1)[1]
     cls = {'vti': vtk.vtkXMLImageDataReader, 'vts': vtk.vtkXMLStructuredGridReader,
@@ -984,8 +993,12 @@ def summary(path):
     if ext == 'vtp':
         print('polycells', d.GetNumberOfVerts(), d.GetNumberOfLines(), d.GetNumberOfPolys(),
               d.GetNumberOfStrips())
+        for name, cells in (('verts', d.GetVerts()), ('lines', d.GetLines()),
+                            ('polys', d.GetPolys()), ('strips', d.GetStrips())):
+            ids(name, cells)
     if ext == 'vtu':
         print('celltypes', *[d.GetCellType(i) for i in range(min(d.GetNumberOfCells(), 50))])
+        ids('cells', d.GetCells())
     for tag, fd in (('pd', d.GetPointData()), ('cd', d.GetCellData()), ('fd', d.GetFieldData())):
         for i in range(fd.GetNumberOfArrays()):
             a = fd.GetAbstractArray(i)
@@ -1022,7 +1035,7 @@ bool near(double a, double b) {
 void compare_summary(const Dataset& ds, const std::vector<std::string>& lines,
                      const std::string& what) {
   SCOPED_TRACE(what);
-  int arrays_seen = 0;
+  int arrays_seen = 0, id_lists = 0;
   bool saw_counts = false;
   for (const std::string& line : lines) {
     std::istringstream in(line);
@@ -1060,6 +1073,35 @@ void compare_summary(const Dataset& ds, const std::vector<std::string>& lines,
       EXPECT_EQ(l, pd.lines.size());
       EXPECT_EQ(p, pd.polys.size());
       EXPECT_EQ(s, pd.strips.size());
+    } else if (key == "ids") {
+      // The connectivity as VTK read it: count, sum, weighted sum; offsets' count and sum.
+      std::string name;
+      std::size_t n = 0, noff = 0;
+      long long sum = 0, weighted = 0, offsum = 0;
+      in >> name >> n >> sum >> weighted >> noff >> offsum;
+      const CellArray* cells = nullptr;
+      if (const auto* pd = std::get_if<PolyData>(&ds)) {
+        cells = name == "verts"   ? &pd->verts
+                : name == "lines" ? &pd->lines
+                : name == "polys" ? &pd->polys
+                                  : &pd->strips;
+      } else {
+        cells = &std::get<UnstructuredGrid>(ds).cells;
+      }
+      const auto& conn = cells->connectivity();
+      long long s = 0, w = 0, o = 0;
+      for (std::size_t i = 0; i < conn.size(); ++i) {
+        s += conn[i];
+        w += conn[i] * static_cast<long long>(i % 1000 + 1);
+      }
+      for (const Index v : cells->offsets()) o += v;
+      EXPECT_EQ(n, conn.size()) << name;
+      EXPECT_EQ(sum, s) << name;
+      EXPECT_EQ(weighted, w) << name;
+      // VTK keeps a lone 0 offset for an empty cell list; isoforge keeps the same.
+      EXPECT_EQ(noff, cells->offsets().size()) << name;
+      EXPECT_EQ(offsum, o) << name;
+      ++id_lists;
     } else if (key == "celltypes") {
       const auto& ug = std::get<UnstructuredGrid>(ds);
       int t;
@@ -1108,6 +1150,9 @@ void compare_summary(const Dataset& ds, const std::vector<std::string>& lines,
   const std::size_t ours = point_data(ds).size() + cell_data(ds).size() + field_data(ds).size();
   EXPECT_EQ(static_cast<std::size_t>(arrays_seen), ours);
   EXPECT_TRUE(saw_counts) << "VTK printed no summary";
+  const bool has_cells =
+      std::holds_alternative<PolyData>(ds) || std::holds_alternative<UnstructuredGrid>(ds);
+  EXPECT_EQ(id_lists, has_cells ? (std::holds_alternative<PolyData>(ds) ? 4 : 1) : 0);
 }
 
 /// Runs the summary script on files; returns per-file line lists.
@@ -1156,6 +1201,14 @@ TEST(VtkXmlPython, VtkReadsWhatWeWrite) {
         datasets.push_back(ds);
       }
     }
+    // Cell ids as Int64 too (the files above hold Int32: their ids fit).
+    const fs::path p =
+        dir / ("k" + std::to_string(kind) + "_int64" + std::string(vtk_xml_extension(ds)));
+    VtkXmlWriteOptions o;
+    o.id_type = VtkXmlIdType::Int64;
+    write_vtk_xml(ds, p, o);
+    files.push_back(p);
+    datasets.push_back(ds);
   }
   const auto summaries = vtk_summaries(dir, files);
   ASSERT_EQ(summaries.size(), files.size());
@@ -2186,6 +2239,78 @@ TEST(VtkXmlCompressors, StreamedAndBufferedWritesHoldTheSameBytes) {
     EXPECT_EQ(xml + streamed.substr(xml_end), buf.text);
     EXPECT_EQ(read_string(streamed, "streamed.vti"), Dataset(img));
     EXPECT_EQ(read_string(buf.text, "buffered.vti"), Dataset(img));
+  }
+}
+
+// Cell ids are written as Int32 when they fit (Auto, Int32) or as Int64: in every encoding, with
+// and without compression, streamed and buffered, over several slices and pieces (1.2M ids, a
+// short last one); each file reads back as the dataset.
+TEST(VtkXmlWrite, CellIdsAsInt32OrInt64InEveryEncoding) {
+  PolyData pd;
+  const std::size_t side = 300, tris = 2 * (side - 1) * (side - 1) + 1;  // 179k triangles...
+  pd.points = Points(0, ScalarType::Float32);
+  for (std::size_t j = 0; j < side; ++j) {
+    for (std::size_t i = 0; i < side; ++i) {
+      pd.points.push_back({static_cast<double>(i), static_cast<double>(j), 0.0});
+    }
+  }
+  for (std::size_t j = 0; j + 1 < side; ++j) {
+    for (std::size_t i = 0; i + 1 < side; ++i) {
+      const auto a = static_cast<Index>(j * side + i);
+      const auto n = static_cast<Index>(side);
+      pd.polys.add({a, a + 1, a + n + 1});
+      pd.polys.add({a, a + n + 1, a + n});
+    }
+  }
+  pd.polys.add({0, static_cast<Index>(side * side - 1), static_cast<Index>(side - 1)});
+  // ... and 1.2M ids in lines of 5 points: the connectivity spans two slices of 4 MiB.
+  for (std::size_t c = 0; c < 190'000; ++c) {
+    const auto a = static_cast<Index>((c * 7919) % (side * side - 5));
+    pd.lines.add({a, a + 1, a + 2, a + 3, a + 4});
+  }
+  ASSERT_EQ(pd.polys.size(), tris);
+  const std::size_t ids = pd.polys.connectivity().size() + pd.polys.size() +
+                          pd.lines.connectivity().size() + pd.lines.size();
+  const Dataset ds(pd);
+  for (const VtkXmlEncoding enc :
+       {VtkXmlEncoding::Ascii, VtkXmlEncoding::Base64, VtkXmlEncoding::Appended}) {
+    for (const int codec : {0, 1, 2}) {
+      if (enc == VtkXmlEncoding::Ascii && codec > 0) continue;
+      std::map<VtkXmlIdType, std::size_t> sizes;
+      for (const VtkXmlIdType type :
+           {VtkXmlIdType::Auto, VtkXmlIdType::Int32, VtkXmlIdType::Int64}) {
+        SCOPED_TRACE(testing::Message() << "encoding " << static_cast<int>(enc) << " codec "
+                                        << codec << " type " << static_cast<int>(type));
+        VtkXmlWriteOptions o = codec_options(enc, codec, 0);
+        o.id_type = type;
+        std::ostringstream seekable;
+        write_vtk_xml(ds, seekable, o);
+        UnseekableBuf buf;
+        std::ostream pipe(&buf);
+        write_vtk_xml(ds, pipe, o);
+        const std::string text = seekable.str();
+        const char* want = type == VtkXmlIdType::Int64 ? "Int64" : "Int32";
+        const char* other = type == VtkXmlIdType::Int64 ? "Int32" : "Int64";
+        for (const char* name : {"connectivity", "offsets"}) {
+          EXPECT_NE(text.find("type=\"" + std::string(want) + "\" Name=\"" + name + "\""),
+                    std::string::npos);
+          EXPECT_EQ(text.find("type=\"" + std::string(other) + "\" Name=\"" + name + "\""),
+                    std::string::npos);
+        }
+        EXPECT_EQ(read_string(text, "seekable.vtp"), ds);
+        EXPECT_EQ(read_string(buf.text, "pipe.vtp"), ds);
+        sizes[type] = buf.text.size() - buf.text.find("<AppendedData");  // all if inline
+      }
+      EXPECT_EQ(sizes[VtkXmlIdType::Auto], sizes[VtkXmlIdType::Int32]);
+      if (enc == VtkXmlEncoding::Ascii) {
+        EXPECT_EQ(sizes[VtkXmlIdType::Int32], sizes[VtkXmlIdType::Int64]);  // the same digits
+      } else if (enc == VtkXmlEncoding::Appended && codec == 0) {
+        // Raw: exactly 4 bytes less per id and per offset.
+        EXPECT_EQ(sizes[VtkXmlIdType::Int64] - sizes[VtkXmlIdType::Int32], 4 * ids);
+      } else {
+        EXPECT_LT(sizes[VtkXmlIdType::Int32], sizes[VtkXmlIdType::Int64]);
+      }
+    }
   }
 }
 

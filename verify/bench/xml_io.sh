@@ -6,8 +6,10 @@
 #   - a 1M-triangle isosurface (.vtp: points, normals, connectivity): six spheres contoured;
 # each with no compression, zlib and LZ4. Reading: `isoforge info FILE` against VTK's reader of
 # the same file. Writing: `isoforge convert RAW OUT --compressor C` against VTK reading RAW and
-# writing OUT (both read the same uncompressed RAW first). Best of REPEATS runs (wall and CPU
-# seconds, /usr/bin/time); "VTK call": VTK's Update()/Write() alone, without Python's start-up
+# writing OUT (both read the same uncompressed RAW first); each side writes cell ids its default
+# way (isoforge Int32 when they fit, VTK Int64), the surface's LZ4 also with both on Int64 and
+# both on Int32. Best of REPEATS runs (wall and CPU
+# seconds, bash's `time`); "VTK call": VTK's Update()/Write() alone, without Python's start-up
 # and `import vtk`; MB/s of uncompressed array bytes; ratio = VTK time / isoforge time (whole
 # processes). isoforge's read is `info`, which also computes every array's range.
 # Usage: xml_io.sh ISOFORGE [THREADS=2] [REPEATS=3] [WORK_DIR=/tmp/isoforge_xml_io]
@@ -40,14 +42,14 @@ best() {
   local bw=1e9 bc=1e9 bk=1e9 w u s k
   for _ in $(seq "$repeats"); do
     if [ -n "${FRESH:-}" ]; then rm -f "$FRESH"; fi
-    # Wall time in milliseconds from the clock (time's %e counts hundredths: ±15 % at 0.07 s).
-    local t0 t1
-    t0=$(date +%s%N)
-    /usr/bin/time -f "%e %U %S" -o "$work/time.txt" "$@" >"$work/out.txt" 2>"$work/err.txt" ||
-      { cat "$work/err.txt" >&2; exit 1; }
-    t1=$(date +%s%N)
+    # bash's own `time`: wall and CPU in milliseconds of the process it starts, nothing else
+    # (/usr/bin/time counts hundredths, and timing it from `date` adds two processes' start).
+    local TIMEFORMAT="%3R %3U %3S"
+    if ! { time "$@" >"$work/out.txt" 2>"$work/err.txt"; } 2>"$work/time.txt"; then
+      cat "$work/err.txt" >&2
+      exit 1
+    fi
     read -r w u s < "$work/time.txt"
-    w=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.3f", (b - a) / 1e9 }')
     k=$(awk 'NR == 1 && $1 ~ /^[0-9.]+$/ { print $1 }' "$work/out.txt"); k=${k:-0}
     read -r bw bc bk < <(awk -v w="$w" -v c="$(awk -v u="$u" -v s="$s" 'BEGIN { print u + s }')" \
       -v k="$k" -v bw="$bw" -v bc="$bc" -v bk="$bk" \
@@ -72,16 +74,22 @@ printf "|---|---|---|---|---|---|---|---|---|---|\n"
 for pair in "volume:$vol:vti" "surface:$surf:vtp"; do
   IFS=: read -r name raw ext <<<"$pair"
   mb=$(mb_of "$raw")
-  for c in none zlib zlib10 lz4; do
+  cases="none zlib zlib10 lz4"
+  # The surface's cell ids: isoforge writes Int32 when they fit, VTK Int64 unless told (the rows
+  # above are each side's default); then LZ4 with each id type on both sides.
+  [ "$name" = surface ] && cases="$cases lz4-ids64 lz4-ids32"
+  for c in $cases; do
     ours="$work/${name}_$c.ours.$ext" theirs="$work/${name}_$c.vtk.$ext"
     opts=(--compressor "$c") vopts=("$c")
     [ "$c" = zlib10 ] && opts=(--compressor zlib --level 10) vopts=(zlib)
+    [ "$c" = lz4-ids64 ] && opts=(--compressor lz4 --id-type int64) vopts=(lz4)
+    [ "$c" = lz4-ids32 ] && opts=(--compressor lz4 --id-type int32) vopts=(lz4 ids32)
     # write (from the raw file; both sides read it first)
     read -r iw ic _ < <(FRESH=$ours best "$bin" -q --threads "$threads" convert "$raw" "$ours" "${opts[@]}")
     read -r vw vc vk < <(FRESH=$theirs best "$py" "$peer" write "$raw" "$theirs" "${vopts[@]}")
     row "$name" "$c" write "$iw" "$ic" "$vw" "$vc" "$vk" "$mb" "$(mb_of "$ours") / $(mb_of "$theirs")"
     "$py" "$peer" read "$ours" >/dev/null  # VTK reads what we wrote
-    [ "$c" = zlib10 ] && continue
+    case $c in zlib10 | lz4-ids*) continue ;; esac
     # read VTK's file, both sides
     read -r rw rc _ < <(best "$bin" -q --threads "$threads" info "$theirs")
     read -r pw pc pk < <(best "$py" "$peer" read "$theirs")

@@ -76,6 +76,7 @@ struct WriteOptions {
   bool compress = true;   ///< VTK XML: compress binary blocks with `xml_compressor`
   VtkXmlCompressor xml_compressor = VtkXmlCompressor::Zlib;  ///< VTK XML: zlib or LZ4
   int xml_level = 0;  ///< VTK XML: compression level (vtk_xml_level_range; 0: the default)
+  VtkXmlIdType xml_id_type = VtkXmlIdType::Auto;  ///< VTK XML: type of cell ids and offsets
   /// VTK legacy header version to write: "4.2" (classic cell lists, opens in every VTK) or
   /// "5.1" (OFFSETS/CONNECTIVITY).
   std::string vtk_legacy_version = "4.2";

@@ -2,7 +2,8 @@
 /// \file
 /// VTK XML files `.vti .vts .vtp .vtu`: ASCII, inline base64 binary and appended (raw or
 /// base64) data; compressed blocks (zlib and LZ4 read and written, LZMA read), UInt32 or UInt64
-/// headers on read; Int32/Int64 connectivity; either byte order on read. Blocks are
+/// headers on read; Int32/Int64 connectivity (written as Int32 when the ids fit); either byte
+/// order on read. Blocks are
 /// (de)compressed in parallel; docs/algorithms/vtk_xml_io.md has the measurements.
 
 #include <cstddef>
@@ -38,6 +39,13 @@ enum class VtkXmlCompressor {
   Lz4,   ///< vtkLZ4DataCompressor: larger files, several times faster (VTK 8.2 and later)
 };
 
+/// The integer type cell connectivity and offsets are written with.
+enum class VtkXmlIdType {
+  Auto,   ///< Int32 when every id and offset fits, else Int64
+  Int32,  ///< Int32, an error when the ids do not fit
+  Int64,  ///< Int64 always (VTK's default with 64-bit ids)
+};
+
 /// "zlib" or "lz4".
 [[nodiscard]] std::string_view vtk_xml_compressor_name(VtkXmlCompressor compressor);
 /// The levels a compressor accepts: zlib 1-12 (libdeflate's levels: 1-9 as zlib's, 10-12
@@ -50,6 +58,9 @@ struct VtkXmlWriteOptions {
   VtkXmlCompressor compressor = VtkXmlCompressor::Zlib;  ///< when `compress`
   /// Compression level in vtk_xml_level_range(compressor); 0: the default (zlib 3, LZ4 1).
   int level = 0;
+  /// Type of the cell connectivity and offsets: Auto writes Int32 when every id and offset fits
+  /// (half the bytes; VTK's SetIdTypeToInt32), else Int64.
+  VtkXmlIdType id_type = VtkXmlIdType::Auto;
   /// Told the fraction written (about every megabyte of values); false cancels (`Cancelled`).
   ProgressCallback progress{};
 };

@@ -59,6 +59,11 @@ struct CompressedBlocks {
   std::vector<std::uint64_t> sizes;
 };
 
+/// Storage for the compressed blocks of `nblocks` blocks of `block` bytes, to pass as `reuse`
+/// (allocated, no page touched).
+[[nodiscard]] CompressedBlocks compress_storage(BlockCodec codec, std::size_t block,
+                                                std::size_t nblocks);
+
 /// Compresses `n` bytes at `in` in blocks of `block` bytes (the last may be shorter), in
 /// parallel; the result depends only on the input, `codec` and `level` (1-12; 0: the default).
 /// `progress(bytes)` is called from the calling thread as slices of the input are done.

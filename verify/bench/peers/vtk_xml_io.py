@@ -3,10 +3,12 @@
 operation per process (the bench times the whole process, as it times the isoforge command).
 
   vtk_xml_io.py read FILE                       read a .vti/.vtp (vtkXMLImageDataReader/...PolyData...)
-  vtk_xml_io.py write IN OUT none|zlib|lz4 [L]  read IN, write OUT with that compressor (level L)
+  vtk_xml_io.py write IN OUT none|zlib|lz4 [L] [ids32]
+                                                read IN, write OUT with that compressor (level L;
+                                                ids32: cell ids as Int32, SetIdTypeToInt32)
 
-VTK's writers use blocks of 32 KiB and compression level 5 unless L is given; the size written
-is what the bench compares. Prints the seconds of the read/write call itself on stdout."""
+VTK's writers use blocks of 32 KiB, compression level 5 unless L is given, and Int64 cell ids
+(VTK's default) unless ids32 is given; the size written is what the bench compares. Prints the seconds of the read/write call itself on stdout."""
 import sys
 import time
 
@@ -58,8 +60,11 @@ def main():
         comp = sys.argv[4]
         {"none": w.SetCompressorTypeToNone, "zlib": w.SetCompressorTypeToZLib,
          "lz4": w.SetCompressorTypeToLZ4}[comp]()
-        if len(sys.argv) > 5:
-            w.SetCompressionLevel(int(sys.argv[5]))
+        for arg in sys.argv[5:]:
+            if arg == "ids32":
+                w.SetIdTypeToInt32()
+            else:
+                w.SetCompressionLevel(int(arg))
         t = time.perf_counter()
         ok = w.Write()
         dt = time.perf_counter() - t
