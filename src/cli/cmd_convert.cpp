@@ -73,6 +73,8 @@ void add_convert_command(CLI::App& app, Context& ctx) {
       "  isoforge convert data/post.vtk post --vtk-xml      (writes post.vtu)\n"
       "  isoforge convert data/ironProt.vtk iron.vti --compressor lz4   (fast VTK XML)\n"
       "  isoforge convert data/ironProt.vtk iron_small.vti --level 9\n"
+      "  isoforge convert data/fran_cut.vtk fran64.vtp --id-type int64   (64-bit cell ids, as "
+      "VTK)\n"
       "  isoforge convert data/combxyz.bin --q data/combq.bin combustor.vts\n"
       "  isoforge convert data/bunny.ply bunny.vtk --ascii --legacy-version 5.1\n"
       "  isoforge convert data/HeadMRVolume.mhd head.vdb    (OpenVDB needs equal spacing on all "
