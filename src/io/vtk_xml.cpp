@@ -1140,37 +1140,114 @@ Points Reader::read_points(pugi::xml_node piece, const XmlWhere& w, std::uint64_
 /// Values per task of the index arrays' passes.
 constexpr std::size_t kIndexGrain = std::size_t{1} << 16;
 
+namespace {
+
+/// Widens the `n` values of type T at the start of `base` to Index values over the same bytes
+/// (the buffer holds n Index values), in place. From the top down, in rounds: Index value i
+/// covers the T values k*i .. k*i + k - 1 (k = sizeof(Index) / sizeof(T)), so once every value
+/// from `hi` up is done, those of [ceil(hi / k), hi) only cover values already read, and each
+/// round is a flat parallel pass. Element access by memcpy (the bytes change type).
+template <class T>
+void widen_in_place(std::byte* base, std::size_t n) {
+  static_assert(sizeof(T) < sizeof(Index));
+  constexpr std::size_t k = sizeof(Index) / sizeof(T);
+  const auto widen = [base](std::size_t i) {
+    T v;
+    std::memcpy(&v, base + i * sizeof(T), sizeof(T));
+    const auto x = static_cast<Index>(v);
+    std::memcpy(base + i * sizeof(Index), &x, sizeof(Index));
+  };
+  std::size_t hi = n;
+  while (hi > kIndexGrain) {
+    const std::size_t lo = (hi + k - 1) / k;
+    parallel_for_range(hi - lo, kIndexGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = lo + b; i < lo + e; ++i) widen(i);
+    });
+    hi = lo;
+  }
+  for (std::size_t i = hi; i-- > 0;) widen(i);  // from the top: each covers values read before
+}
+
+}  // namespace
+
 Buffer<Index> Reader::read_index_array(pugi::xml_node el, const XmlWhere& w, std::uint64_t count,
                                        std::size_t lead) {
-  auto arr = read_array(el, w, ArrayRequest{count, 1, false, lead});
+  const ArrayRequest req{count, 1, false, lead};
+  const std::optional<ArrayHeader> h = array_header(el, w, req);
+  if (is_floating(h->type)) {
+    w.fail("must have an integer type, not " + std::string(scalar_type_name(h->type)));
+  }
   Buffer<Index> out;
-  arr->visit([&](const auto& v) {
-    using T = typename std::decay_t<decltype(v)>::value_type;
-    if constexpr (std::is_floating_point_v<T>) {
-      w.fail("must have an integer type, not " + std::string(scalar_type_name(arr->type())));
-    } else if constexpr (std::is_same_v<T, Index>) {
-      out = std::move(arr->vector<Index>());
-    } else {
-      // Widened on all threads (a file written with 32-bit ids: the whole connectivity).
-      if constexpr (std::is_same_v<T, std::uint64_t>) {
-        constexpr auto kMax = static_cast<std::uint64_t>(std::numeric_limits<Index>::max());
-        const std::size_t bad =
-            parallel_find_first(v.size(), kIndexGrain, [&](std::size_t b, std::size_t e) {
-              for (std::size_t i = b; i < e; ++i) {
-                if (v[i] > kMax) return i;
-              }
-              return e;
-            });
-        if (bad < v.size()) {
-          w.fail("value " + num(bad - lead) + " (" + num(v[bad]) + ") is out of range");
+  if (h->format == "ascii") {
+    auto arr = read_array(el, w, req);
+    arr->visit([&](const auto& v) {
+      using T = typename std::decay_t<decltype(v)>::value_type;
+      if constexpr (std::is_integral_v<T>) {
+        out.resize(v.size());
+        for (std::size_t i = 0; i < v.size(); ++i) {
+          if constexpr (std::is_same_v<T, std::uint64_t>) {
+            if (v[i] > static_cast<std::uint64_t>(std::numeric_limits<Index>::max())) {
+              w.fail("value " + num(i - lead) + " (" + num(v[i]) + ") is out of range");
+            }
+          }
+          out[i] = static_cast<Index>(v[i]);
         }
       }
-      out.resize(v.size());  // every element written below
-      parallel_for_range(v.size(), kIndexGrain, [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) out[i] = static_cast<Index>(v[i]);
-      });
-    }
+    });
+    return out;
+  }
+  // Binary: the file's values land at the start of the Index array (after `lead`) and are
+  // widened there: no second array (a file of Int32 ids read at the memory of the result).
+  XmlWhere dw;
+  std::string storage;
+  std::optional<ByteSource> src = payload_source(el, w, *h, dw, storage);
+  const std::size_t es = scalar_size(h->type);
+  WholeTarget target([&](std::uint64_t n) -> std::byte* {
+    out.resize(static_cast<std::size_t>(n / h->unit) + lead);  // every element written below
+    return reinterpret_cast<std::byte*>(out.data() + lead);
   });
+  read_payload(*src, dw, h->bytes, h->unit, target);
+  std::byte* base = reinterpret_cast<std::byte*>(out.data() + lead);
+  const std::size_t n = out.size() - lead;
+  if (endian_ != kHostEndian) io_detail::swap_elements(base, n, es);
+  switch (h->type) {
+    case ScalarType::Int8:
+      widen_in_place<std::int8_t>(base, n);
+      break;
+    case ScalarType::UInt8:
+      widen_in_place<std::uint8_t>(base, n);
+      break;
+    case ScalarType::Int16:
+      widen_in_place<std::int16_t>(base, n);
+      break;
+    case ScalarType::UInt16:
+      widen_in_place<std::uint16_t>(base, n);
+      break;
+    case ScalarType::Int32:
+      widen_in_place<std::int32_t>(base, n);
+      break;
+    case ScalarType::UInt32:
+      widen_in_place<std::uint32_t>(base, n);
+      break;
+    case ScalarType::UInt64: {  // the same bits as Index where in range
+      const std::size_t bad =
+          parallel_find_first(n, kIndexGrain, [&](std::size_t b, std::size_t e) {
+            for (std::size_t i = b; i < e; ++i) {
+              if (out[lead + i] < 0) return i;
+            }
+            return e;
+          });
+      if (bad < n) {
+        std::uint64_t v;
+        std::memcpy(&v, base + bad * sizeof(v), sizeof(v));
+        w.fail("value " + num(bad) + " (" + num(v) + ") is out of range");
+      }
+      break;
+    }
+    default:  // Int64: read as it is
+      break;
+  }
+  std::fill(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(lead), Index{0});
   return out;
 }
 

@@ -715,6 +715,107 @@ TEST(VtkXmlRead, Int32AndInt64Connectivity) {
   }
 }
 
+// Ids of every integer type are widened in place, in rounds from the top of the array (300 000
+// vertices: several rounds of parallel passes, then a serial rest), in both byte orders, raw
+// and zlib; offsets of 32 and 64 bits, connectivity of any type (its ids stay below 100).
+template <class T>
+void expect_widened_ids(const char* type, const char* offsets_type, bool big, bool z) {
+  SCOPED_TRACE(std::string(type) + " / " + offsets_type + (big ? " big" : " little") +
+               (z ? " zlib" : " raw"));
+  const std::size_t n = 300'000, np = 100;
+  std::vector<T> conn(n);
+  std::vector<Index> want(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    conn[i] = static_cast<T>((i * 37) % np);
+    want[i] = static_cast<Index>(conn[i]);
+  }
+  Enc e;
+  e.h64 = true;
+  e.big = big;
+  e.z = z;
+  e.block = 1 << 16;
+  const auto offsets_bytes = [&]() {
+    std::vector<std::int64_t> o64(n);
+    std::vector<std::uint32_t> o32(n);
+    for (std::size_t i = 0; i < n; ++i) o64[i] = static_cast<std::int64_t>(i + 1);
+    for (std::size_t i = 0; i < n; ++i) o32[i] = static_cast<std::uint32_t>(i + 1);
+    return std::string(offsets_type) == "UInt32" ? raw_bytes(o32, big) : raw_bytes(o64, big);
+  };
+  std::vector<float> pts(3 * np, 0.5f);
+  std::string app;
+  const auto put = [&](const std::string& bytes) {
+    const std::string o = std::to_string(app.size());
+    app += appended_payload(bytes, e);
+    return o;
+  };
+  const std::string o1 = put(raw_bytes(pts, big));
+  const std::string o2 = put(raw_bytes(conn, big));
+  const std::string o3 = put(offsets_bytes());
+  const std::string f =
+      std::string("<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\"") + root_attrs(e) +
+      ">\n<PolyData><Piece NumberOfPoints=\"100\" NumberOfVerts=\"300000\"><Points>"
+      "<DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"appended\" offset=\"" +
+      o1 + "\"/></Points><Verts><DataArray type=\"" + type +
+      "\" Name=\"connectivity\" format=\"appended\" offset=\"" + o2 + "\"/><DataArray type=\"" +
+      offsets_type + "\" Name=\"offsets\" format=\"appended\" offset=\"" + o3 +
+      "\"/></Verts></Piece></PolyData>\n<AppendedData encoding=\"raw\">\n   _" + app +
+      "\n</AppendedData>\n</VTKFile>\n";
+  const auto pd = std::get<PolyData>(read_string(f, "widen.vtp"));
+  ASSERT_EQ(pd.verts.size(), n);
+  EXPECT_EQ(pd.verts.connectivity(), want);
+  std::vector<Index> offsets(n + 1);
+  for (std::size_t i = 0; i <= n; ++i) offsets[i] = static_cast<Index>(i);
+  EXPECT_EQ(pd.verts.offsets(), offsets);
+}
+
+TEST(VtkXmlRead, IdsOfEveryIntegerTypeAreWidenedInPlace) {
+  for (const bool big : {false, true}) {
+    for (const bool z : {false, true}) {
+      expect_widened_ids<std::int8_t>("Int8", "UInt32", big, z);
+      expect_widened_ids<std::uint8_t>("UInt8", "Int64", big, z);
+      expect_widened_ids<std::int16_t>("Int16", "UInt32", big, z);
+      expect_widened_ids<std::uint16_t>("UInt16", "Int64", big, z);
+      expect_widened_ids<std::int32_t>("Int32", "UInt32", big, z);
+      expect_widened_ids<std::uint32_t>("UInt32", "Int64", big, z);
+      expect_widened_ids<std::int64_t>("Int64", "UInt32", big, z);
+      expect_widened_ids<std::uint64_t>("UInt64", "Int64", big, z);
+    }
+  }
+  // An UInt64 id above Int64's range is named, binary and ascii.
+  {
+    Enc e;
+    const std::vector<float> pts(9, 0.0f);
+    const std::vector<std::uint64_t> conn = {0, std::uint64_t{1} << 63, 2};
+    const std::vector<std::int32_t> off = {3};
+    std::string app;
+    const auto put = [&](const std::string& bytes) {
+      const std::string o = std::to_string(app.size());
+      app += appended_payload(bytes, e);
+      return o;
+    };
+    const std::string o1 = put(raw_bytes(pts, false));
+    const std::string o2 = put(raw_bytes(conn, false));
+    const std::string o3 = put(raw_bytes(off, false));
+    expect_read_error(
+        std::string("<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\"") + root_attrs(e) +
+            ">\n<PolyData><Piece NumberOfPoints=\"3\" NumberOfPolys=\"1\"><Points>"
+            "<DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"appended\" "
+            "offset=\"" +
+            o1 +
+            "\"/></Points><Polys><DataArray type=\"UInt64\" Name=\"connectivity\" "
+            "format=\"appended\" offset=\"" +
+            o2 + "\"/><DataArray type=\"Int32\" Name=\"offsets\" format=\"appended\" offset=\"" +
+            o3 + "\"/></Polys></Piece></PolyData>\n<AppendedData encoding=\"raw\">\n   _" + app +
+            "\n</AppendedData>\n</VTKFile>\n",
+        "u64bin.vtp", {"'connectivity'", "value 1 (9223372036854775808) is out of range"});
+  }
+  std::string f = kTriangle;
+  f = replace(f, R"(<DataArray type="Int32" Name="connectivity")",
+              R"(<DataArray type="UInt64" Name="connectivity")");
+  expect_read_error(replace(f, ">0 1 2<", ">0 9223372036854775808 2<"), "u64big.vtp",
+                    {"value 1 (9223372036854775808) is out of range"});
+}
+
 TEST(VtkXmlRead, AppendedBase64) {
   for (int variant = 0; variant < 4; ++variant) {
     Enc e;
