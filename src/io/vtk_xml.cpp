@@ -527,6 +527,34 @@ void and_box(const DataArray& src, const std::array<std::size_t, 3>& sub, DataAr
   }
 }
 
+/// f(T{}) for the C++ type T of `type`.
+template <class F>
+decltype(auto) with_scalar_type(ScalarType type, F&& f) {
+  switch (type) {
+    case ScalarType::Int8:
+      return f(std::int8_t{});
+    case ScalarType::UInt8:
+      return f(std::uint8_t{});
+    case ScalarType::Int16:
+      return f(std::int16_t{});
+    case ScalarType::UInt16:
+      return f(std::uint16_t{});
+    case ScalarType::Int32:
+      return f(std::int32_t{});
+    case ScalarType::UInt32:
+      return f(std::uint32_t{});
+    case ScalarType::Int64:
+      return f(std::int64_t{});
+    case ScalarType::UInt64:
+      return f(std::uint64_t{});
+    case ScalarType::Float32:
+      return f(float{});
+    case ScalarType::Float64:
+      return f(double{});
+  }
+  throw Error("unknown scalar type");
+}
+
 /// Where Reader::read_payload puts the bytes it decodes: the whole payload in one buffer
 /// (`alloc(n)` gives it) ...
 template <class Alloc>
@@ -1049,29 +1077,7 @@ std::optional<DataArray> Reader::read_array(pugi::xml_node el, const XmlWhere& w
       if (req.lead > 0) vec.insert(vec.begin(), req.lead, T{});
       return DataArray::from_vector<T>(name, ncomp, std::move(vec));
     };
-    switch (type) {
-      case ScalarType::Int8:
-        return make(std::int8_t{});
-      case ScalarType::UInt8:
-        return make(std::uint8_t{});
-      case ScalarType::Int16:
-        return make(std::int16_t{});
-      case ScalarType::UInt16:
-        return make(std::uint16_t{});
-      case ScalarType::Int32:
-        return make(std::int32_t{});
-      case ScalarType::UInt32:
-        return make(std::uint32_t{});
-      case ScalarType::Int64:
-        return make(std::int64_t{});
-      case ScalarType::UInt64:
-        return make(std::uint64_t{});
-      case ScalarType::Float32:
-        return make(float{});
-      case ScalarType::Float64:
-        return make(double{});
-    }
-    w.fail("unknown type");
+    return std::optional<DataArray>(with_scalar_type(type, make));
   }
 
   XmlWhere dw;
@@ -1210,26 +1216,11 @@ Buffer<Index> Reader::read_index_array(pugi::xml_node el, const XmlWhere& w, std
   std::byte* base = reinterpret_cast<std::byte*>(out.data() + lead);
   const std::size_t n = out.size() - lead;
   if (endian_ != kHostEndian) io_detail::swap_elements(base, n, es);
-  switch (h->type) {
-    case ScalarType::Int8:
-      widen_in_place<std::int8_t>(base, n);
-      break;
-    case ScalarType::UInt8:
-      widen_in_place<std::uint8_t>(base, n);
-      break;
-    case ScalarType::Int16:
-      widen_in_place<std::int16_t>(base, n);
-      break;
-    case ScalarType::UInt16:
-      widen_in_place<std::uint16_t>(base, n);
-      break;
-    case ScalarType::Int32:
-      widen_in_place<std::int32_t>(base, n);
-      break;
-    case ScalarType::UInt32:
-      widen_in_place<std::uint32_t>(base, n);
-      break;
-    case ScalarType::UInt64: {  // the same bits as Index where in range
+  with_scalar_type(h->type, [&](auto tag) {
+    using T = decltype(tag);
+    if constexpr (std::is_integral_v<T> && sizeof(T) < sizeof(Index)) {
+      widen_in_place<T>(base, n);
+    } else if constexpr (std::is_same_v<T, std::uint64_t>) {  // Index's bits where in range
       const std::size_t bad =
           parallel_find_first(n, kIndexGrain, [&](std::size_t b, std::size_t e) {
             for (std::size_t i = b; i < e; ++i) {
@@ -1242,11 +1233,8 @@ Buffer<Index> Reader::read_index_array(pugi::xml_node el, const XmlWhere& w, std
         std::memcpy(&v, base + bad * sizeof(v), sizeof(v));
         w.fail("value " + num(bad) + " (" + num(v) + ") is out of range");
       }
-      break;
-    }
-    default:  // Int64: read as it is
-      break;
-  }
+    }  // Int64: read as it is
+  });
   std::fill(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(lead), Index{0});
   return out;
 }

@@ -715,6 +715,17 @@ TEST(VtkXmlRead, Int32AndInt64Connectivity) {
   }
 }
 
+/// A raw appended section being built: put() adds a payload and returns its offset.
+struct RawAppended {
+  Enc e;
+  std::string data;
+  std::string put(const std::string& bytes) {
+    const std::string offset = std::to_string(data.size());
+    data += appended_payload(bytes, e);
+    return offset;
+  }
+};
+
 // Ids of every integer type are widened in place, in rounds from the top of the array (300 000
 // vertices: several rounds of parallel passes, then a serial rest), in both byte orders, raw
 // and zlib; offsets of 32 and 64 bits, connectivity of any type (its ids stay below 100).
@@ -742,15 +753,10 @@ void expect_widened_ids(const char* type, const char* offsets_type, bool big, bo
     return std::string(offsets_type) == "UInt32" ? raw_bytes(o32, big) : raw_bytes(o64, big);
   };
   std::vector<float> pts(3 * np, 0.5f);
-  std::string app;
-  const auto put = [&](const std::string& bytes) {
-    const std::string o = std::to_string(app.size());
-    app += appended_payload(bytes, e);
-    return o;
-  };
-  const std::string o1 = put(raw_bytes(pts, big));
-  const std::string o2 = put(raw_bytes(conn, big));
-  const std::string o3 = put(offsets_bytes());
+  RawAppended app{e};
+  const std::string o1 = app.put(raw_bytes(pts, big));
+  const std::string o2 = app.put(raw_bytes(conn, big));
+  const std::string o3 = app.put(offsets_bytes());
   const std::string f =
       std::string("<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\"") + root_attrs(e) +
       ">\n<PolyData><Piece NumberOfPoints=\"100\" NumberOfVerts=\"300000\"><Points>"
@@ -758,7 +764,7 @@ void expect_widened_ids(const char* type, const char* offsets_type, bool big, bo
       o1 + "\"/></Points><Verts><DataArray type=\"" + type +
       "\" Name=\"connectivity\" format=\"appended\" offset=\"" + o2 + "\"/><DataArray type=\"" +
       offsets_type + "\" Name=\"offsets\" format=\"appended\" offset=\"" + o3 +
-      "\"/></Verts></Piece></PolyData>\n<AppendedData encoding=\"raw\">\n   _" + app +
+      "\"/></Verts></Piece></PolyData>\n<AppendedData encoding=\"raw\">\n   _" + app.data +
       "\n</AppendedData>\n</VTKFile>\n";
   const auto pd = std::get<PolyData>(read_string(f, "widen.vtp"));
   ASSERT_EQ(pd.verts.size(), n);
@@ -787,15 +793,10 @@ TEST(VtkXmlRead, IdsOfEveryIntegerTypeAreWidenedInPlace) {
     const std::vector<float> pts(9, 0.0f);
     const std::vector<std::uint64_t> conn = {0, std::uint64_t{1} << 63, 2};
     const std::vector<std::int32_t> off = {3};
-    std::string app;
-    const auto put = [&](const std::string& bytes) {
-      const std::string o = std::to_string(app.size());
-      app += appended_payload(bytes, e);
-      return o;
-    };
-    const std::string o1 = put(raw_bytes(pts, false));
-    const std::string o2 = put(raw_bytes(conn, false));
-    const std::string o3 = put(raw_bytes(off, false));
+    RawAppended app{e};
+    const std::string o1 = app.put(raw_bytes(pts, false));
+    const std::string o2 = app.put(raw_bytes(conn, false));
+    const std::string o3 = app.put(raw_bytes(off, false));
     expect_read_error(
         std::string("<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\"") + root_attrs(e) +
             ">\n<PolyData><Piece NumberOfPoints=\"3\" NumberOfPolys=\"1\"><Points>"
@@ -805,8 +806,8 @@ TEST(VtkXmlRead, IdsOfEveryIntegerTypeAreWidenedInPlace) {
             "\"/></Points><Polys><DataArray type=\"UInt64\" Name=\"connectivity\" "
             "format=\"appended\" offset=\"" +
             o2 + "\"/><DataArray type=\"Int32\" Name=\"offsets\" format=\"appended\" offset=\"" +
-            o3 + "\"/></Polys></Piece></PolyData>\n<AppendedData encoding=\"raw\">\n   _" + app +
-            "\n</AppendedData>\n</VTKFile>\n",
+            o3 + "\"/></Polys></Piece></PolyData>\n<AppendedData encoding=\"raw\">\n   _" +
+            app.data + "\n</AppendedData>\n</VTKFile>\n",
         "u64bin.vtp", {"'connectivity'", "value 1 (9223372036854775808) is out of range"});
   }
   std::string f = kTriangle;
