@@ -186,7 +186,7 @@ void add_xml_compression_options(CLI::App& app) {
     }
     x.level_opts.push_back(cmd->add_option("--level", x.level,
                                            "VTK XML output: compression level 1 (fastest) to 12 "
-                                           "(smallest); default 3 for zlib, 1 for lz4")
+                                           "(smallest); default 5 for zlib, 1 for lz4")
                                ->transform(integer_in(1, 12)));
   }
 }

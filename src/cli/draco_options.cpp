@@ -43,7 +43,7 @@ void add_draco_options(CLI::App& cmd, DracoCli& d) {
   // Shared with VTK XML output (add_xml_compression_options): checked per output format.
   d.level_opt = cmd.add_option("--level", d.level,
                                "Compression level: Draco 0 (fastest) to 10 (smallest), default "
-                               "7; VTK XML output 1 to 12 (default 3 for zlib, 1 for lz4)")
+                               "7; VTK XML output 1 to 12 (default 5 for zlib, 1 for lz4)")
                     ->check(integer_in(0, 12));
   auto* seq = cmd.add_flag("--sequential", d.sequential,
                            "Draco: sequential coding, which keeps the order of points and faces "

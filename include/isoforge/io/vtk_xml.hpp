@@ -56,7 +56,7 @@ struct VtkXmlWriteOptions {
   VtkXmlEncoding encoding = VtkXmlEncoding::Appended;  ///< how the arrays are stored
   bool compress = true;  ///< compress binary blocks with `compressor` (UInt64 headers)
   VtkXmlCompressor compressor = VtkXmlCompressor::Zlib;  ///< when `compress`
-  /// Compression level in vtk_xml_level_range(compressor); 0: the default (zlib 3, LZ4 1).
+  /// Compression level in vtk_xml_level_range(compressor); 0: the default (zlib 5, LZ4 1).
   int level = 0;
   /// Type of the cell connectivity and offsets: Auto writes Int32 when every id and offset fits
   /// (half the bytes; VTK's SetIdTypeToInt32), else Int64.
