@@ -448,7 +448,6 @@ struct ArrayRequest {
   std::optional<std::uint64_t> tuples;  ///< required tuple count (nullopt: any)
   int components = 0;                   ///< required components (0: any)
   bool skippable = true;                ///< String/Bit arrays are skipped (else an error)
-  std::size_t lead = 0;  ///< zero values before the payload's (one-component arrays: offsets)
 };
 
 struct StructuredPiece {
@@ -525,34 +524,6 @@ void and_box(const DataArray& src, const std::array<std::size_t, 3>& sub, DataAr
       for (std::size_t i = 0; i < sub[0]; ++i) out[i] &= row[i];
     }
   }
-}
-
-/// f(T{}) for the C++ type T of `type`.
-template <class F>
-decltype(auto) with_scalar_type(ScalarType type, F&& f) {
-  switch (type) {
-    case ScalarType::Int8:
-      return f(std::int8_t{});
-    case ScalarType::UInt8:
-      return f(std::uint8_t{});
-    case ScalarType::Int16:
-      return f(std::int16_t{});
-    case ScalarType::UInt16:
-      return f(std::uint16_t{});
-    case ScalarType::Int32:
-      return f(std::int32_t{});
-    case ScalarType::UInt32:
-      return f(std::uint32_t{});
-    case ScalarType::Int64:
-      return f(std::int64_t{});
-    case ScalarType::UInt64:
-      return f(std::uint64_t{});
-    case ScalarType::Float32:
-      return f(float{});
-    case ScalarType::Float64:
-      return f(double{});
-  }
-  throw Error("unknown scalar type");
 }
 
 /// Where Reader::read_payload puts the bytes it decodes: the whole payload in one buffer
@@ -1074,10 +1045,9 @@ std::optional<DataArray> Reader::read_array(pugi::xml_node el, const XmlWhere& w
                 " components");
       }
       charge(vec.size() * sizeof(T), tw);
-      if (req.lead > 0) vec.insert(vec.begin(), req.lead, T{});
       return DataArray::from_vector<T>(name, ncomp, std::move(vec));
     };
-    return std::optional<DataArray>(with_scalar_type(type, make));
+    return std::optional<DataArray>(visit_scalar_type(type, make));
   }
 
   XmlWhere dw;
@@ -1087,17 +1057,12 @@ std::optional<DataArray> Reader::read_array(pugi::xml_node el, const XmlWhere& w
   // Not zero-filled: read_payload writes every byte (a raw payload is read whole, and every
   // block must decode to exactly its size), and zeroing first doubled the pages' first touch.
   std::optional<DataArray> out;
-  const std::size_t lead_bytes = req.lead * esize;
   WholeTarget target([&](std::uint64_t n) -> std::byte* {
-    out.emplace(
-        DataArray::uninitialized(name, type, ncomp, static_cast<std::size_t>(n / unit) + req.lead));
-    if (lead_bytes > 0) std::memset(out->bytes(), 0, lead_bytes);
-    return out->bytes() + lead_bytes;
+    out.emplace(DataArray::uninitialized(name, type, ncomp, static_cast<std::size_t>(n / unit)));
+    return out->bytes();
   });
   read_payload(*src, dw, bytes, unit, target);
-  if (endian_ != kHostEndian) {
-    io_detail::swap_elements(out->bytes() + lead_bytes, out->size() - req.lead, esize);
-  }
+  if (endian_ != kHostEndian) io_detail::swap_elements(out->bytes(), out->size(), esize);
   return out;
 }
 
@@ -1178,7 +1143,7 @@ void widen_in_place(std::byte* base, std::size_t n) {
 
 Buffer<Index> Reader::read_index_array(pugi::xml_node el, const XmlWhere& w, std::uint64_t count,
                                        std::size_t lead) {
-  const ArrayRequest req{count, 1, false, lead};
+  const ArrayRequest req{count, 1, false};
   const std::optional<ArrayHeader> h = array_header(el, w, req);
   if (is_floating(h->type)) {
     w.fail("must have an integer type, not " + std::string(scalar_type_name(h->type)));
@@ -1189,14 +1154,14 @@ Buffer<Index> Reader::read_index_array(pugi::xml_node el, const XmlWhere& w, std
     arr->visit([&](const auto& v) {
       using T = typename std::decay_t<decltype(v)>::value_type;
       if constexpr (std::is_integral_v<T>) {
-        out.resize(v.size());
+        out.resize(v.size() + lead, 0);
         for (std::size_t i = 0; i < v.size(); ++i) {
           if constexpr (std::is_same_v<T, std::uint64_t>) {
             if (v[i] > static_cast<std::uint64_t>(std::numeric_limits<Index>::max())) {
-              w.fail("value " + num(i - lead) + " (" + num(v[i]) + ") is out of range");
+              w.fail("value " + num(i) + " (" + num(v[i]) + ") is out of range");
             }
           }
-          out[i] = static_cast<Index>(v[i]);
+          out[lead + i] = static_cast<Index>(v[i]);
         }
       }
     });
@@ -1216,7 +1181,7 @@ Buffer<Index> Reader::read_index_array(pugi::xml_node el, const XmlWhere& w, std
   std::byte* base = reinterpret_cast<std::byte*>(out.data() + lead);
   const std::size_t n = out.size() - lead;
   if (endian_ != kHostEndian) io_detail::swap_elements(base, n, es);
-  with_scalar_type(h->type, [&](auto tag) {
+  visit_scalar_type(h->type, [&](auto tag) {
     using T = decltype(tag);
     if constexpr (std::is_integral_v<T> && sizeof(T) < sizeof(Index)) {
       widen_in_place<T>(base, n);

@@ -229,8 +229,9 @@ CompressedBlocks compress_blocks(BlockCodec codec, int level, const std::byte* i
     out.data = std::move(reuse.data);
     out.capacity = reuse.capacity;
   } else {
-    out.data = std::move(compress_storage(codec, block, nblocks).data);
-    out.capacity = nblocks * bound;
+    CompressedBlocks storage = compress_storage(codec, block, nblocks);
+    out.data = std::move(storage.data);
+    out.capacity = storage.capacity;
   }
   std::mutex mutex;
   bool failed = false;
