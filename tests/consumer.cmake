@@ -41,6 +41,21 @@ if(_isoforge_type STREQUAL "SHARED_LIBRARY")
   set_tests_properties(consumer_package_static PROPERTIES LABELS consumer TIMEOUT 1800)
 endif()
 
+# runpath: every program and shared library of the build tree searches for libraries only in
+# absolute directories or ones relative to itself, never the current directory (the root
+# CMakeLists.txt, "The build tree mirrors that layout"); the checker's own test beside it.
+set(_runpath_expect)
+if(_isoforge_type STREQUAL "SHARED_LIBRARY")
+  set(_runpath_expect --expect isoforge --expect libisoforge_vdb.so.0.1.0)
+endif()
+add_test(NAME runpath
+         COMMAND Python3::Interpreter ${CMAKE_CURRENT_SOURCE_DIR}/consumer/check_runpath.py
+                 ${_runpath_expect} ${PROJECT_BINARY_DIR})
+add_test(NAME runpath_self_test
+         COMMAND Python3::Interpreter ${CMAKE_CURRENT_SOURCE_DIR}/consumer/check_runpath.py
+                 --self-test)
+set_tests_properties(runpath runpath_self_test PROPERTIES LABELS install)
+
 # install_relocatable: install into a scratch prefix and run the installed programs with
 # LD_LIBRARY_PATH unset, then move the prefix and run them again (relative RPATH).
 add_test(NAME install_relocatable
@@ -50,5 +65,6 @@ add_test(NAME install_relocatable
     -DDATA_DIR=${PROJECT_SOURCE_DIR}/data
     -DWITH_VERIFY=${ISOFORGE_BUILD_VERIFY}
     -DLIBRARY_TYPE=${_isoforge_type}
+    -DPYTHON=$<TARGET_FILE:Python3::Interpreter>
     -P ${CMAKE_CURRENT_SOURCE_DIR}/consumer/run_install.cmake)
 set_tests_properties(install_relocatable PROPERTIES LABELS install TIMEOUT 300)

@@ -1,5 +1,5 @@
 // Loading the module of the OpenVDB commands (vdb_commands.hpp) on first use: installed beside
-// libisoforge (the library directory, or src/ of the build tree), where core/plugin.hpp looks.
+// libisoforge (the library directory, installed and in the build tree), where core/plugin.hpp looks.
 
 #include "isoforge/core/plugin.hpp"
 #include "vdb_commands.hpp"

@@ -7,6 +7,7 @@
 #   DATA_DIR      the repository's data/
 #   WITH_VERIFY   whether isoforge-verify is built (ISOFORGE_BUILD_VERIFY)
 #   LIBRARY_TYPE  SHARED_LIBRARY or STATIC_LIBRARY
+#   PYTHON        a Python 3 interpreter, for check_runpath.py
 file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR})
 
@@ -88,6 +89,9 @@ if(NOT rc EQUAL 0)
   message(FATAL_ERROR "cmake --install ${BUILD_DIR} failed (${rc})")
 endif()
 run_installed(${WORK_DIR}/prefix)
+# Installed files search for libraries only relative to themselves or in absolute directories.
+run(EXPECT " 0 problems" COMMAND ${PYTHON} ${CMAKE_CURRENT_LIST_DIR}/check_runpath.py
+                                 ${WORK_DIR}/prefix)
 
 # Relocatable: the same prefix, moved to another directory (the original is gone).
 file(MAKE_DIRECTORY ${WORK_DIR}/elsewhere)
