@@ -2,14 +2,18 @@
 
 #include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/statfs.h>
 #include <unistd.h>
 
 #include <array>
 #include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <system_error>
+
+#include <ext/stdio_filebuf.h>
 
 #include "isoforge/core/error.hpp"
 
@@ -18,6 +22,9 @@ namespace isoforge {
 namespace fs = std::filesystem;
 
 namespace {
+
+using FileBuffer = __gnu_cxx::stdio_filebuf<char>;
+constexpr std::size_t kBufferSize = std::size_t{64} << 10;  // larger writes bypass it
 
 // ---- the registry of temporary files being written, for remove_temporary_files() ----
 // Fixed slots with their own path buffers, so a signal handler reads them without locks or
@@ -73,6 +80,19 @@ void remove_file(const fs::path& p) {
   fs::remove(p, ec);
 }
 
+// Allocates `bytes` of disk space for the file `fd` beyond its end (its size unchanged), where
+// that makes writing cheaper: ext4 and XFS, which otherwise allocate blocks as pages are written
+// (delayed allocation, a third of the cost of a write(2) into the page cache). Elsewhere it does
+// nothing: tmpfs, for one, would zero memory pages for it. True if space was allocated.
+bool preallocate(int fd, std::uint64_t bytes) {
+  if (bytes < (std::uint64_t{1} << 20)) return false;  // allocating as it goes costs little
+  constexpr decltype(statfs::f_type) kExt4 = 0xEF53, kXfs = 0x58465342;
+  struct statfs info {};
+  if (::fstatfs(fd, &info) != 0 || (info.f_type != kExt4 && info.f_type != kXfs)) return false;
+  if (bytes > static_cast<std::uint64_t>(std::numeric_limits<off_t>::max())) return false;
+  return ::fallocate(fd, FALLOC_FL_KEEP_SIZE, 0, static_cast<off_t>(bytes)) == 0;
+}
+
 }  // namespace
 
 void check_writable(const fs::path& path) {
@@ -99,7 +119,7 @@ AtomicFile::AtomicFile(fs::path target) : target_(std::move(target)) {
 
 AtomicFile::~AtomicFile() {
   if (!committed_ && !temp_.empty()) {
-    if (stream_.is_open()) stream_.close();
+    (void)close_stream();
     remove_file(temp_);
   }
   unregister_temp(slot_);
@@ -121,50 +141,74 @@ void AtomicFile::create_temp() {
       throw Error(target_.string() + ": cannot create a temporary file in '" + dir.string() +
                   "': " + std::strerror(errno));
     }
-    ::close(fd);
     temp_ = name;
     slot_ = register_temp(name);
-    stream_.open(temp_, std::ios::binary | std::ios::trunc);
-    if (!stream_) {
+    reserved_ = reserve_ > 0 && preallocate(fd, reserve_);
+    // The stream writes to this descriptor. Opening the file again by name to write (as
+    // std::ofstream does, with O_TRUNC) would mark it on ext4 as a file replaced by truncation,
+    // which the file system starts writing to disk when it is closed (auto_da_alloc): CPU time
+    // in close(), and a later truncate waits for the disk.
+    auto buffer = std::make_unique<FileBuffer>(fd, std::ios::out | std::ios::binary, kBufferSize);
+    if (!buffer->is_open()) {
+      ::close(fd);
       remove_file(temp_);
       unregister_temp(slot_);
       temp_.clear();
       throw Error(target_.string() + ": cannot open temporary file for writing");
     }
+    stream_.rdbuf(buffer.get());  // and clears the stream's state
+    buffer_ = std::move(buffer);
     return;
   }
   throw Error(target_.string() + ": cannot find a free temporary file name in '" + dir.string() +
               "'");
 }
 
-std::ofstream& AtomicFile::stream() {
+std::string AtomicFile::close_stream() {
+  if (!buffer_) return {};
+  std::string error;
+  auto& buffer = static_cast<FileBuffer&>(*buffer_);
+  stream_.flush();
+  if (!stream_.good()) error = "write failed (disk full or I/O error)";
+  // Space reserved beyond what was written goes back (truncating to the size frees it).
+  struct stat written {};
+  if (error.empty() && reserved_ &&
+      (::fstat(buffer.fd(), &written) != 0 || ::ftruncate(buffer.fd(), written.st_size) != 0)) {
+    error = std::string("cannot free the space reserved for it: ") + std::strerror(errno);
+  }
+  if (!buffer.close() && error.empty()) {
+    error = std::string("closing it failed (disk full or I/O error): ") + std::strerror(errno);
+  }
+  stream_.rdbuf(nullptr);
+  buffer_.reset();
+  reserved_ = false;
+  return error;
+}
+
+std::ostream& AtomicFile::stream() {
   if (temp_.empty()) create_temp();
   return stream_;
 }
 
 const fs::path& AtomicFile::temp_path() {
   if (temp_.empty()) create_temp();
-  if (stream_.is_open()) stream_.close();
+  if (const std::string error = close_stream(); !error.empty()) {
+    throw Error(target_.string() + ": " + error);
+  }
   return temp_;
 }
 
 void AtomicFile::commit() {
   if (committed_) return;
   if (temp_.empty()) create_temp();  // nothing was written: an empty file
-  bool ok = true;
-  if (stream_.is_open()) {
-    stream_.flush();
-    ok = static_cast<bool>(stream_);
-    stream_.close();
-    ok = ok && !stream_.fail();
-  }
+  const std::string error = close_stream();
   const auto fail = [&](const std::string& what) {
     remove_file(temp_);
     unregister_temp(slot_);
     committed_ = true;  // nothing left to clean up
     throw Error(target_.string() + ": " + what);
   };
-  if (!ok) fail("write failed (disk full or I/O error); the target was not changed");
+  if (!error.empty()) fail(error + "; the target was not changed");
   // Replacing a file keeps its permissions (a new one has the umask's, from the open above).
   struct stat st {};
   if (::stat(resolved_.c_str(), &st) == 0 && S_ISREG(st.st_mode) &&
@@ -180,6 +224,7 @@ void AtomicFile::commit() {
 
 void write_file_atomic(const fs::path& path, std::string_view contents) {
   AtomicFile f(path);
+  f.reserve(contents.size());
   f.stream().write(contents.data(), static_cast<std::streamsize>(contents.size()));
   f.commit();
 }

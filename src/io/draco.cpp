@@ -1332,6 +1332,7 @@ DracoStats write_draco(const PolyData& mesh, const std::filesystem::path& path,
                        const DracoWriteOptions& options) {
   AtomicFile out(path);
   auto [bytes, stats] = encode_draco(mesh, options, path.string());
+  out.reserve(bytes.size());
   out.stream().write(reinterpret_cast<const char*>(bytes.data()),
                      static_cast<std::streamsize>(bytes.size()));
   out.commit();

@@ -679,6 +679,7 @@ GltfWriteStats write_gltf(std::span<const GltfMesh> meshes, const std::filesyste
   put_u32(header, static_cast<std::uint32_t>(json.size()));
   put_u32(header, kChunkJson);
   AtomicFile out(path);
+  out.reserve(total);
   auto& s = out.stream();
   s.write(header.data(), static_cast<std::streamsize>(header.size()));
   s.write(json.data(), static_cast<std::streamsize>(json.size()));

@@ -1205,6 +1205,7 @@ void write_ply(const PolyData& mesh, const std::filesystem::path& path,
                                    3 * (num_faces - mesh.polys.size()) + num_faces * face_values,
                                "writing");
   AtomicFile file_out(path);
+  file_out.reserve(io_detail::payload_bytes(mesh) + buf.size());
   std::ostream& os = file_out.stream();
   constexpr std::size_t kFlush = std::size_t{4} << 20;
   const auto flush = [&](bool always) {

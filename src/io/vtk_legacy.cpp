@@ -1717,6 +1717,7 @@ void write_vtk_legacy(DatasetRef ds, const std::filesystem::path& path,
                       const VtkLegacyWriteOptions& options) {
   check_writable(ds, options, path.string());
   AtomicFile file(path);
+  file.reserve(io_detail::payload_bytes(ds) + (std::uint64_t{1} << 16));
   LegacyWriter(file.stream(), options).write(ds);
   file.commit();
 }

@@ -2923,6 +2923,7 @@ void write_vtk_xml(DatasetRef ds, const std::filesystem::path& path,
                 ": " + e.what());
   }
   AtomicFile file(path);
+  file.reserve(io_detail::payload_bytes(ds) + (std::uint64_t{1} << 16));
   Writer w(options);
   w.write(ds, file.stream());
   file.commit();

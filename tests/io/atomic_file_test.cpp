@@ -185,3 +185,89 @@ TEST(AtomicFile, RemoveTemporaryFilesRemovesWhatIsBeingWritten) {
   EXPECT_THROW(a.commit(), Error);  // its file is gone: a clear error, not a half file
   EXPECT_FALSE(fs::exists(dir / "a.txt"));
 }
+
+namespace {
+
+// Bytes of disk the file occupies (st_blocks counts 512-byte units).
+std::uint64_t allocated_bytes(const fs::path& p) {
+  struct stat st {};
+  EXPECT_EQ(::stat(p.c_str(), &st), 0) << p;
+  return static_cast<std::uint64_t>(st.st_blocks) * 512;
+}
+
+std::string pattern(std::size_t n) {
+  std::string s(n, '\0');
+  for (std::size_t i = 0; i < n; ++i) s[i] = static_cast<char>('a' + (i * 7 + i / 4096) % 26);
+  return s;
+}
+
+}  // namespace
+
+TEST(AtomicFile, ReservedSpaceNotWrittenIsFreedAtCommit) {
+  // 8 MiB reserved, 3 MiB + 5 bytes written: the file has what was written and occupies its
+  // size rounded up to blocks, not the reservation (where the file system preallocates).
+  const fs::path dir = scratch("reserve");
+  const std::string data = pattern((std::size_t{3} << 20) + 5);
+  AtomicFile f(dir / "r.bin");
+  f.reserve(std::uint64_t{8} << 20);
+  f.stream().write(data.data(), static_cast<std::streamsize>(data.size()));
+  f.commit();
+  EXPECT_EQ(slurp(dir / "r.bin"), data);
+  EXPECT_LE(allocated_bytes(dir / "r.bin"), data.size() + 65536);
+  EXPECT_EQ(entries(dir), 1u);
+}
+
+TEST(AtomicFile, AReservationTooSmallOrTooLargeOnlyLosesTheHint) {
+  const fs::path dir = scratch("reserve_wrong");
+  const std::string data = pattern(std::size_t{5} << 20);
+  for (const std::uint64_t hint : {std::uint64_t{1} << 20, std::uint64_t{1} << 62}) {
+    AtomicFile f(dir / "w.bin");
+    f.reserve(hint);  // 2^62 bytes: more than any disk; the file system refuses, writing goes on
+    f.stream().write(data.data(), static_cast<std::streamsize>(data.size()));
+    f.commit();
+    EXPECT_EQ(slurp(dir / "w.bin"), data) << hint;
+    EXPECT_LE(allocated_bytes(dir / "w.bin"), data.size() + 65536) << hint;
+  }
+  EXPECT_EQ(entries(dir), 1u);
+}
+
+TEST(AtomicFile, AnAbandonedReservedFileLeavesNothing) {
+  const fs::path dir = scratch("reserve_abandon");
+  {
+    AtomicFile f(dir / "gone.bin");
+    f.reserve(std::uint64_t{16} << 20);
+    f.stream() << "started";
+    EXPECT_EQ(entries(dir), 1u);
+  }
+  EXPECT_EQ(entries(dir), 0u);
+}
+
+TEST(AtomicFile, TheStreamSeeksBackToFillInPlaces) {
+  // The VTK XML writer leaves fixed-width places for offsets and fills them in afterwards.
+  const fs::path dir = scratch("seek");
+  const std::string big = pattern(std::size_t{1} << 20);  // past the stream's buffer
+  AtomicFile f(dir / "s.bin");
+  std::ostream& os = f.stream();
+  os << "head:????;";
+  os.write(big.data(), static_cast<std::streamsize>(big.size()));
+  const std::streampos end = os.tellp();
+  EXPECT_EQ(static_cast<std::size_t>(end), 10 + big.size());
+  os.seekp(5);
+  os << "done";
+  os.seekp(end);
+  os << "tail";
+  f.commit();
+  EXPECT_EQ(slurp(dir / "s.bin"), "head:done;" + big + "tail");
+}
+
+TEST(AtomicFile, TempPathClosesTheStreamForALibraryThatReopensIt) {
+  const fs::path dir = scratch("temp_path_reserved");
+  AtomicFile f(dir / "lib.bin");
+  f.reserve(std::uint64_t{4} << 20);
+  f.stream() << "ignored";
+  const fs::path temp = f.temp_path();
+  { std::ofstream(temp, std::ios::binary) << "from the library"; }
+  f.commit();
+  EXPECT_EQ(slurp(dir / "lib.bin"), "from the library");
+  EXPECT_LE(allocated_bytes(dir / "lib.bin"), std::uint64_t{65536});
+}

@@ -84,25 +84,43 @@ class Progress {
 /// The size of a file (0 if it cannot be told; reading it then reports the error).
 [[nodiscard]] std::uint64_t file_size_or_zero(const std::filesystem::path& path);
 
-/// The values (scalars) a writer emits for `ds`, to measure its progress: points, cell lists
+/// Calls f(values, bytes per value) for each part a writer emits for `ds`: points, cell lists
 /// (connectivity and offsets; unstructured cell types) and every point, cell and field array.
-[[nodiscard]] inline std::uint64_t payload_values(DatasetRef ds) {
-  std::uint64_t n = 0;
+template <class F>
+void for_each_payload(DatasetRef ds, F&& f) {
   for (const Attributes* at : {&point_data(ds), &cell_data(ds), &field_data(ds)}) {
-    for (const DataArray& a : *at) n += a.size();
+    for (const DataArray& a : *at) f(std::uint64_t{a.size()}, scalar_size(a.type()));
   }
-  const auto cells = [&n](const CellArray& c) {
-    n += c.connectivity().size() + c.offsets().size();
+  const auto cells = [&f](const CellArray& c) {
+    f(std::uint64_t{c.connectivity().size() + c.offsets().size()}, sizeof(Index));
   };
-  if (const auto* sg = ds.get_if<StructuredGrid>()) n += 3 * sg->points.size();
+  const auto points = [&f](const Points& p) {
+    f(std::uint64_t{3} * p.size(), scalar_size(p.type()));
+  };
+  if (const auto* sg = ds.get_if<StructuredGrid>()) points(sg->points);
   if (const auto* pd = ds.get_if<PolyData>()) {
-    n += 3 * pd->points.size();
+    points(pd->points);
     for (const CellArray* c : {&pd->verts, &pd->lines, &pd->polys, &pd->strips}) cells(*c);
   }
   if (const auto* ug = ds.get_if<UnstructuredGrid>()) {
-    n += 3 * ug->points.size() + ug->types.size();
+    points(ug->points);
+    f(std::uint64_t{ug->types.size()}, sizeof(CellType));
     cells(ug->cells);
   }
+}
+
+/// The values (scalars) a writer emits for `ds`, to measure its progress.
+[[nodiscard]] inline std::uint64_t payload_values(DatasetRef ds) {
+  std::uint64_t n = 0;
+  for_each_payload(ds, [&n](std::uint64_t values, std::size_t) { n += values; });
+  return n;
+}
+
+/// The bytes of `ds`'s arrays as stored in memory: about the size of a binary file of it, for
+/// AtomicFile::reserve.
+[[nodiscard]] inline std::uint64_t payload_bytes(DatasetRef ds) {
+  std::uint64_t n = 0;
+  for_each_payload(ds, [&n](std::uint64_t values, std::size_t size) { n += values * size; });
   return n;
 }
 
