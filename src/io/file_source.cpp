@@ -166,6 +166,21 @@ void swap_elements(std::byte* data, std::size_t count, std::size_t elem_size) {
   }
 }
 
+void copy_swapped(const std::byte* from, std::byte* dst, std::size_t count, std::size_t elem_size) {
+  const std::size_t piece = std::max<std::size_t>(1, kParallelPiece / elem_size);
+  const auto run = [&](std::size_t lo, std::size_t hi) {
+    std::memcpy(dst + lo * elem_size, from + lo * elem_size, (hi - lo) * elem_size);
+    swap_elements(dst + lo * elem_size, hi - lo, elem_size);  // while the piece is in cache
+  };
+  if (count * elem_size < kParallelMin) {
+    for (std::size_t i = 0; i < count; i += piece) run(i, std::min(count, i + piece));
+    return;
+  }
+  parallel_for_range((count + piece - 1) / piece, 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t p = b; p < e; ++p) run(p * piece, std::min(count, (p + 1) * piece));
+  });
+}
+
 void copy_elements(const FileSource& src, const std::byte* from, std::byte* dst,
                    std::size_t count, std::size_t elem_size, bool swap, Progress* progress,
                    std::uint64_t progress_base) {

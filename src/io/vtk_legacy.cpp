@@ -52,8 +52,11 @@
 #include <utility>
 #include <vector>
 
+#include "detail/file_source.hpp"
 #include "detail/scanner.hpp"
 #include "detail/summaries.hpp"
+#include "isoforge/core/buffer.hpp"
+#include "isoforge/core/parallel.hpp"
 #include "isoforge/core/summary.hpp"
 #include "isoforge/io/atomic_file.hpp"
 #include "isoforge/io/io.hpp"
@@ -1458,6 +1461,8 @@ class LegacyWriter {
     const auto r = std::to_chars(tmp, tmp + sizeof tmp, v);  // shortest round-trip for floats
     buf_.append(tmp, r.ptr);
   }
+  static constexpr std::size_t kSliceBytes = std::size_t{1} << 20;
+
   template <class T>
   void big_endian(T v) {
     if constexpr (sizeof(T) > 1) {
@@ -1471,20 +1476,41 @@ class LegacyWriter {
   /// Values as ASCII (nine per line) or big-endian binary, then a newline.
   template <class T>
   void values(std::span<const T> v) {
+    if (binary_) {
+      binary_values(std::as_bytes(v), sizeof(T));
+      buf_ += '\n';
+      return;
+    }
     for (std::size_t i = 0; i < v.size(); ++i) {
-      if (binary_) {
-        big_endian(v[i]);
-      } else {
-        number(v[i]);
-        buf_ += (i % 9 == 8 || i + 1 == v.size()) ? '\n' : ' ';
-      }
+      number(v[i]);
+      buf_ += (i % 9 == 8 || i + 1 == v.size()) ? '\n' : ' ';
       if (i % 4096 == 4095) {
         maybe_flush();
         progress_.add(4096);
       }
     }
     progress_.add(v.size() % 4096);
-    if (binary_ || v.empty()) buf_ += '\n';
+    if (v.empty()) buf_ += '\n';
+  }
+
+  /// Big-endian values: written straight from the array where no bytes are swapped, else a
+  /// 1 MiB slice at a time (progress after each), copied and swapped on all threads into a
+  /// buffer kept for the file.
+  void binary_values(std::span<const std::byte> bytes, std::size_t elem) {
+    flush();
+    const bool swap = elem > 1 && io_detail::kHostEndian != Endian::Big;
+    const std::size_t per = std::max<std::size_t>(1, kSliceBytes / elem) * elem;
+    for (std::size_t at = 0; at < bytes.size(); at += per) {
+      const std::size_t m = std::min(per, bytes.size() - at);
+      const std::byte* out = bytes.data() + at;
+      if (swap) {
+        if (slice_.size() < m) slice_.resize(per);
+        io_detail::copy_swapped(out, slice_.data(), m / elem, elem);
+        out = slice_.data();
+      }
+      out_.write(reinterpret_cast<const char*>(out), static_cast<std::streamsize>(m));
+      progress_.add(m / elem);
+    }
   }
   void values(const DataArray& a) {
     a.visit([&](const auto& v) { values(std::span(v.data(), v.size())); });
@@ -1550,6 +1576,11 @@ class LegacyWriter {
     }
     text(std::string(key) + " " + str(static_cast<std::uint64_t>(n)) + " " +
          str(static_cast<std::uint64_t>(n + conn.size())) + "\n");
+    if (binary_) {
+      binary_cells(cells);
+      buf_ += '\n';
+      return;
+    }
     for (std::size_t c = 0; c < n; ++c) {
       const auto ids = cells.cell(c);
       if (binary_) {
@@ -1567,6 +1598,48 @@ class LegacyWriter {
       if (c % 1024 == 1023) maybe_flush();
     }
     if (binary_) buf_ += '\n';
+  }
+
+  /// The 4.2 layout's cells, binary: each cell's size then its ids, big-endian Int32 (the
+  /// writer checked that they fit), a slice of about 1 MiB of cells at a time (at least one
+  /// cell), filled on all threads.
+  void binary_cells(const CellArray& cells) {
+    flush();
+    const auto& offsets = cells.offsets();
+    const auto& conn = cells.connectivity();
+    const std::size_t n = cells.size();
+    const auto word = [&](std::size_t c) { return static_cast<std::size_t>(offsets[c]) + c; };
+    const std::size_t per = kSliceBytes / sizeof(std::int32_t);
+    for (std::size_t c0 = 0; c0 < n;) {
+      // The last c1 with word(c1) - word(c0) <= per (word() increases), at least c0 + 1.
+      std::size_t lo = c0 + 1, hi = n;
+      while (lo < hi) {
+        const std::size_t mid = lo + (hi - lo + 1) / 2;
+        if (word(mid) - word(c0) <= per)
+          lo = mid;
+        else
+          hi = mid - 1;
+      }
+      const std::size_t c1 = lo, words = word(c1) - word(c0);
+      if (slice_.size() < words * sizeof(std::int32_t)) slice_.resize(words * sizeof(std::int32_t));
+      std::byte* out = slice_.data();
+      const auto put = [out](std::size_t at, Index v) {
+        auto x = static_cast<std::uint32_t>(static_cast<std::int32_t>(v));
+        if (io_detail::kHostEndian != Endian::Big) x = __builtin_bswap32(x);
+        std::memcpy(out + at * sizeof x, &x, sizeof x);
+      };
+      parallel_for_range(c1 - c0, std::size_t{1} << 12, [&](std::size_t b, std::size_t e) {
+        for (std::size_t c = c0 + b; c < c0 + e; ++c) {
+          std::size_t at = word(c) - word(c0);
+          put(at++, offsets[c + 1] - offsets[c]);
+          for (auto k = offsets[c]; k < offsets[c + 1]; ++k)
+            put(at++, conn[static_cast<std::size_t>(k)]);
+        }
+      });
+      out_.write(reinterpret_cast<const char*>(out), static_cast<std::streamsize>(words * 4));
+      progress_.add(words);
+      c0 = c1;
+    }
   }
 
   void write_geometry(const ImageData& img) {
@@ -1652,6 +1725,7 @@ class LegacyWriter {
   const ProgressCallback& callback_;
   io_detail::Progress progress_;
   std::string buf_;
+  Buffer<std::byte> slice_;  // binary values, swapped
 };
 
 }  // namespace

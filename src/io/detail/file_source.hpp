@@ -73,4 +73,8 @@ void copy_elements(const FileSource& src, const std::byte* from, std::byte* dst,
 /// Swaps the bytes of `count` elements of `elem_size` (2, 4 or 8; 1 does nothing) in place.
 void swap_elements(std::byte* data, std::size_t count, std::size_t elem_size);
 
+/// Copies `count` elements of `elem_size` bytes from `from` to `dst` (not overlapping) with
+/// each element's bytes swapped, on all threads from 512 KiB on: writers of big-endian files.
+void copy_swapped(const std::byte* from, std::byte* dst, std::size_t count, std::size_t elem_size);
+
 }  // namespace isoforge::io_detail
