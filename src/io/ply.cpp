@@ -22,6 +22,7 @@
 #include "detail/scanner.hpp"
 #include "detail/summaries.hpp"
 #include "detail/tuple_stream.hpp"
+#include "isoforge/core/buffer.hpp"
 #include "isoforge/core/parallel.hpp"
 #include "isoforge/core/subset.hpp"
 #include "isoforge/io/atomic_file.hpp"
@@ -1026,6 +1027,17 @@ class PlyOut {
   bool first_ = true;
 };
 
+/// `v` as a binary value of type `t` at `at` (bytes swapped if `swap`); the byte after it.
+std::byte* encode_binary(ScalarType t, double v, std::byte* at, bool swap) {
+  visit_scalar_type(t, [&](auto tag) {
+    using T = decltype(tag);
+    T x = static_cast<T>(v);
+    if (swap) x = io_detail::byteswap_value(x);
+    std::memcpy(at, &x, sizeof x);
+  });
+  return at + scalar_size(t);
+}
+
 std::string sanitize(std::string name) {
   for (char& c : name) {
     if (Scanner::is_space(c)) c = '_';
@@ -1214,14 +1226,6 @@ void write_ply(const PolyData& mesh, const std::filesystem::path& path,
       buf.clear();
     }
   };
-  for (std::size_t i = 0; i < np; ++i) {
-    const Vec3 p = mesh.points[i];
-    for (int a = 0; a < 3; ++a) out.put_as(pt, p[a]);
-    for (const auto& q : vprops) out.put_as(q.type, q.array->get(i, q.comp));
-    out.end_record();
-    progress.add(vertex_values);
-    flush(false);
-  }
   const auto face = [&](std::span<const Index> ids, std::size_t row) {
     out.put_as(count_type, static_cast<double>(ids.size()));
     for (Index id : ids) out.put_as(index_type, static_cast<double>(id));
@@ -1230,7 +1234,84 @@ void write_ply(const PolyData& mesh, const std::filesystem::path& path,
     progress.add(ids.size() + face_values);
     flush(false);
   };
-  for (std::size_t f = 0; f < mesh.polys.size(); ++f) face(mesh.polys.cell(f), f);
+  if (options.encoding == PlyEncoding::Ascii) {
+    for (std::size_t i = 0; i < np; ++i) {
+      const Vec3 p = mesh.points[i];
+      for (int a = 0; a < 3; ++a) out.put_as(pt, p[a]);
+      for (const auto& q : vprops) out.put_as(q.type, q.array->get(i, q.comp));
+      out.end_record();
+      progress.add(vertex_values);
+      flush(false);
+    }
+    for (std::size_t f = 0; f < mesh.polys.size(); ++f) face(mesh.polys.cell(f), f);
+  } else {
+    // Binary records have known sizes, so vertices and polygons are encoded a slice of about
+    // 1 MiB at a time, each record on any thread at its place (a polygon's from the offsets).
+    flush(true);
+    const bool swap = (options.encoding == PlyEncoding::BinaryBigEndian) !=
+                      (io_detail::kHostEndian == Endian::Big);
+    constexpr std::size_t kSlice = std::size_t{1} << 20;
+    constexpr std::size_t kGrain = std::size_t{1} << 12;
+    Buffer<std::byte> slice;
+    const auto emit = [&](std::size_t bytes, std::uint64_t values) {
+      os.write(reinterpret_cast<const char*>(slice.data()), static_cast<std::streamsize>(bytes));
+      progress.add(values);
+    };
+    std::size_t vrow = 3 * scalar_size(pt);
+    for (const auto& q : vprops) vrow += scalar_size(q.type);
+    const std::size_t vper = std::max<std::size_t>(1, kSlice / vrow);
+    for (std::size_t v0 = 0; v0 < np; v0 += vper) {
+      const std::size_t v1 = std::min(np, v0 + vper);
+      if (slice.size() < (v1 - v0) * vrow) slice.resize((v1 - v0) * vrow);
+      parallel_for_range(v1 - v0, kGrain, [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = v0 + b; i < v0 + e; ++i) {
+          std::byte* at = slice.data() + (i - v0) * vrow;
+          const Vec3 p = mesh.points[i];
+          for (int a = 0; a < 3; ++a) at = encode_binary(pt, p[a], at, swap);
+          for (const auto& q : vprops)
+            at = encode_binary(q.type, q.array->get(i, q.comp), at, swap);
+        }
+      });
+      emit((v1 - v0) * vrow, (v1 - v0) * vertex_values);
+    }
+    const auto& offsets = mesh.polys.offsets();
+    const auto& conn = mesh.polys.connectivity();
+    const std::size_t nf = mesh.polys.size(), index_size = scalar_size(index_type);
+    std::size_t frow = scalar_size(count_type);
+    for (const auto& q : fprops) frow += scalar_size(q.type);
+    // Byte position of polygon f, counted from polygon 0 (increasing in f).
+    const auto place = [&](std::size_t f) {
+      return f * frow + static_cast<std::size_t>(offsets[f]) * index_size;
+    };
+    for (std::size_t f0 = 0; f0 < nf;) {
+      // The last f1 with place(f1) - place(f0) <= kSlice, at least f0 + 1.
+      std::size_t lo = f0 + 1, hi = nf;
+      while (lo < hi) {
+        const std::size_t mid = lo + (hi - lo + 1) / 2;
+        if (place(mid) - place(f0) <= kSlice)
+          lo = mid;
+        else
+          hi = mid - 1;
+      }
+      const std::size_t f1 = lo, bytes = place(f1) - place(f0);
+      if (slice.size() < bytes) slice.resize(bytes);
+      parallel_for_range(f1 - f0, kGrain, [&](std::size_t b, std::size_t e) {
+        for (std::size_t f = f0 + b; f < f0 + e; ++f) {
+          std::byte* at = slice.data() + (place(f) - place(f0));
+          at =
+              encode_binary(count_type, static_cast<double>(offsets[f + 1] - offsets[f]), at, swap);
+          for (auto k = offsets[f]; k < offsets[f + 1]; ++k) {
+            at = encode_binary(index_type, static_cast<double>(conn[static_cast<std::size_t>(k)]),
+                               at, swap);
+          }
+          for (const auto& q : fprops)
+            at = encode_binary(q.type, q.array->get(f, q.comp), at, swap);
+        }
+      });
+      emit(bytes, static_cast<std::uint64_t>(offsets[f1] - offsets[f0]) + (f1 - f0) * face_values);
+      f0 = f1;
+    }
+  }
   for (std::size_t s = 0; s < mesh.strips.size(); ++s) {
     const auto ids = mesh.strips.cell(s);
     for (std::size_t k = 0; k + 2 < ids.size(); ++k) {

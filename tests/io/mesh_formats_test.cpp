@@ -203,6 +203,54 @@ TEST(Ply, BunnyBinaryRoundTripKeepsEverything) {
   EXPECT_EQ(entries(dir), 1u);
 }
 
+TEST(Ply, BinaryRecordsOfManySlicesMatchTheAsciiFile) {
+  // Binary vertices and faces are encoded a 1 MiB slice at a time on all threads: a mesh of
+  // several slices with point and cell properties of several types, and a polygon longer than
+  // a slice (300k vertices: its count is an int), in both byte orders, reads back as the ASCII
+  // file (written record by record) does, and with the mesh's points and polygons.
+  const fs::path dir = scratch("slices");
+  const std::size_t np = 300'000;
+  PolyData m;
+  m.points = Points(np);
+  DataArray temp("temperature", ScalarType::Float64, 1, np);
+  DataArray label("label", ScalarType::Int16, 1, np);
+  DataArray colors("Colors", ScalarType::UInt8, 4, np);
+  for (std::size_t i = 0; i < np; ++i) {
+    const double d = static_cast<double>(i);
+    m.points.set(i, {std::sin(d), std::cos(d), 1e-4 * d});
+    temp.set(i, 0, 273.15 + d / 7.0);
+    label.set(i, 0, static_cast<double>(static_cast<std::int16_t>(i * 37)));
+    for (int c = 0; c < 4; ++c) colors.set(i, c, static_cast<double>((i + 61 * c) % 256));
+  }
+  m.point_data.add(std::move(temp));
+  m.point_data.add(std::move(label));
+  m.point_data.add(std::move(colors), AttributeRole::Scalars);
+  for (std::size_t i = 0; i + 2 < np; i += 3) {
+    m.polys.add({static_cast<Index>(i), static_cast<Index>(i + 1), static_cast<Index>(i + 2)});
+  }
+  std::vector<Index> big(np);
+  for (std::size_t i = 0; i < np; ++i) big[i] = static_cast<Index>((i * 7) % np);
+  m.polys.add(big);
+  DataArray material("material", ScalarType::Int32, 1, m.polys.size());
+  for (std::size_t f = 0; f < m.polys.size(); ++f)
+    material.set(f, 0, static_cast<double>(f % 1000) - 500);
+  m.cell_data.add(std::move(material));
+
+  write_ply(m, dir / "a.ply", {PlyEncoding::Ascii});
+  const PolyData ascii = read_ply(dir / "a.ply");
+  EXPECT_EQ(ascii.polys, m.polys);
+  for (PlyEncoding enc : {PlyEncoding::BinaryLittleEndian, PlyEncoding::BinaryBigEndian}) {
+    write_ply(m, dir / "b.ply", {enc});
+    const PolyData r = read_ply(dir / "b.ply");
+    EXPECT_EQ(r.points, m.points);
+    EXPECT_EQ(r.polys, m.polys);
+    EXPECT_EQ(r.point_data, ascii.point_data);
+    EXPECT_EQ(r.cell_data, ascii.cell_data);
+    EXPECT_EQ(r.cell_data.size(), 1u);
+    EXPECT_GE(r.point_data.size(), 3u);
+  }
+}
+
 TEST(Ply, TruncatedBunnyOnlyThrowsError) {
   const auto full = read_file_bytes(data_path("bunny.ply"));
   std::vector<std::size_t> offsets;
