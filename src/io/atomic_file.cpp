@@ -5,6 +5,7 @@
 #include <sys/statfs.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cerrno>
@@ -83,14 +84,16 @@ void remove_file(const fs::path& p) {
 // Allocates `bytes` of disk space for the file `fd` beyond its end (its size unchanged), where
 // that makes writing cheaper: ext4 and XFS, which otherwise allocate blocks as pages are written
 // (delayed allocation, a third of the cost of a write(2) into the page cache). Elsewhere it does
-// nothing: tmpfs, for one, would zero memory pages for it. True if space was allocated.
+// nothing: tmpfs, for one, would zero memory pages for it. True if it was tried: a failed
+// fallocate (no room for all of it) may still have allocated a part, which commit() frees too.
 bool preallocate(int fd, std::uint64_t bytes) {
   if (bytes < (std::uint64_t{1} << 20)) return false;  // allocating as it goes costs little
   constexpr decltype(statfs::f_type) kExt4 = 0xEF53, kXfs = 0x58465342;
   struct statfs info {};
   if (::fstatfs(fd, &info) != 0 || (info.f_type != kExt4 && info.f_type != kXfs)) return false;
-  if (bytes > static_cast<std::uint64_t>(std::numeric_limits<off_t>::max())) return false;
-  return ::fallocate(fd, FALLOC_FL_KEEP_SIZE, 0, static_cast<off_t>(bytes)) == 0;
+  const auto most = static_cast<std::uint64_t>(std::numeric_limits<off_t>::max());
+  (void)::fallocate(fd, FALLOC_FL_KEEP_SIZE, 0, static_cast<off_t>(std::min(bytes, most)));
+  return true;
 }
 
 }  // namespace
@@ -143,7 +146,7 @@ void AtomicFile::create_temp() {
     }
     temp_ = name;
     slot_ = register_temp(name);
-    reserved_ = reserve_ > 0 && preallocate(fd, reserve_);
+    reserved_ = preallocate(fd, reserve_);
     // The stream writes to this descriptor. Opening the file again by name to write (as
     // std::ofstream does, with O_TRUNC) would mark it on ext4 as a file replaced by truncation,
     // which the file system starts writing to disk when it is closed (auto_da_alloc): CPU time

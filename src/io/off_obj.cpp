@@ -325,20 +325,55 @@ class OffReader {
 };
 
 /// Polys followed by the triangles of the strips (alternating orientation).
-CellArray faces_with_triangulated_strips(const PolyData& mesh) {
-  CellArray faces = mesh.polys;
+/// The faces a writer emits: the polygons, then each strip's triangles (every other one flipped,
+/// so that all keep the strip's orientation), each given to `f` as its ids.
+template <class F>
+void for_each_face(const PolyData& mesh, F&& f) {
+  for (std::size_t c = 0; c < mesh.polys.size(); ++c) f(mesh.polys.cell(c));
   for (std::size_t s = 0; s < mesh.strips.size(); ++s) {
     const auto ids = mesh.strips.cell(s);
     for (std::size_t k = 0; k + 2 < ids.size(); ++k) {
-      if (k % 2 == 0) {
-        faces.add({ids[k], ids[k + 1], ids[k + 2]});
-      } else {
-        faces.add({ids[k + 1], ids[k], ids[k + 2]});
-      }
+      const Index tri[3] = {ids[k + (k % 2)], ids[k + 1 - (k % 2)], ids[k + 2]};
+      f(std::span<const Index>(tri));
     }
   }
-  return faces;
 }
+
+/// The number of faces for_each_face gives.
+std::size_t count_faces(const PolyData& mesh) {
+  std::size_t n = mesh.polys.size();
+  for (std::size_t s = 0; s < mesh.strips.size(); ++s) {
+    const std::size_t k = mesh.strips.cell_size(s);
+    if (k >= 3) n += k - 2;
+  }
+  return n;
+}
+
+/// Text into an AtomicFile through a buffer written out every 4 MiB, so that writing costs a
+/// few MiB of memory whatever the mesh's size (the file's text was built whole before).
+class TextFile {
+ public:
+  TextFile(const std::filesystem::path& path, std::uint64_t estimate) : file_(path) {
+    file_.reserve(estimate);
+  }
+  std::string& text() { return buf_; }
+  void maybe_flush() {
+    if (buf_.size() >= kFlush) flush();
+  }
+  void commit() {
+    flush();
+    file_.commit();
+  }
+
+ private:
+  static constexpr std::size_t kFlush = std::size_t{4} << 20;
+  void flush() {
+    file_.stream().write(buf_.data(), static_cast<std::streamsize>(buf_.size()));
+    buf_.clear();
+  }
+  AtomicFile file_;
+  std::string buf_;
+};
 
 void validate_for_write(const PolyData& mesh, const std::string& file) {
   try {
@@ -387,28 +422,31 @@ void write_off(const PolyData& mesh, const std::filesystem::path& path) {
                 std::to_string(mesh.lines.size()) + " lines");
   }
   validate_for_write(mesh, file);
-  const CellArray faces = faces_with_triangulated_strips(mesh);
   const bool single = mesh.points.type() == ScalarType::Float32;
-  std::string out = "OFF\n# written by isoforge\n";
-  out += std::to_string(mesh.num_points()) + " " + std::to_string(faces.size()) + " 0\n";
-  for (std::size_t i = 0; i < mesh.num_points(); ++i) {
+  const std::size_t np = mesh.num_points();
+  TextFile file_out(path, 24 * np + 12 * mesh.polys.connectivity().size());
+  std::string& out = file_out.text();
+  out = "OFF\n# written by isoforge\n";
+  out += std::to_string(np) + " " + std::to_string(count_faces(mesh)) + " 0\n";
+  for (std::size_t i = 0; i < np; ++i) {
     const Vec3 p = mesh.points[i];
     for (int a = 0; a < 3; ++a) {
       if (a) out += ' ';
       append_coord(out, p[a], single);
     }
     out += '\n';
+    file_out.maybe_flush();
   }
-  for (std::size_t f = 0; f < faces.size(); ++f) {
-    const auto ids = faces.cell(f);
-    out += std::to_string(ids.size());
+  for_each_face(mesh, [&](std::span<const Index> ids) {
+    append_number(out, ids.size());
     for (Index id : ids) {
       out += ' ';
       append_number(out, id);
     }
     out += '\n';
-  }
-  write_file_atomic(path, out);
+    file_out.maybe_flush();
+  });
+  file_out.commit();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -424,7 +462,9 @@ void write_obj(const PolyData& mesh, const std::filesystem::path& path) {
   if (tcoords && (tcoords->components() < 1 || tcoords->components() > 3)) tcoords = nullptr;
   const bool single = mesh.points.type() == ScalarType::Float32;
 
-  std::string out = "# written by isoforge\n";
+  TextFile file_out(path, 40 * np + 16 * mesh.polys.connectivity().size());
+  std::string& out = file_out.text();
+  out = "# written by isoforge\n";
   out += "# " + std::to_string(np) + " vertices\n";
   for (std::size_t i = 0; i < np; ++i) {
     const Vec3 p = mesh.points[i];
@@ -434,6 +474,7 @@ void write_obj(const PolyData& mesh, const std::filesystem::path& path) {
       append_coord(out, p[a], single);
     }
     out += '\n';
+    file_out.maybe_flush();
   }
   if (normals) {
     const bool nsingle = normals->type() != ScalarType::Float64;
@@ -444,6 +485,7 @@ void write_obj(const PolyData& mesh, const std::filesystem::path& path) {
         append_coord(out, normals->get(i, a), nsingle);
       }
       out += '\n';
+      file_out.maybe_flush();
     }
   }
   if (tcoords) {
@@ -455,32 +497,47 @@ void write_obj(const PolyData& mesh, const std::filesystem::path& path) {
         append_coord(out, tcoords->get(i, a), tsingle);
       }
       out += '\n';
+      file_out.maybe_flush();
     }
   }
-  auto vertex_ref = [&](Index id) {
-    const std::string n = std::to_string(id + 1);
-    if (normals && tcoords) return n + "/" + n + "/" + n;
-    if (tcoords) return n + "/" + n;
-    if (normals) return n + "//" + n;
-    return n;
+  // A face's vertex: "i", "i/i", "i//i" or "i/i/i" (1-based, with its texture coordinate and
+  // normal of the same index).
+  const auto vertex_ref = [&](Index id) {
+    const std::size_t at = out.size();
+    append_number(out, id + 1);
+    if (!normals && !tcoords) return;
+    const std::string n = out.substr(at);
+    if (tcoords) out += '/' + n;
+    if (normals) out += (tcoords ? "/" : "//") + n;
   };
   for (std::size_t c = 0; c < mesh.verts.size(); ++c) {
     out += 'p';
-    for (Index id : mesh.verts.cell(c)) out += ' ' + std::to_string(id + 1);
+    for (Index id : mesh.verts.cell(c)) {
+      out += ' ';
+      append_number(out, id + 1);
+    }
     out += '\n';
+    file_out.maybe_flush();
   }
   for (std::size_t c = 0; c < mesh.lines.size(); ++c) {
     out += 'l';
-    for (Index id : mesh.lines.cell(c)) out += ' ' + std::to_string(id + 1);
+    for (Index id : mesh.lines.cell(c)) {
+      out += ' ';
+      append_number(out, id + 1);
+    }
     out += '\n';
+    file_out.maybe_flush();
   }
-  const CellArray faces = faces_with_triangulated_strips(mesh);
-  for (std::size_t c = 0; c < faces.size(); ++c) {
+  for_each_face(mesh, [&](std::span<const Index> ids) {
     out += 'f';
-    for (Index id : faces.cell(c)) out += ' ' + vertex_ref(id);
+    for (Index id : ids) {
+      out += ' ';
+      vertex_ref(id);
+    }
     out += '\n';
-  }
-  write_file_atomic(path, out);
+    file_out.maybe_flush();
+  });
+  file_out.commit();
 }
 
 }  // namespace isoforge

@@ -882,6 +882,58 @@ TEST(Off, RoundTripIsExact) {
   EXPECT_EQ(text.rfind("OFF\n", 0), 0u);
 }
 
+TEST(Off, BigMeshesAreWrittenThroughTheBufferWhole) {
+  // OFF and OBJ text goes out through a 4 MiB buffer: a mesh of several buffers, with a strip
+  // at the end, reads back (OFF) or counts (OBJ) whole, the strip's triangles last.
+  const fs::path dir = scratch("off_big");
+  PolyData m;
+  const std::size_t np = 400'000;
+  m.points = Points(np);
+  for (std::size_t i = 0; i < np; ++i) {
+    const double d = static_cast<double>(i);
+    m.points.set(i, {std::sin(d), std::cos(d), 1e-5 * d});
+  }
+  CellArray expected;
+  for (std::size_t i = 0; i + 2 < np; i += 3) {
+    const Index tri[3] = {static_cast<Index>(i), static_cast<Index>(i + 2),
+                          static_cast<Index>(i + 1)};
+    m.polys.add(tri);
+    expected.add(tri);
+  }
+  std::vector<Index> strip(1000);
+  for (std::size_t k = 0; k < strip.size(); ++k) strip[k] = static_cast<Index>(np - 1 - 2 * k);
+  m.strips.add(strip);
+  for (std::size_t k = 0; k + 2 < strip.size(); ++k) {
+    if (k % 2 == 0)
+      expected.add({strip[k], strip[k + 1], strip[k + 2]});
+    else
+      expected.add({strip[k + 1], strip[k], strip[k + 2]});
+  }
+  write_off(m, dir / "m.off");
+  const PolyData r = read_off(dir / "m.off");
+  EXPECT_EQ(r.points, m.points);
+  EXPECT_EQ(r.polys, expected);
+
+  write_obj(m, dir / "m.obj");
+  const std::string text = slurp(dir / "m.obj");
+  std::size_t vertices = 0, faces = 0;
+  for (std::size_t at = 0; at < text.size();) {
+    const std::size_t end = text.find('\n', at);
+    ASSERT_NE(end, std::string::npos) << "the file ends inside a line";
+    if (text.compare(at, 2, "v ") == 0) ++vertices;
+    if (text.compare(at, 2, "f ") == 0) ++faces;
+    at = end + 1;
+  }
+  EXPECT_EQ(vertices, np);
+  EXPECT_EQ(faces, expected.size());
+  const auto last = expected.cell(expected.size() - 1);
+  const std::string last_line = "f " + std::to_string(last[0] + 1) + " " +
+                                std::to_string(last[1] + 1) + " " + std::to_string(last[2] + 1) +
+                                "\n";
+  EXPECT_TRUE(text.ends_with(last_line)) << last_line;
+  EXPECT_EQ(entries(dir), 2u);
+}
+
 TEST(Off, RefusesLinesAndVertsAndKeepsTheOldFile) {
   const fs::path dir = scratch("off_refuse");
   PolyData m = attribute_mesh(ScalarType::Float32);

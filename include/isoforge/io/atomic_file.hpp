@@ -70,7 +70,7 @@ class AtomicFile {
   std::ostream stream_{nullptr};
   int slot_ = -1;  // registry slot of temp_ (see remove_temporary_files)
   std::uint64_t reserve_ = 0;  // bytes to allocate when the file is created
-  bool reserved_ = false;      // space was allocated beyond the end of the file
+  bool reserved_ = false;      // space may have been allocated beyond the end of the file
   bool committed_ = false;
 };
 
