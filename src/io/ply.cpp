@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "detail/file_source.hpp"
 #include "detail/scanner.hpp"
 #include "detail/summaries.hpp"
 #include "detail/tuple_stream.hpp"
@@ -1284,16 +1285,8 @@ void write_ply(const PolyData& mesh, const std::filesystem::path& path,
       return f * frow + static_cast<std::size_t>(offsets[f]) * index_size;
     };
     for (std::size_t f0 = 0; f0 < nf;) {
-      // The last f1 with place(f1) - place(f0) <= kSlice, at least f0 + 1.
-      std::size_t lo = f0 + 1, hi = nf;
-      while (lo < hi) {
-        const std::size_t mid = lo + (hi - lo + 1) / 2;
-        if (place(mid) - place(f0) <= kSlice)
-          lo = mid;
-        else
-          hi = mid - 1;
-      }
-      const std::size_t f1 = lo, bytes = place(f1) - place(f0);
+      const std::size_t f1 = io_detail::slice_end(f0, nf, kSlice, place);
+      const std::size_t bytes = place(f1) - place(f0);
       if (slice.size() < bytes) slice.resize(bytes);
       parallel_for_range(f1 - f0, kGrain, [&](std::size_t b, std::size_t e) {
         for (std::size_t f = f0 + b; f < f0 + e; ++f) {

@@ -1611,16 +1611,8 @@ class LegacyWriter {
     const auto word = [&](std::size_t c) { return static_cast<std::size_t>(offsets[c]) + c; };
     const std::size_t per = kSliceBytes / sizeof(std::int32_t);
     for (std::size_t c0 = 0; c0 < n;) {
-      // The last c1 with word(c1) - word(c0) <= per (word() increases), at least c0 + 1.
-      std::size_t lo = c0 + 1, hi = n;
-      while (lo < hi) {
-        const std::size_t mid = lo + (hi - lo + 1) / 2;
-        if (word(mid) - word(c0) <= per)
-          lo = mid;
-        else
-          hi = mid - 1;
-      }
-      const std::size_t c1 = lo, words = word(c1) - word(c0);
+      const std::size_t c1 = io_detail::slice_end(c0, n, per, word);
+      const std::size_t words = word(c1) - word(c0);
       if (slice_.size() < words * sizeof(std::int32_t)) slice_.resize(words * sizeof(std::int32_t));
       std::byte* out = slice_.data();
       const auto put = [out](std::size_t at, Index v) {

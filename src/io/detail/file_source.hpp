@@ -73,6 +73,24 @@ void copy_elements(const FileSource& src, const std::byte* from, std::byte* dst,
 /// Swaps the bytes of `count` elements of `elem_size` (2, 4 or 8; 1 does nothing) in place.
 void swap_elements(std::byte* data, std::size_t count, std::size_t elem_size);
 
+/// For writers that encode variable-size records a slice at a time: the end of the run of
+/// records from `first` that fits in `budget` bytes, where record r starts at place(r)
+/// (increasing; place(n) is where the last one ends). The largest end in (first, n] with
+/// place(end) - place(first) <= budget, and at least first + 1: a larger record goes alone.
+template <class Place>
+std::size_t slice_end(std::size_t first, std::size_t n, std::size_t budget, Place place) {
+  std::size_t lo = first + 1, hi = n;
+  while (lo < hi) {
+    const std::size_t mid = lo + (hi - lo + 1) / 2;
+    if (place(mid) - place(first) <= budget) {
+      lo = mid;
+    } else {
+      hi = mid - 1;
+    }
+  }
+  return lo;
+}
+
 /// Copies `count` elements of `elem_size` bytes from `from` to `dst` (not overlapping) with
 /// each element's bytes swapped, on all threads from 512 KiB on: writers of big-endian files.
 void copy_swapped(const std::byte* from, std::byte* dst, std::size_t count, std::size_t elem_size);
