@@ -1245,7 +1245,12 @@ CellArray Reader::read_cells(pugi::xml_node el, const XmlWhere& w, std::uint64_t
               ", outside [0, " + num(np) + ")");
     }
   }
-  return CellArray(std::move(offsets), std::move(conn));
+  // Adopted as checked here (offsets from 0, sorted, ending at the connectivity's size; ids in
+  // range): the constructor would pass over the offsets once more.
+  CellArray cells;
+  cells.offsets() = std::move(offsets);
+  cells.connectivity() = std::move(conn);
+  return cells;
 }
 
 Extent Reader::read_extent(pugi::xml_node el, const char* name, const XmlWhere& w, bool allow_empty) {
