@@ -141,6 +141,8 @@ class GlbBuilder {
   }
 
   std::size_t add_accessor(Json accessor) { return accessors_.push(std::move(accessor)); }
+  /// Room for `more` bytes of views after the present ones.
+  void reserve(std::size_t more) { bin_.reserve(align4(bin_.size()) + more); }
 
   Json& buffer_views() { return buffer_views_; }
   Json& accessors() { return accessors_; }
@@ -363,9 +365,19 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
   if (const std::size_t bad = pd.points.first_non_finite(); bad < n) {
     throw Error(where + ": point " + std::to_string(bad) + " has a non-finite coordinate");
   }
-  // The plain data layout (positions, normals, colours, arrays), built first; Draco may
-  // replace the triangles' share of it.
-  std::vector<float> positions(3 * n);
+  // The plain data layout (positions, normals, colours, arrays), built first as vertex streams
+  // in memory; the plain accessors are made from them when a primitive needs them (Draco-coded
+  // triangles do not).
+  std::vector<Stream> streams;
+  // A new stream of n elements of `elem_bytes`, filled through the pointer returned (each
+  // stream is written in place, not built aside and copied).
+  auto add_stream = [&](std::string semantic, std::size_t elem_bytes, int component_type,
+                        int components, bool normalized, std::string array) -> std::byte* {
+    streams.push_back(Stream{std::move(semantic), std::vector<std::byte>(n * elem_bytes),
+                             elem_bytes, component_type, components, normalized, std::move(array)});
+    return streams.back().bytes.data();
+  };
+  auto* positions = reinterpret_cast<float*>(add_stream("POSITION", 12, kFloat, 3, false, ""));
   float lo[3], hi[3];
   for (int k = 0; k < 3; ++k) {
     lo[k] = std::numeric_limits<float>::max();
@@ -389,18 +401,6 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
   stats.triangles += prims.triangles.size() / 3;
   stats.segments += prims.segments.size() / 2;
 
-  // Vertex streams in memory first: the plain accessors are made from them when a primitive
-  // needs them (Draco-coded triangles do not).
-  std::vector<Stream> streams;
-  auto add_stream = [&](std::string semantic, const void* data, std::size_t elem_bytes,
-                        int component_type, int components, bool normalized, std::string array) {
-    Stream st{std::move(semantic), std::vector<std::byte>(n * elem_bytes),
-              elem_bytes,          component_type,
-              components,          normalized,
-              std::move(array)};
-    std::memcpy(st.bytes.data(), data, st.bytes.size());
-    streams.push_back(std::move(st));
-  };
   Json names = Json::array();  // extras: which attribute holds which array
   auto name_entry = [&](const std::string& semantic, const DataArray& a) {
     Json e;
@@ -410,7 +410,6 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
     e["type"] = scalar_type_name(a.type());
     names.push(std::move(e));
   };
-  add_stream("POSITION", positions.data(), 12, kFloat, 3, false, "");
   const DataArray* normals_array = nullptr;
   if (options.normals) {
     const DataArray* given = pd.point_data.normals();
@@ -421,7 +420,8 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
       given = &computed;
     }
     if (given) {
-      std::vector<float> normals(3 * n);
+      auto* normals = reinterpret_cast<float*>(
+          add_stream("NORMAL", 12, kFloat, 3, false, given != &computed ? given->name() : ""));
       for (std::size_t i = 0; i < n; ++i) {
         double v[3] = {given->get(i, 0), given->get(i, 1), given->get(i, 2)};
         const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -433,8 +433,6 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
         }
         for (int k = 0; k < 3; ++k) normals[3 * i + k] = static_cast<float>(v[k]);
       }
-      add_stream("NORMAL", normals.data(), 12, kFloat, 3, false,
-                 given != &computed ? given->name() : "");
       if (given != &computed) {
         normals_array = given;
         name_entry("NORMAL", *given);
@@ -455,15 +453,17 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
       linear[static_cast<std::size_t>(v)] =
           static_cast<std::uint16_t>(std::lround(srgb_to_linear(v / 255.0) * 65535.0));
     }
-    std::vector<std::uint16_t> rgba(4 * n, 65535);
+    auto* rgba = reinterpret_cast<std::uint16_t*>(
+        add_stream("COLOR_0", 8, kUnsignedShort, 4, true, colors->name()));
     for (std::size_t i = 0; i < n; ++i) {
-      for (int k = 0; k < c; ++k) {
-        const std::uint8_t v = src[static_cast<std::size_t>(c) * i + static_cast<std::size_t>(k)];
-        rgba[4 * i + static_cast<std::size_t>(k)] =
-            k < 3 ? linear[v] : static_cast<std::uint16_t>(v * 257);
+      for (int k = 0; k < 4; ++k) {
+        const auto at = static_cast<std::size_t>(k);
+        rgba[4 * i + at] = 65535;  // opaque where the array has no alpha
+        if (k >= c) continue;
+        const std::uint8_t v = src[static_cast<std::size_t>(c) * i + at];
+        rgba[4 * i + at] = k < 3 ? linear[v] : static_cast<std::uint16_t>(v * 257);
       }
     }
-    add_stream("COLOR_0", rgba.data(), 8, kUnsignedShort, 4, true, colors->name());
     name_entry("COLOR_0", *colors);
   }
   if (options.arrays) {
@@ -488,8 +488,8 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
         continue;
       }
       const std::string semantic = custom_semantic(a.name(), used);
-      add_stream(semantic, values.data(), 4 * static_cast<std::size_t>(c), kFloat, c, false,
-                 a.name());
+      std::memcpy(add_stream(semantic, 4 * static_cast<std::size_t>(c), kFloat, c, false, a.name()),
+                  values.data(), 4 * values.size());
       name_entry(semantic, a);
       if (&a == pd.point_data.scalars()) scalars_written = a.name();
     }
@@ -499,12 +499,17 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
                                    " (cell data; glTF has point attributes only)");
   }
 
-  // What the plain layout takes (the ratio's denominator, whatever the codec).
-  for (const Stream& st : streams) stats.raw_bytes += align4(st.bytes.size());
+  // What the plain layout takes (the ratio's denominator, whatever the codec), and at most
+  // what this mesh adds to the BIN chunk: room for it at once, instead of the chunk doubling
+  // (and copying itself) as it grows.
+  std::size_t raw_bytes = 0;
+  for (const Stream& st : streams) raw_bytes += align4(st.bytes.size());
   const std::size_t index_bytes = n <= 0xFFFF ? 2 : 4;
   for (const auto* idx : {&prims.triangles, &prims.segments, &prims.points}) {
-    stats.raw_bytes += align4(index_bytes * idx->size());
+    raw_bytes += align4(index_bytes * idx->size());
   }
+  stats.raw_bytes += raw_bytes;
+  if (options.codec == GltfCodec::None) glb.reserve(raw_bytes);
   // The plain accessors of the streams, made once when a primitive first needs them.
   Json attributes;
   auto plain_attributes = [&]() -> const Json& {
