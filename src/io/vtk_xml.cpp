@@ -2344,6 +2344,7 @@ class Writer {
   // encoded); then the XML and the payloads are written out, the payloads straight from the
   // arrays or from their compressed blocks.
   void write(DatasetRef ds, std::ostream& os) {
+    os_ = &os;
     // Compressed appended data goes to a seekable stream (a file) as it is compressed, slice by
     // slice: the XML holds a fixed-width place for each offset and each array a place for its
     // block sizes, both filled in afterwards. Else the blocks are kept until the XML is done.
@@ -2619,25 +2620,44 @@ class Writer {
     return p;
   }
 
-  void ascii_values(const DataArray& a, int level) {
-    a.visit([&](const auto& v) {
-      using T = typename std::decay_t<decltype(v)>::value_type;
-      for (std::size_t i = 0; i < v.size(); ++i) {
-        if (i % 6 == 0) {
-          if (i) x_ += '\n';
-          indent(level);
-        } else {
-          x_ += ' ';
+  /// Inline data (ascii, base64) goes out as it is encoded: the XML so far is written whenever it
+  /// passes 4 MiB, so that memory stays the dataset's whatever the file's size. (Appended data
+  /// has offsets to fill in, and stays until write() ends.)
+  void spill() {
+    constexpr std::size_t kSpill = std::size_t{4} << 20;
+    if (enc_ == VtkXmlEncoding::Appended || x_.size() < kSpill) return;
+    os_->write(x_.data(), static_cast<std::streamsize>(x_.size()));
+    x_.clear();
+  }
+
+  /// The values of `a` as text, six to a line, converted a piece at a time (narrowed ids too).
+  void ascii_values(const ArrayView& a, int level) {
+    constexpr std::size_t kPiece = std::size_t{1} << 16;  // values
+    visit_scalar_type(a.type, [&](auto tag) {
+      using T = decltype(tag);
+      std::vector<T> piece(std::min(kPiece, a.values));
+      for (std::size_t first = 0; first < a.values; first += kPiece) {
+        const std::size_t m = std::min(kPiece, a.values - first);
+        a.copy_values(first, m, reinterpret_cast<std::byte*>(piece.data()));
+        for (std::size_t k = 0; k < m; ++k) {
+          const std::size_t i = first + k;
+          if (i % 6 == 0) {
+            if (i) x_ += '\n';
+            indent(level);
+          } else {
+            x_ += ' ';
+          }
+          if constexpr (std::is_same_v<T, std::int8_t> || std::is_same_v<T, std::uint8_t>) {
+            append_number(x_, static_cast<int>(piece[k]));
+          } else {
+            append_number(x_, piece[k]);
+          }
         }
-        if constexpr (std::is_same_v<T, std::int8_t> || std::is_same_v<T, std::uint8_t>) {
-          append_number(x_, static_cast<int>(v[i]));
-        } else {
-          append_number(x_, v[i]);
-        }
-        progress_.add(1);
+        progress_.add(m);
+        spill();
       }
-      if (!v.empty()) x_ += '\n';
     });
+    if (a.values > 0) x_ += '\n';
   }
 
   void array(const ArrayView& a, int level, bool with_tuples) {
@@ -2653,10 +2673,7 @@ class Writer {
     switch (enc_) {
       case VtkXmlEncoding::Ascii: {
         x_ += " format=\"ascii\">\n";
-        DataArray copy(std::string(a.name), a.type, a.components,
-                       a.values / static_cast<std::size_t>(a.components));
-        if (a.values > 0) a.copy_values(0, a.values, copy.bytes());
-        ascii_values(copy, level + 1);
+        ascii_values(a, level + 1);
         break;
       }
       case VtkXmlEncoding::Base64: {
@@ -2666,7 +2683,11 @@ class Writer {
         Base64Encoder enc(x_);
         enc.put(reinterpret_cast<const std::byte*>(p.header.data()), p.header.size());
         if (compress_) enc.finish();  // VTK encodes the compression header on its own
-        enc.put(p.data, p.size);
+        constexpr std::size_t kPiece = std::size_t{3} << 20;  // bytes: whole base64 groups
+        for (std::size_t at = 0; at < p.size; at += kPiece) {
+          enc.put(p.data + at, std::min(kPiece, p.size - at));
+          spill();
+        }
         enc.finish();
         x_ += '\n';
         break;
@@ -2810,6 +2831,7 @@ class Writer {
   const ProgressCallback& callback_;
   io_detail::Progress progress_;  // of building the document
   std::string x_;                 // XML text
+  std::ostream* os_ = nullptr;    // where write() writes
   std::vector<Payload> app_;      // the appended section, array by array
   std::size_t app_size_ = 0;      // its bytes so far
 };
