@@ -207,12 +207,10 @@ void write(DatasetRef ds, const std::filesystem::path& path, const WriteOptions&
       return;
     }
     case FileFormat::Obj:
-      write_obj(require_poly(ds, path, "OBJ"), path);
-      if (options.progress) (void)options.progress(1.0);  // done: too late to cancel
+      write_obj(require_poly(ds, path, "OBJ"), path, options.progress);
       return;
     case FileFormat::Off:
-      write_off(require_poly(ds, path, "OFF"), path);
-      if (options.progress) (void)options.progress(1.0);  // done: too late to cancel
+      write_off(require_poly(ds, path, "OFF"), path, options.progress);
       return;
     case FileFormat::Vdb: {
       const auto* img = ds.get_if<ImageData>();

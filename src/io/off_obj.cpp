@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "detail/progress.hpp"
 #include "detail/scanner.hpp"
 #include "detail/summaries.hpp"
 #include "isoforge/core/summary.hpp"
@@ -349,19 +350,30 @@ std::size_t count_faces(const PolyData& mesh) {
   return n;
 }
 
+/// The ids for_each_face gives, in all.
+std::size_t count_face_ids(const PolyData& mesh) {
+  return mesh.polys.connectivity().size() + 3 * (count_faces(mesh) - mesh.polys.size());
+}
+
 /// Text into an AtomicFile through a buffer written out every 4 MiB, so that writing costs a
-/// few MiB of memory whatever the mesh's size (the file's text was built whole before).
+/// few MiB of memory whatever the mesh's size (the file's text was built whole before), with
+/// progress by values written (`values` in all).
 class TextFile {
  public:
-  TextFile(const std::filesystem::path& path, std::uint64_t estimate) : file_(path) {
+  TextFile(const std::filesystem::path& path, std::uint64_t estimate,
+           const ProgressCallback& progress, std::uint64_t values)
+      : file_(path), progress_(progress, values, "writing") {
     file_.reserve(estimate);
   }
   std::string& text() { return buf_; }
-  void maybe_flush() {
+  /// After each record of `values` values.
+  void record(std::uint64_t values) {
+    progress_.add(values);
     if (buf_.size() >= kFlush) flush();
   }
   void commit() {
     flush();
+    progress_.finish();  // before the commit: a cancel leaves the target unchanged
     file_.commit();
   }
 
@@ -372,6 +384,7 @@ class TextFile {
     buf_.clear();
   }
   AtomicFile file_;
+  io_detail::Progress progress_;
   std::string buf_;
 };
 
@@ -414,7 +427,8 @@ DatasetSummary summarize_off(std::span<const std::byte> data, std::string_view n
 
 }  // namespace io_detail
 
-void write_off(const PolyData& mesh, const std::filesystem::path& path) {
+void write_off(const PolyData& mesh, const std::filesystem::path& path,
+               const ProgressCallback& progress) {
   const std::string file = path.string();
   if (!mesh.verts.empty() || !mesh.lines.empty()) {
     throw Error(file + ": OFF holds polygons only; the mesh has " +
@@ -424,10 +438,12 @@ void write_off(const PolyData& mesh, const std::filesystem::path& path) {
   validate_for_write(mesh, file);
   const bool single = mesh.points.type() == ScalarType::Float32;
   const std::size_t np = mesh.num_points();
-  TextFile file_out(path, 24 * np + 12 * mesh.polys.connectivity().size());
+  const std::size_t num_faces = count_faces(mesh);
+  TextFile file_out(path, 24 * np + 12 * mesh.polys.connectivity().size(), progress,
+                    3 * np + num_faces + count_face_ids(mesh));
   std::string& out = file_out.text();
   out = "OFF\n# written by isoforge\n";
-  out += std::to_string(np) + " " + std::to_string(count_faces(mesh)) + " 0\n";
+  out += std::to_string(np) + " " + std::to_string(num_faces) + " 0\n";
   for (std::size_t i = 0; i < np; ++i) {
     const Vec3 p = mesh.points[i];
     for (int a = 0; a < 3; ++a) {
@@ -435,7 +451,7 @@ void write_off(const PolyData& mesh, const std::filesystem::path& path) {
       append_coord(out, p[a], single);
     }
     out += '\n';
-    file_out.maybe_flush();
+    file_out.record(3);
   }
   for_each_face(mesh, [&](std::span<const Index> ids) {
     append_number(out, ids.size());
@@ -444,7 +460,7 @@ void write_off(const PolyData& mesh, const std::filesystem::path& path) {
       append_number(out, id);
     }
     out += '\n';
-    file_out.maybe_flush();
+    file_out.record(1 + ids.size());
   });
   file_out.commit();
 }
@@ -452,7 +468,8 @@ void write_off(const PolyData& mesh, const std::filesystem::path& path) {
 // ---------------------------------------------------------------------------------------------
 // OBJ
 
-void write_obj(const PolyData& mesh, const std::filesystem::path& path) {
+void write_obj(const PolyData& mesh, const std::filesystem::path& path,
+               const ProgressCallback& progress) {
   const std::string file = path.string();
   validate_for_write(mesh, file);
   const std::size_t np = mesh.num_points();
@@ -462,7 +479,11 @@ void write_obj(const PolyData& mesh, const std::filesystem::path& path) {
   if (tcoords && (tcoords->components() < 1 || tcoords->components() > 3)) tcoords = nullptr;
   const bool single = mesh.points.type() == ScalarType::Float32;
 
-  TextFile file_out(path, 40 * np + 16 * mesh.polys.connectivity().size());
+  const std::size_t per_point =
+      3 + (normals ? 3 : 0) + (tcoords ? static_cast<std::size_t>(tcoords->components()) : 0);
+  const std::size_t values = np * per_point + mesh.verts.connectivity().size() +
+                             mesh.lines.connectivity().size() + count_face_ids(mesh);
+  TextFile file_out(path, 40 * np + 16 * mesh.polys.connectivity().size(), progress, values);
   std::string& out = file_out.text();
   out = "# written by isoforge\n";
   out += "# " + std::to_string(np) + " vertices\n";
@@ -474,7 +495,7 @@ void write_obj(const PolyData& mesh, const std::filesystem::path& path) {
       append_coord(out, p[a], single);
     }
     out += '\n';
-    file_out.maybe_flush();
+    file_out.record(3);
   }
   if (normals) {
     const bool nsingle = normals->type() != ScalarType::Float64;
@@ -485,7 +506,7 @@ void write_obj(const PolyData& mesh, const std::filesystem::path& path) {
         append_coord(out, normals->get(i, a), nsingle);
       }
       out += '\n';
-      file_out.maybe_flush();
+      file_out.record(3);
     }
   }
   if (tcoords) {
@@ -497,7 +518,7 @@ void write_obj(const PolyData& mesh, const std::filesystem::path& path) {
         append_coord(out, tcoords->get(i, a), tsingle);
       }
       out += '\n';
-      file_out.maybe_flush();
+      file_out.record(static_cast<std::uint64_t>(tcoords->components()));
     }
   }
   // A face's vertex: "i", "i/i", "i//i" or "i/i/i" (1-based, with its texture coordinate and
@@ -517,7 +538,7 @@ void write_obj(const PolyData& mesh, const std::filesystem::path& path) {
       append_number(out, id + 1);
     }
     out += '\n';
-    file_out.maybe_flush();
+    file_out.record(mesh.verts.cell_size(c));
   }
   for (std::size_t c = 0; c < mesh.lines.size(); ++c) {
     out += 'l';
@@ -526,7 +547,7 @@ void write_obj(const PolyData& mesh, const std::filesystem::path& path) {
       append_number(out, id + 1);
     }
     out += '\n';
-    file_out.maybe_flush();
+    file_out.record(mesh.lines.cell_size(c));
   }
   for_each_face(mesh, [&](std::span<const Index> ids) {
     out += 'f';
@@ -535,7 +556,7 @@ void write_obj(const PolyData& mesh, const std::filesystem::path& path) {
       vertex_ref(id);
     }
     out += '\n';
-    file_out.maybe_flush();
+    file_out.record(ids.size());
   });
   file_out.commit();
 }

@@ -133,6 +133,16 @@ TEST(IoProgress, Ply) {
   write_and_read(big_mesh(), dir / "m.ply");
 }
 
+TEST(IoProgress, OffAndObjWriting) {
+  const fs::path dir = scratch("off_obj");
+  write_and_read(big_mesh(), dir / "m.off");
+  Recorder w;
+  WriteOptions wo;
+  wo.progress = w.callback();
+  write(big_mesh(), dir / "m.obj", wo);
+  expect_progress(w.fractions, "writing m.obj");
+}
+
 TEST(IoProgress, NrrdDetachedAndAttached) {
   const fs::path dir = scratch("nrrd");
   const std::vector<float> v = noise(128 * 128 * 128);
@@ -206,7 +216,7 @@ TEST(IoProgress, CancellingAWriteLeavesTheTargetUnchanged) {
   const fs::path dir = scratch("cancel_write");
   write(PolyData{}, dir / "m.ply");
   const auto before = fs::file_size(dir / "m.ply");
-  for (const char* name : {"m.ply", "m.vtp", "m.vtk"}) {
+  for (const char* name : {"m.ply", "m.vtp", "m.vtk", "m.off", "m.obj"}) {
     if (std::string(name) != "m.ply") write(PolyData{}, dir / name);
     WriteOptions wo;
     wo.progress = [](double f) { return f < 0.5; };
@@ -218,5 +228,5 @@ TEST(IoProgress, CancellingAWriteLeavesTheTargetUnchanged) {
     ++files;
     EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
   }
-  EXPECT_EQ(files, 3u);
+  EXPECT_EQ(files, 5u);
 }
