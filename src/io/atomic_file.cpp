@@ -84,13 +84,17 @@ void remove_file(const fs::path& p) {
 // Allocates `bytes` of disk space for the file `fd` beyond its end (its size unchanged), where
 // that makes writing cheaper: ext4 and XFS, which otherwise allocate blocks as pages are written
 // (delayed allocation, a third of the cost of a write(2) into the page cache). Elsewhere it does
-// nothing: tmpfs, for one, would zero memory pages for it. True if it was tried: a failed
-// fallocate (no room for all of it) may still have allocated a part, which commit() frees too.
+// nothing: tmpfs, for one, would zero memory pages for it. Nor when the estimate is more than a
+// quarter of the free space: an estimate above the file's size would hold space that other
+// programs may need while it is written. True if it was tried: a failed fallocate may still have
+// allocated a part, which commit() frees too.
 bool preallocate(int fd, std::uint64_t bytes) {
   if (bytes < (std::uint64_t{1} << 20)) return false;  // allocating as it goes costs little
   constexpr decltype(statfs::f_type) kExt4 = 0xEF53, kXfs = 0x58465342;
   struct statfs info {};
   if (::fstatfs(fd, &info) != 0 || (info.f_type != kExt4 && info.f_type != kXfs)) return false;
+  const double free_bytes = static_cast<double>(info.f_bavail) * static_cast<double>(info.f_bsize);
+  if (static_cast<double>(bytes) > free_bytes / 4) return false;
   const auto most = static_cast<std::uint64_t>(std::numeric_limits<off_t>::max());
   (void)::fallocate(fd, FALLOC_FL_KEEP_SIZE, 0, static_cast<off_t>(std::min(bytes, most)));
   return true;

@@ -2950,7 +2950,11 @@ void write_vtk_xml(DatasetRef ds, const std::filesystem::path& path,
                 ": " + e.what());
   }
   AtomicFile file(path);
-  file.reserve(io_detail::payload_bytes(ds) + (std::uint64_t{1} << 16));
+  // Raw, base64, ascii and LZ4 files are about the arrays' size or more; zlib files are often a
+  // fraction of it, and take long enough to compress that allocating as they go costs nothing.
+  const bool zlib = options.compress && options.encoding != VtkXmlEncoding::Ascii &&
+                    options.compressor == VtkXmlCompressor::Zlib;
+  if (!zlib) file.reserve(io_detail::payload_bytes(ds) + (std::uint64_t{1} << 16));
   Writer w(options);
   w.write(ds, file.stream());
   file.commit();

@@ -41,11 +41,12 @@ class AtomicFile {
   /// Binary output stream on the temporary file (created on the first call), seekable.
   /// \throw Error naming the target if it cannot be created.
   [[nodiscard]] std::ostream& stream();
-  /// A hint that the file will be about `bytes` long. On ext4 and XFS the disk space is then
-  /// allocated up front (fallocate, the file's size unchanged), which makes the writes about a
-  /// third cheaper than allocating as they go (docs/algorithms/reading_writing.md); `commit()`
-  /// frees what was not written. Call it before the first `stream()`. Failures (no space for
-  /// the estimate, another file system) are ignored: the writes report real errors as before.
+  /// A hint that the file will be about `bytes` long. On ext4 and XFS, when that is at most a
+  /// quarter of the free space, the disk space is then allocated up front (fallocate, the
+  /// file's size unchanged), which makes the writes about a third cheaper than allocating as
+  /// they go (docs/algorithms/reading_writing.md); `commit()` frees what was not written. Call it
+  /// before the first `stream()`. Failures (no space for the estimate, another file system) are
+  /// ignored: the writes report real errors as before.
   void reserve(std::uint64_t bytes) { reserve_ = bytes; }
   /// Path of the temporary file (created on the first call), for libraries that insist on
   /// writing a path themselves (OpenVDB, Draco); the stream is closed first.
