@@ -7,6 +7,7 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "isoforge/core/cell.hpp"
 #include "isoforge/core/union_find.hpp"
 
 namespace isoforge {
@@ -31,13 +32,7 @@ std::vector<std::array<Index, 3>> triangulate_faces(const PolyData& mesh) {
   }
   for (std::size_t c = 0; c < mesh.strips.size(); ++c) {
     auto ids = mesh.strips.cell(c);
-    for (std::size_t k = 0; k + 2 < ids.size(); ++k) {
-      if (k % 2 == 0) {
-        tris.push_back({ids[k], ids[k + 1], ids[k + 2]});
-      } else {
-        tris.push_back({ids[k + 1], ids[k], ids[k + 2]});
-      }
-    }
+    for (std::size_t k = 0; k + 2 < ids.size(); ++k) tris.push_back(strip_triangle(ids, k));
   }
   return tris;
 }

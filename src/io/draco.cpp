@@ -17,6 +17,7 @@
 // exceeds the budget. Method and measurements: docs/algorithms/draco.md.
 
 #include "isoforge/io/draco.hpp"
+#include "isoforge/core/cell.hpp"
 
 #include <draco/compression/config/compression_shared.h>
 #include <draco/compression/decode.h>
@@ -284,11 +285,8 @@ void triangulate(const PolyData& mesh, Prepared& p) {
   for (std::size_t i = 0; i < mesh.strips.size(); ++i) {
     const auto s = mesh.strips.cell(i);
     for (std::size_t k = 0; k + 2 < s.size(); ++k) {
-      if (k % 2 == 0) {
-        add(s[k], s[k + 1], s[k + 2]);
-      } else {
-        add(s[k + 1], s[k], s[k + 2]);
-      }
+      const auto t = strip_triangle(s, k);
+      add(t[0], t[1], t[2]);
     }
   }
 }

@@ -7,6 +7,7 @@
 // docs/algorithms/gltf.md.
 
 #include "isoforge/io/gltf.hpp"
+#include "isoforge/core/cell.hpp"
 
 #include <fmt/format.h>
 #include <meshoptimizer.h>
@@ -197,11 +198,8 @@ Primitives collect_primitives(const PolyData& pd) {
   for (std::size_t c = 0; c < pd.strips.size(); ++c) {
     const auto cell = pd.strips.cell(c);
     for (std::size_t k = 0; k + 2 < cell.size(); ++k) {
-      if (k % 2 == 0) {
-        p.triangles.insert(p.triangles.end(), {id(cell[k]), id(cell[k + 1]), id(cell[k + 2])});
-      } else {
-        p.triangles.insert(p.triangles.end(), {id(cell[k + 1]), id(cell[k]), id(cell[k + 2])});
-      }
+      const auto t = strip_triangle(cell, k);
+      p.triangles.insert(p.triangles.end(), {id(t[0]), id(t[1]), id(t[2])});
     }
   }
   for (std::size_t c = 0; c < pd.lines.size(); ++c) {
@@ -1315,10 +1313,8 @@ class GlbReader {
           break;
         case kModeTriangleStrip:
           for (std::size_t k = 0; k + 2 < c; ++k) {
-            if (k % 2 == 0)
-              cell({idx[k], idx[k + 1], idx[k + 2]});
-            else
-              cell({idx[k + 1], idx[k], idx[k + 2]});
+            const auto t = strip_triangle(std::span<const std::uint32_t>(idx), k);
+            cell({t[0], t[1], t[2]});
           }
           break;
         default:

@@ -15,6 +15,7 @@
 #include "detail/progress.hpp"
 #include "detail/scanner.hpp"
 #include "detail/summaries.hpp"
+#include "isoforge/core/cell.hpp"
 #include "isoforge/core/summary.hpp"
 #include "isoforge/io/atomic_file.hpp"
 #include "isoforge/io/io.hpp"
@@ -334,7 +335,7 @@ void for_each_face(const PolyData& mesh, F&& f) {
   for (std::size_t s = 0; s < mesh.strips.size(); ++s) {
     const auto ids = mesh.strips.cell(s);
     for (std::size_t k = 0; k + 2 < ids.size(); ++k) {
-      const Index tri[3] = {ids[k + (k % 2)], ids[k + 1 - (k % 2)], ids[k + 2]};
+      const auto tri = strip_triangle(ids, k);
       f(std::span<const Index>(tri));
     }
   }

@@ -24,6 +24,7 @@
 #include "detail/summaries.hpp"
 #include "detail/tuple_stream.hpp"
 #include "isoforge/core/buffer.hpp"
+#include "isoforge/core/cell.hpp"
 #include "isoforge/core/parallel.hpp"
 #include "isoforge/core/subset.hpp"
 #include "isoforge/io/atomic_file.hpp"
@@ -1308,7 +1309,7 @@ void write_ply(const PolyData& mesh, const std::filesystem::path& path,
   for (std::size_t s = 0; s < mesh.strips.size(); ++s) {
     const auto ids = mesh.strips.cell(s);
     for (std::size_t k = 0; k + 2 < ids.size(); ++k) {
-      const Index tri[3] = {ids[k + (k % 2)], ids[k + 1 - (k % 2)], ids[k + 2]};
+      const auto tri = strip_triangle(ids, k);
       face(tri, mesh.polys.size() + s);
     }
   }

@@ -1463,16 +1463,6 @@ class LegacyWriter {
   }
   static constexpr std::size_t kSliceBytes = std::size_t{1} << 20;
 
-  template <class T>
-  void big_endian(T v) {
-    if constexpr (sizeof(T) > 1) {
-      if (io_detail::kHostEndian != Endian::Big) v = io_detail::byteswap_value(v);
-    }
-    char b[sizeof(T)];
-    std::memcpy(b, &v, sizeof(T));
-    buf_.append(b, sizeof(T));
-  }
-
   /// Values as ASCII (nine per line) or big-endian binary, then a newline.
   template <class T>
   void values(std::span<const T> v) {
@@ -1583,21 +1573,15 @@ class LegacyWriter {
     }
     for (std::size_t c = 0; c < n; ++c) {
       const auto ids = cells.cell(c);
-      if (binary_) {
-        big_endian(static_cast<std::int32_t>(ids.size()));
-        for (Index id : ids) big_endian(static_cast<std::int32_t>(id));
-      } else {
-        number(ids.size());
-        for (Index id : ids) {
-          buf_ += ' ';
-          number(id);
-        }
-        buf_ += '\n';
+      number(ids.size());
+      for (Index id : ids) {
+        buf_ += ' ';
+        number(id);
       }
+      buf_ += '\n';
       progress_.add(ids.size() + 1);
       if (c % 1024 == 1023) maybe_flush();
     }
-    if (binary_) buf_ += '\n';
   }
 
   /// The 4.2 layout's cells, binary: each cell's size then its ids, big-endian Int32 (the

@@ -275,6 +275,14 @@ struct CellFace {
 /// Whether `type` is composite (poly-vertex, polyline, triangle strip): made of sub-cells.
 [[nodiscard]] bool is_composite_cell(CellType type);
 
+/// Triangle `k` of a triangle strip (k + 2 < strip.size()): (k, k+1, k+2) for even k,
+/// (k+1, k, k+2) for odd k, so that every triangle keeps the strip's orientation.
+template <class Id>
+[[nodiscard]] constexpr std::array<Id, 3> strip_triangle(std::span<const Id> strip, std::size_t k) {
+  const std::size_t odd = k % 2;
+  return {strip[k + odd], strip[k + 1 - odd], strip[k + 2]};
+}
+
 /// One sub-cell of a composite cell: its type and local point ids.
 struct SubCell {
   CellType type = CellType::Empty;
