@@ -14,11 +14,15 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cctype>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <map>
+#include <memory>
+#include <mutex>
 #include <set>
 #include <utility>
 
@@ -28,6 +32,7 @@
 #include "detail/summaries.hpp"
 #include "isoforge/core/append.hpp"
 #include "isoforge/core/normals.hpp"
+#include "isoforge/core/parallel.hpp"
 #include "isoforge/core/srgb.hpp"
 #include "isoforge/io/atomic_file.hpp"
 #include "isoforge/io/io.hpp"
@@ -56,20 +61,39 @@ std::size_t align4(std::size_t n) {
   return (n + 3) & ~std::size_t{3};
 }
 
-// The sRGB transfer function (IEC 61966-2-1) and its inverse, on [0, 1].
-
 // ---------------------------------------------------------------------------------------------
 // Writing
+//
+// The JSON chunk comes before the BIN chunk and names every view's offset and length, so the
+// layout is settled first: sizes, bounds and the checks that decide what is written (finite
+// values, float32 range) are read from the dataset in one pass each. Plain views are then made
+// a slice at a time while the BIN chunk is written, straight from the dataset's arrays; only
+// encoded views (meshopt, Draco) are held, and they are a fraction of the plain data.
+
+// Writes the next `count` elements of a plain view: called in order over consecutive slices
+// that cover the view once.
+using Producer = std::function<void(std::byte* dst, std::size_t count)>;
+
+// Elements of a plain view made and written at a time: about 4 MiB, a multiple of 6 so that
+// index views (1, 2 or 3 indices per primitive) are cut between whole primitives.
+std::size_t slice_elements(std::size_t stride) {
+  constexpr std::size_t kSliceBytes = std::size_t{4} << 20;
+  return std::max<std::size_t>(6, kSliceBytes / stride / 6 * 6);
+}
+
+// Points handled by one task of the parallel passes over a mesh's points.
+constexpr std::size_t kPointGrain = std::size_t{1} << 14;
 
 // The binary chunk and the glTF objects that describe it.
 class GlbBuilder {
  public:
   explicit GlbBuilder(GltfCodec codec) : codec_(codec) {}
 
-  // A bufferView of `bytes` holding `count` elements of `stride` bytes: vertex data
+  // A bufferView of `count` elements of `stride` bytes that `produce` makes: vertex data
   // (`vertex`), or indices (triangles when `triangles`). Returns the bufferView index.
-  std::size_t add_view(const void* bytes, std::size_t size, std::size_t count, std::size_t stride,
-                       bool vertex, bool triangles) {
+  std::size_t add_view(std::size_t count, std::size_t stride, bool vertex, bool triangles,
+                       Producer produce) {
+    const std::size_t size = count * stride;
     Json view;
     raw_bytes_ = align4(raw_bytes_);
     if (codec_ == GltfCodec::Meshopt) {
@@ -80,22 +104,22 @@ class GlbBuilder {
       view["byteLength"] = size;
       std::vector<unsigned char> encoded;
       std::string mode;
-      const auto* u8 = static_cast<const unsigned char*>(bytes);
       if (vertex) {
+        Buffer<unsigned char> plain(size);
+        produce(reinterpret_cast<std::byte*>(plain.data()), count);
         encoded.resize(meshopt_encodeVertexBufferBound(count, stride));
-        encoded.resize(
-            meshopt_encodeVertexBuffer(encoded.data(), encoded.size(), u8, count, stride));
+        encoded.resize(meshopt_encodeVertexBuffer(encoded.data(), encoded.size(), plain.data(),
+                                                  count, stride));
         mode = "ATTRIBUTES";
       } else {
-        std::vector<unsigned> indices(count);
-        if (stride == 2) {
-          for (std::size_t i = 0; i < count; ++i) {
-            std::uint16_t v;
-            std::memcpy(&v, u8 + 2 * i, 2);
-            indices[i] = v;
-          }
+        // meshopt takes 32-bit indices: 16-bit ones are made aside and widened.
+        Buffer<unsigned> indices(count);
+        if (stride == 4) {
+          produce(reinterpret_cast<std::byte*>(indices.data()), count);
         } else {
-          std::memcpy(indices.data(), u8, 4 * count);
+          Buffer<std::uint16_t> shorts(count);
+          produce(reinterpret_cast<std::byte*>(shorts.data()), count);
+          std::copy(shorts.begin(), shorts.end(), indices.begin());
         }
         const std::size_t max_vertex =
             count ? *std::max_element(indices.begin(), indices.end()) + 1 : 0;
@@ -112,17 +136,22 @@ class GlbBuilder {
         }
       }
       check_invariant(!encoded.empty(), "meshopt encoding fits its bound");
-      const std::size_t at = append_bin(encoded.data(), encoded.size());
+      const std::size_t bytes = encoded.size();
+      const std::size_t at = add_encoded(std::move(encoded));
       Json& ext = view["extensions"][kMeshopt];
       ext["buffer"] = 0;
       ext["byteOffset"] = at;
-      ext["byteLength"] = encoded.size();
+      ext["byteLength"] = bytes;
       ext["byteStride"] = stride;
       ext["mode"] = mode;
       ext["count"] = count;
     } else {
+      Piece p;
+      p.count = count;
+      p.stride = stride;
+      p.produce = std::move(produce);
       view["buffer"] = 0;
-      view["byteOffset"] = append_bin(bytes, size);
+      view["byteOffset"] = add_piece(std::move(p), size);
       view["byteLength"] = size;
     }
     raw_bytes_ += size;
@@ -132,35 +161,85 @@ class GlbBuilder {
   }
 
   // A bufferView of opaque bytes (a Draco stream) in the BIN chunk.
-  std::size_t add_blob(const void* bytes, std::size_t size) {
+  std::size_t add_blob(std::vector<unsigned char> bytes) {
+    const std::size_t size = bytes.size();
     Json view;
     view["buffer"] = 0;
-    view["byteOffset"] = append_bin(bytes, size);
+    view["byteOffset"] = add_encoded(std::move(bytes));
     view["byteLength"] = size;
     raw_bytes_ = align4(raw_bytes_) + size;
     return buffer_views_.push(std::move(view));
   }
 
   std::size_t add_accessor(Json accessor) { return accessors_.push(std::move(accessor)); }
-  /// Room for `more` bytes of views after the present ones.
-  void reserve(std::size_t more) { bin_.reserve(align4(bin_.size()) + more); }
 
   Json& buffer_views() { return buffer_views_; }
   Json& accessors() { return accessors_; }
-  [[nodiscard]] const std::vector<std::byte>& bin() const { return bin_; }
+  // The BIN chunk's data bytes (without the chunk's final padding).
+  [[nodiscard]] std::size_t bin_size() const { return bin_size_; }
   [[nodiscard]] std::size_t raw_bytes() const { return raw_bytes_; }
 
+  // Writes the BIN chunk's data and its padding to 4 bytes, plain views a slice at a time;
+  // `wrote(bytes)` after each piece or slice (it may throw to stop).
+  void write_bin(std::ostream& s, const std::function<void(std::size_t)>& wrote) {
+    static constexpr char kZeros[4] = {};
+    std::size_t largest = 0;  // the largest slice of a plain view
+    for (const Piece& p : pieces_) {
+      if (p.produce)
+        largest = std::max(largest, std::min(p.count, slice_elements(p.stride)) * p.stride);
+    }
+    Buffer<std::byte> slice(largest);
+    std::size_t at = 0;
+    for (Piece& p : pieces_) {
+      s.write(kZeros, static_cast<std::streamsize>(p.offset - at));
+      if (p.produce) {
+        const std::size_t step = slice_elements(p.stride);
+        for (std::size_t first = 0; first < p.count; first += step) {
+          const std::size_t m = std::min(step, p.count - first);
+          p.produce(slice.data(), m);
+          s.write(reinterpret_cast<const char*>(slice.data()),
+                  static_cast<std::streamsize>(m * p.stride));
+          wrote(p.offset + (first + m) * p.stride);
+        }
+        at = p.offset + p.count * p.stride;
+        p.produce = {};  // what it holds (computed normals) is freed as soon as it is written
+      } else {
+        s.write(reinterpret_cast<const char*>(p.encoded.data()),
+                static_cast<std::streamsize>(p.encoded.size()));
+        at = p.offset + p.encoded.size();
+        p.encoded = {};
+        wrote(at);
+      }
+    }
+    s.write(kZeros, static_cast<std::streamsize>(align4(at) - at));
+  }
+
  private:
-  std::size_t append_bin(const void* bytes, std::size_t size) {
-    bin_.resize(align4(bin_.size()));
-    const std::size_t at = bin_.size();
-    bin_.resize(at + size);
-    if (size) std::memcpy(bin_.data() + at, bytes, size);
-    return at;
+  // One view's bytes in the BIN chunk: encoded ones held, plain ones made when written.
+  struct Piece {
+    std::size_t offset = 0;
+    std::size_t count = 0, stride = 1;  // plain: elements of `stride` bytes
+    Producer produce;
+    std::vector<unsigned char> encoded;
+  };
+
+  std::size_t add_piece(Piece p, std::size_t size) {
+    p.offset = align4(bin_size_);
+    bin_size_ = p.offset + size;
+    pieces_.push_back(std::move(p));
+    return pieces_.back().offset;
+  }
+  std::size_t add_encoded(std::vector<unsigned char> bytes) {
+    Piece p;
+    const std::size_t size = bytes.size();
+    bytes.shrink_to_fit();  // encoders size their output to a bound first
+    p.encoded = std::move(bytes);
+    return add_piece(std::move(p), size);
   }
 
   GltfCodec codec_;
-  std::vector<std::byte> bin_;
+  std::vector<Piece> pieces_;
+  std::size_t bin_size_ = 0;
   std::size_t raw_bytes_ = 0;  // the plain layout's size (meshopt: the fallback buffer)
   Json buffer_views_ = Json::array();
   Json accessors_ = Json::array();
@@ -181,37 +260,85 @@ std::string custom_semantic(std::string_view name, std::set<std::string>& used) 
   return unique;
 }
 
-// Indices of one primitive kind, from a mesh's cells.
-struct Primitives {
-  std::vector<std::uint32_t> triangles, segments, points;
+// How many primitives of each kind a mesh's cells make: triangles (polygons fan-triangulated,
+// strips), segments (polylines), points (vertex cells).
+struct PrimitiveCounts {
+  std::size_t triangles = 0, segments = 0, points = 0;
 };
 
-Primitives collect_primitives(const PolyData& pd) {
-  Primitives p;
-  auto id = [](Index i) { return static_cast<std::uint32_t>(i); };
-  for (std::size_t c = 0; c < pd.polys.size(); ++c) {
-    const auto cell = pd.polys.cell(c);
-    for (std::size_t k = 1; k + 1 < cell.size(); ++k) {
-      p.triangles.insert(p.triangles.end(), {id(cell[0]), id(cell[k]), id(cell[k + 1])});
+PrimitiveCounts count_primitives(const PolyData& pd) {
+  PrimitiveCounts p;
+  auto beyond = [](const CellArray& cells, std::size_t skip) {
+    std::size_t total = 0;
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+      const std::size_t size = cells.cell_size(c);
+      total += size > skip ? size - skip : 0;
     }
-  }
-  for (std::size_t c = 0; c < pd.strips.size(); ++c) {
-    const auto cell = pd.strips.cell(c);
-    for (std::size_t k = 0; k + 2 < cell.size(); ++k) {
-      const auto t = strip_triangle(cell, k);
-      p.triangles.insert(p.triangles.end(), {id(t[0]), id(t[1]), id(t[2])});
-    }
-  }
-  for (std::size_t c = 0; c < pd.lines.size(); ++c) {
-    const auto cell = pd.lines.cell(c);
-    for (std::size_t k = 0; k + 1 < cell.size(); ++k) {
-      p.segments.insert(p.segments.end(), {id(cell[k]), id(cell[k + 1])});
-    }
-  }
-  for (std::size_t c = 0; c < pd.verts.size(); ++c) {
-    for (const Index i : pd.verts.cell(c)) p.points.push_back(id(i));
-  }
+    return total;
+  };
+  p.triangles = beyond(pd.polys, 2) + beyond(pd.strips, 2);
+  p.segments = beyond(pd.lines, 1);
+  p.points = beyond(pd.verts, 0);
   return p;
+}
+
+// The indices of one primitive mode (triangles, lines or points) of a mesh's cells, in the
+// order of the cells, made on demand a whole number of primitives at a time.
+class IndexCursor {
+ public:
+  IndexCursor(const PolyData& pd, int mode) : mode_(mode) {
+    if (mode == kModeTriangles) {
+      sets_ = {&pd.polys, &pd.strips};
+    } else {
+      sets_ = {mode == kModeLines ? &pd.lines : &pd.verts, nullptr};
+    }
+  }
+
+  // Writes the next `count` indices (a multiple of the primitive's size; no more than remain).
+  template <class T>
+  void next(T* out, std::size_t count) {
+    const auto id = [](Index i) { return static_cast<T>(i); };
+    std::size_t made = 0;
+    while (made < count) {
+      check_invariant(set_ < 2 && sets_[set_], "index cursor stays within the cells");
+      const CellArray& cells = *sets_[set_];
+      if (cell_ == cells.size()) {
+        ++set_, cell_ = 0, k_ = 0;
+        continue;
+      }
+      const auto c = cells.cell(cell_);
+      if (mode_ == kModeTriangles && k_ + 2 < c.size()) {
+        const auto t =
+            set_ == 0 ? std::array<Index, 3>{c[0], c[k_ + 1], c[k_ + 2]} : strip_triangle(c, k_);
+        for (const Index i : t) out[made++] = id(i);
+        ++k_;
+      } else if (mode_ == kModeLines && k_ + 1 < c.size()) {
+        out[made++] = id(c[k_]);
+        out[made++] = id(c[k_ + 1]);
+        ++k_;
+      } else if (mode_ == kModePoints && k_ < c.size()) {
+        out[made++] = id(c[k_++]);
+      } else {
+        ++cell_, k_ = 0;
+      }
+    }
+  }
+
+ private:
+  int mode_;
+  std::array<const CellArray*, 2> sets_{};
+  std::size_t set_ = 0, cell_ = 0, k_ = 0;
+};
+
+// A producer of the indices of one primitive mode, as uint16 (`shorts`) or uint32.
+Producer index_producer(const PolyData& pd, int mode, bool shorts) {
+  return [cursor = IndexCursor(pd, mode), shorts](std::byte* dst, std::size_t count) mutable {
+    if (shorts) {
+      cursor.next(reinterpret_cast<std::uint16_t*>(dst), count);
+    } else {
+      cursor.next(reinterpret_cast<std::uint32_t*>(dst), count);
+    }
+  };
 }
 
 Json legend_json(const GltfLegend& legend, const std::string& where) {
@@ -256,62 +383,99 @@ const DataArray* color_array(const GltfMesh& m, const std::string& where) {
 
 constexpr const char* kTypes[] = {"SCALAR", "VEC2", "VEC3", "VEC4"};
 
-// One vertex attribute's data as written (plain) or handed to Draco.
+// One vertex attribute as written (plain) or handed to Draco: its layout, and how to make its
+// elements from the dataset.
 struct Stream {
   std::string semantic;
-  std::vector<std::byte> bytes;
   std::size_t elem_bytes = 0;
   int component_type = kFloat;
   int components = 1;
   bool normalized = false;
   std::string array;  // the array's name ("" for positions and computed normals)
+  // Writes elements [first, first + count) to `dst` (in parallel).
+  std::function<void(std::size_t first, std::size_t count, std::byte* dst)> fill;
 };
 
-// A KHR_draco_mesh_compression TRIANGLES primitive of `triangles` over the vertex `streams`:
-// positions, normals (unit), colours (linear, as uint8: Draco's colour attribute) and the
-// float arrays, encoded (and verified) by the Draco codec of io/draco.cpp. Its accessors
+// A producer of a stream's elements from the first on.
+Producer stream_producer(const Stream& st) {
+  return [fill = st.fill, at = std::size_t{0}](std::byte* dst, std::size_t count) mutable {
+    fill(at, count, dst);
+    at += count;
+  };
+}
+
+// Runs body(i, j) for the elements i = first + j of [first, first + count), in parallel.
+template <class Body>
+void for_elements(std::size_t first, std::size_t count, Body&& body) {
+  parallel_for_range(count, kPointGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t j = b; j < e; ++j) body(first + j, j);
+  });
+}
+
+// The unit vector of tuple i of a 3-component array as floats, or (0, 0, 1) and false where it
+// has no direction (zero or non-finite).
+bool unit_normal(const DataArray& a, std::size_t i, float* out) {
+  double v[3] = {a.get(i, 0), a.get(i, 1), a.get(i, 2)};
+  const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  if (!(len > 0) || !std::isfinite(len)) {
+    out[0] = 0, out[1] = 0, out[2] = 1;
+    return false;
+  }
+  for (int k = 0; k < 3; ++k) out[k] = static_cast<float>(v[k] / len);
+  return true;
+}
+
+// A KHR_draco_mesh_compression TRIANGLES primitive of the mesh's triangles over the vertex
+// `streams`: positions, normals (unit), colours (linear, as uint8: Draco's colour attribute) and
+// the float arrays, encoded (and verified) by the Draco codec of io/draco.cpp. Its accessors
 // declare what a decoder gets (the decoded point and triangle counts, the decoded bounds).
-Json draco_primitive(GlbBuilder& glb, const std::vector<Stream>& streams, std::size_t n,
-                     const std::vector<std::uint32_t>& triangles, const std::string& where,
+Json draco_primitive(GlbBuilder& glb, const std::vector<Stream>& streams, const PolyData& pd,
+                     std::size_t triangles, const std::string& where,
                      const GltfWriteOptions& options, GltfWriteStats& stats) {
+  const std::size_t n = pd.num_points();
   PolyData tri;
   io_detail::DracoRoles roles;
   std::map<std::string, std::string> semantic_of;  // array name in `tri` -> glTF semantic
   for (const Stream& st : streams) {
     if (st.semantic == "POSITION") {
       tri.points = Points(n);
-      std::memcpy(tri.points.floats().data(), st.bytes.data(), st.bytes.size());
+      st.fill(0, n, reinterpret_cast<std::byte*>(tri.points.floats().data()));
       continue;
     }
     std::string name = st.array.empty() ? "Normals" : st.array;
     while (tri.point_data.has(name)) name += "_";
     DataArray a;
     if (st.semantic == "COLOR_0") {
+      Buffer<std::uint16_t> linear(4 * n);
+      st.fill(0, n, reinterpret_cast<std::byte*>(linear.data()));
       a = DataArray(name, ScalarType::UInt8, 4, n);
       auto out = a.values<std::uint8_t>();
       for (std::size_t i = 0; i < 4 * n; ++i) {
-        std::uint16_t v;
-        std::memcpy(&v, st.bytes.data() + 2 * i, 2);
-        out[i] = static_cast<std::uint8_t>((v + 128) / 257);
+        out[i] = static_cast<std::uint8_t>((linear[i] + 128) / 257);
       }
       roles.colors = name;
     } else {
       a = DataArray(name, ScalarType::Float32, st.components, n);
-      std::memcpy(a.bytes(), st.bytes.data(), st.bytes.size());
+      st.fill(0, n, static_cast<std::byte*>(a.bytes()));
       if (st.semantic == "NORMAL") roles.normals = name;
     }
     semantic_of[name] = st.semantic;
     tri.point_data.add(std::move(a));
   }
-  tri.polys.reserve(triangles.size() / 3, triangles.size());
-  for (std::size_t k = 0; k < triangles.size(); k += 3) {
-    tri.polys.add({Index{triangles[k]}, Index{triangles[k + 1]}, Index{triangles[k + 2]}});
+  {
+    Buffer<std::uint32_t> ids(3 * triangles);
+    IndexCursor(pd, kModeTriangles).next(ids.data(), ids.size());
+    tri.polys.reserve(triangles, 3 * triangles);
+    for (std::size_t k = 0; k < ids.size(); k += 3) {
+      tri.polys.add({Index{ids[k]}, Index{ids[k + 1]}, Index{ids[k + 2]}});
+    }
   }
   io_detail::DracoEncodedMesh enc = io_detail::encode_draco_mesh(tri, options.draco, roles, where);
+  tri = {};
   const PolyData& dec = enc.decoded;
   const std::size_t m = dec.num_points();
   Json prim, attributes, ext, ids;  // (built apart: a reference into an object moves as it grows)
-  ext["bufferView"] = glb.add_blob(enc.bytes.data(), enc.bytes.size());
+  ext["bufferView"] = glb.add_blob(std::move(enc.bytes));
   for (const io_detail::DracoAttributeId& id : enc.attributes) {
     Json acc;
     acc["count"] = m;
@@ -352,8 +516,7 @@ Json draco_primitive(GlbBuilder& glb, const std::vector<Stream>& streams, std::s
   stats.draco.push_back(std::move(enc.stats));
   return prim;
 }
-
-// Writes one mesh's vertex data and primitives; returns the glTF mesh object.
+// Lays out one mesh's vertex data and primitives in `glb`; returns the glTF mesh object.
 Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
                 const GltfWriteOptions& options, GltfWriteStats& stats) {
   const PolyData& pd = m.mesh;
@@ -363,41 +526,52 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
   if (const std::size_t bad = pd.points.first_non_finite(); bad < n) {
     throw Error(where + ": point " + std::to_string(bad) + " has a non-finite coordinate");
   }
-  // The plain data layout (positions, normals, colours, arrays), built first as vertex streams
-  // in memory; the plain accessors are made from them when a primitive needs them (Draco-coded
-  // triangles do not).
-  std::vector<Stream> streams;
-  // A new stream of n elements of `elem_bytes`, filled through the pointer returned (each
-  // stream is written in place, not built aside and copied).
-  auto add_stream = [&](std::string semantic, std::size_t elem_bytes, int component_type,
-                        int components, bool normalized, std::string array) -> std::byte* {
-    streams.push_back(Stream{std::move(semantic), std::vector<std::byte>(n * elem_bytes),
-                             elem_bytes, component_type, components, normalized, std::move(array)});
-    return streams.back().bytes.data();
-  };
-  auto* positions = reinterpret_cast<float*>(add_stream("POSITION", 12, kFloat, 3, false, ""));
-  float lo[3], hi[3];
-  for (int k = 0; k < 3; ++k) {
-    lo[k] = std::numeric_limits<float>::max();
-    hi[k] = std::numeric_limits<float>::lowest();
-  }
-  for (std::size_t i = 0; i < n; ++i) {
+  const auto as_floats = [&pd](std::size_t i) {
     const Vec3 p = pd.points[i];
-    const double c[3] = {p.x, p.y, p.z};
-    for (int k = 0; k < 3; ++k) {
-      const auto f = static_cast<float>(c[k]);
-      if (!std::isfinite(f)) {
-        throw Error(where + ": point " + std::to_string(i) + " is beyond the float32 range");
+    return std::array<float, 3>{static_cast<float>(p.x), static_cast<float>(p.y),
+                                static_cast<float>(p.z)};
+  };
+  const std::size_t beyond = parallel_find_first(n, kPointGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      for (const float f : as_floats(i)) {
+        if (!std::isfinite(f)) return i;
       }
-      positions[3 * i + k] = f;
-      lo[k] = std::min(lo[k], f);
-      hi[k] = std::max(hi[k], f);
     }
+    return e;
+  });
+  if (beyond < n) {
+    throw Error(where + ": point " + std::to_string(beyond) + " is beyond the float32 range");
   }
-  Primitives prims = collect_primitives(pd);
+  // The bounds of the float positions (POSITION's min and max), merged from parallel ranges.
+  std::array<float, 3> lo, hi;
+  lo.fill(std::numeric_limits<float>::max());
+  hi.fill(std::numeric_limits<float>::lowest());
+  std::mutex merge;
+  parallel_for_range(n, kPointGrain, [&](std::size_t b, std::size_t e) {
+    std::array<float, 3> l = lo, h = hi;
+    for (std::size_t i = b; i < e; ++i) {
+      const auto f = as_floats(i);
+      for (std::size_t k = 0; k < 3; ++k) l[k] = std::min(l[k], f[k]), h[k] = std::max(h[k], f[k]);
+    }
+    const std::lock_guard<std::mutex> lock(merge);
+    for (std::size_t k = 0; k < 3; ++k)
+      lo[k] = std::min(lo[k], l[k]), hi[k] = std::max(hi[k], h[k]);
+  });
+  // The vertex streams: positions, normals, colours, arrays; each made from the dataset when
+  // its view is written (or handed to Draco).
+  std::vector<Stream> streams;
+  streams.push_back(Stream{"POSITION", 12, kFloat, 3, false, "",
+                           [&pd, as_floats](std::size_t first, std::size_t count, std::byte* dst) {
+                             auto* out = reinterpret_cast<float*>(dst);
+                             for_elements(first, count, [&](std::size_t i, std::size_t j) {
+                               const auto f = as_floats(i);
+                               std::copy(f.begin(), f.end(), out + 3 * j);
+                             });
+                           }});
+  const PrimitiveCounts counts = count_primitives(pd);
   stats.vertices += n;
-  stats.triangles += prims.triangles.size() / 3;
-  stats.segments += prims.segments.size() / 2;
+  stats.triangles += counts.triangles;
+  stats.segments += counts.segments;
 
   Json names = Json::array();  // extras: which attribute holds which array
   auto name_entry = [&](const std::string& semantic, const DataArray& a) {
@@ -412,26 +586,29 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
   if (options.normals) {
     const DataArray* given = pd.point_data.normals();
     if (given && (given->components() != 3 || given->tuples() != n)) given = nullptr;
-    DataArray computed;
-    if (!given && !prims.triangles.empty()) {
-      computed = point_normals(pd);
-      given = &computed;
+    std::shared_ptr<const DataArray> computed;  // kept by the stream until it is written
+    if (!given && counts.triangles > 0) {
+      computed = std::make_shared<const DataArray>(point_normals(pd));
+      given = computed.get();
     }
     if (given) {
-      auto* normals = reinterpret_cast<float*>(
-          add_stream("NORMAL", 12, kFloat, 3, false, given != &computed ? given->name() : ""));
-      for (std::size_t i = 0; i < n; ++i) {
-        double v[3] = {given->get(i, 0), given->get(i, 1), given->get(i, 2)};
-        const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-        if (!(len > 0) || !std::isfinite(len)) {
-          v[0] = 0, v[1] = 0, v[2] = 1;
-          ++stats.normals_replaced;
-        } else {
-          for (double& c : v) c /= len;
-        }
-        for (int k = 0; k < 3; ++k) normals[3 * i + k] = static_cast<float>(v[k]);
-      }
-      if (given != &computed) {
+      std::atomic<std::size_t> replaced{0};
+      parallel_for_range(n, kPointGrain, [&](std::size_t b, std::size_t e) {
+        std::size_t r = 0;
+        float v[3];
+        for (std::size_t i = b; i < e; ++i) r += unit_normal(*given, i, v) ? 0 : 1;
+        replaced += r;
+      });
+      stats.normals_replaced += replaced;
+      streams.push_back(
+          Stream{"NORMAL", 12, kFloat, 3, false, computed ? "" : given->name(),
+                 [given, computed](std::size_t first, std::size_t count, std::byte* dst) {
+                   auto* out = reinterpret_cast<float*>(dst);
+                   for_elements(first, count, [&](std::size_t i, std::size_t j) {
+                     (void)unit_normal(*given, i, out + 3 * j);
+                   });
+                 }});
+      if (!computed) {
         normals_array = given;
         name_entry("NORMAL", *given);
       }
@@ -444,24 +621,26 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
     // glTF's COLOR_0 is linear; uint8 colours (colour maps, PLY) are sRGB. Linear values in
     // normalized uint16 map back to the same uint8 sRGB codes (the smallest step, at 0, is 20
     // units). Always RGBA: glTF aligns every vertex element to 4 bytes.
-    const int c = colors->components();
-    const auto src = colors->values<std::uint8_t>();
     std::array<std::uint16_t, 256> linear{};
     for (int v = 0; v < 256; ++v) {
       linear[static_cast<std::size_t>(v)] =
           static_cast<std::uint16_t>(std::lround(srgb_to_linear(v / 255.0) * 65535.0));
     }
-    auto* rgba = reinterpret_cast<std::uint16_t*>(
-        add_stream("COLOR_0", 8, kUnsignedShort, 4, true, colors->name()));
-    for (std::size_t i = 0; i < n; ++i) {
-      for (int k = 0; k < 4; ++k) {
-        const auto at = static_cast<std::size_t>(k);
-        rgba[4 * i + at] = 65535;  // opaque where the array has no alpha
-        if (k >= c) continue;
-        const std::uint8_t v = src[static_cast<std::size_t>(c) * i + at];
-        rgba[4 * i + at] = k < 3 ? linear[v] : static_cast<std::uint16_t>(v * 257);
-      }
-    }
+    streams.push_back(
+        Stream{"COLOR_0", 8, kUnsignedShort, 4, true, colors->name(),
+               [colors, linear](std::size_t first, std::size_t count, std::byte* dst) {
+                 const auto c = static_cast<std::size_t>(colors->components());
+                 const auto src = colors->values<std::uint8_t>();
+                 auto* rgba = reinterpret_cast<std::uint16_t*>(dst);
+                 for_elements(first, count, [&](std::size_t i, std::size_t j) {
+                   for (std::size_t k = 0; k < 4; ++k) {
+                     rgba[4 * j + k] = 65535;  // opaque where the array has no alpha
+                     if (k >= c) continue;
+                     const std::uint8_t v = src[c * i + k];
+                     rgba[4 * j + k] = k < 3 ? linear[v] : static_cast<std::uint16_t>(v * 257);
+                   }
+                 });
+               }});
     name_entry("COLOR_0", *colors);
   }
   if (options.arrays) {
@@ -474,20 +653,31 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
                                        " components; glTF attributes have at most 4)");
         continue;
       }
-      std::vector<float> values(a.size());
-      bool finite = true;
-      for (std::size_t i = 0; i < values.size(); ++i) {
-        values[i] = static_cast<float>(a.get(i / c, static_cast<int>(i % c)));
-        finite = finite && std::isfinite(values[i]);
-      }
-      if (!finite) {
+      const std::size_t values = a.size();
+      const auto value = [&a, c](std::size_t i) {
+        return static_cast<float>(a.get(i / static_cast<std::size_t>(c), static_cast<int>(i % c)));
+      };
+      const std::size_t bad =
+          parallel_find_first(values, kPointGrain, [&](std::size_t b, std::size_t e) {
+            for (std::size_t i = b; i < e; ++i) {
+              if (!std::isfinite(value(i))) return i;
+            }
+            return e;
+          });
+      if (bad < values) {
         stats.arrays_skipped.push_back(where + ": " + a.name() +
                                        " (non-finite values; glTF accessors hold finite floats)");
         continue;
       }
       const std::string semantic = custom_semantic(a.name(), used);
-      std::memcpy(add_stream(semantic, 4 * static_cast<std::size_t>(c), kFloat, c, false, a.name()),
-                  values.data(), 4 * values.size());
+      streams.push_back(
+          Stream{semantic, 4 * static_cast<std::size_t>(c), kFloat, c, false, a.name(),
+                 [value, c](std::size_t first, std::size_t count, std::byte* dst) {
+                   auto* out = reinterpret_cast<float*>(dst);
+                   const auto k = static_cast<std::size_t>(c);
+                   for_elements(k * first, k * count,
+                                [&](std::size_t i, std::size_t j) { out[j] = value(i); });
+                 }});
       name_entry(semantic, a);
       if (&a == pd.point_data.scalars()) scalars_written = a.name();
     }
@@ -497,24 +687,21 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
                                    " (cell data; glTF has point attributes only)");
   }
 
-  // What the plain layout takes (the ratio's denominator, whatever the codec), and at most
-  // what this mesh adds to the BIN chunk: room for it at once, instead of the chunk doubling
-  // (and copying itself) as it grows.
+  // What the plain layout takes (the ratio's denominator, whatever the codec).
+  const bool short_indices = n <= 0xFFFF;  // 65535 itself is the restart value: not allowed
+  const std::size_t index_bytes = short_indices ? 2 : 4;
   std::size_t raw_bytes = 0;
-  for (const Stream& st : streams) raw_bytes += align4(st.bytes.size());
-  const std::size_t index_bytes = n <= 0xFFFF ? 2 : 4;
-  for (const auto* idx : {&prims.triangles, &prims.segments, &prims.points}) {
-    raw_bytes += align4(index_bytes * idx->size());
+  for (const Stream& st : streams) raw_bytes += align4(n * st.elem_bytes);
+  for (const std::size_t indices : {3 * counts.triangles, 2 * counts.segments, counts.points}) {
+    raw_bytes += align4(index_bytes * indices);
   }
   stats.raw_bytes += raw_bytes;
-  if (options.codec == GltfCodec::None) glb.reserve(raw_bytes);
   // The plain accessors of the streams, made once when a primitive first needs them.
   Json attributes;
   auto plain_attributes = [&]() -> const Json& {
     if (attributes.is_object()) return attributes;
     for (const Stream& st : streams) {
-      const std::size_t view =
-          glb.add_view(st.bytes.data(), st.bytes.size(), n, st.elem_bytes, true, false);
+      const std::size_t view = glb.add_view(n, st.elem_bytes, true, false, stream_producer(st));
       Json acc;
       acc["bufferView"] = view;
       acc["componentType"] = st.component_type;
@@ -532,48 +719,39 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
     return attributes;
   };
 
-  // Primitives sharing the vertex accessors.
+  // Primitives sharing the vertex accessors; `indices` of the mode's cells (none: every point).
   Json primitives = Json::array();
-  const bool short_indices = n <= 0xFFFF;  // 65535 itself is the restart value: not allowed
-  auto add_primitive = [&](const std::vector<std::uint32_t>& indices, int mode) {
+  auto add_primitive = [&](int mode, std::size_t indices) {
     Json prim;
     prim["attributes"] = plain_attributes();
-    if (!indices.empty()) {
-      std::vector<std::uint16_t> shorts;
-      const void* data = indices.data();
-      std::size_t bytes = 4 * indices.size();
-      if (short_indices) {
-        shorts.assign(indices.begin(), indices.end());
-        data = shorts.data();
-        bytes = 2 * shorts.size();
-      }
-      const std::size_t view = glb.add_view(data, bytes, indices.size(), short_indices ? 2 : 4,
-                                            false, mode == kModeTriangles);
+    if (indices > 0) {
+      const std::size_t view = glb.add_view(indices, index_bytes, false, mode == kModeTriangles,
+                                            index_producer(pd, mode, short_indices));
       Json acc;
       acc["bufferView"] = view;
       acc["componentType"] = short_indices ? kUnsignedShort : kUnsignedInt;
-      acc["count"] = indices.size();
+      acc["count"] = indices;
       acc["type"] = "SCALAR";
       prim["indices"] = glb.add_accessor(std::move(acc));
     }
     prim["mode"] = mode;
     primitives.push(std::move(prim));
   };
-  if (!prims.triangles.empty()) {
+  if (counts.triangles > 0) {
     if (options.codec == GltfCodec::Draco) {
-      primitives.push(draco_primitive(glb, streams, n, prims.triangles, where, options, stats));
+      primitives.push(draco_primitive(glb, streams, pd, counts.triangles, where, options, stats));
     } else {
-      add_primitive(prims.triangles, kModeTriangles);
+      add_primitive(kModeTriangles, 3 * counts.triangles);
     }
   }
-  if (!prims.segments.empty()) add_primitive(prims.segments, kModeLines);
-  if (!prims.points.empty()) {
-    stats.points += prims.points.size();
-    add_primitive(prims.points, kModePoints);
+  if (counts.segments > 0) add_primitive(kModeLines, 2 * counts.segments);
+  if (counts.points > 0) {
+    stats.points += counts.points;
+    add_primitive(kModePoints, counts.points);
   }
   if (primitives.size() == 0) {  // points and no cells: every point is drawn
     stats.points += n;
-    add_primitive({}, kModePoints);
+    add_primitive(kModePoints, 0);
   }
 
   Json mesh;
@@ -653,7 +831,7 @@ GltfWriteStats write_gltf(std::span<const GltfMesh> meshes, const std::filesyste
   gltf["bufferViews"] = std::move(glb.buffer_views());
   Json buffers = Json::array();
   Json bin_buffer;
-  bin_buffer["byteLength"] = glb.bin().size();
+  bin_buffer["byteLength"] = glb.bin_size();
   buffers.push(std::move(bin_buffer));
   if (options.codec == GltfCodec::Draco && !stats.draco.empty()) {
     gltf["extensionsUsed"] = Json(Json::Array{Json(kDraco)});
@@ -671,7 +849,7 @@ GltfWriteStats write_gltf(std::span<const GltfMesh> meshes, const std::filesyste
 
   std::string json = gltf.dump();
   json.resize(align4(json.size()), ' ');  // the JSON chunk is padded with spaces
-  const std::size_t bin_size = align4(glb.bin().size());
+  const std::size_t bin_size = align4(glb.bin_size());
   const std::size_t total = 12 + 8 + json.size() + (bin_size ? 8 + bin_size : 0);
   if (total > std::size_t{0xFFFFFFFF}) throw Error(file + ": more than 4 GiB: too big for .glb");
   report_progress(options.progress, 0.5, "writing");
@@ -686,15 +864,15 @@ GltfWriteStats write_gltf(std::span<const GltfMesh> meshes, const std::filesyste
   auto& s = out.stream();
   s.write(header.data(), static_cast<std::streamsize>(header.size()));
   s.write(json.data(), static_cast<std::streamsize>(json.size()));
+  json = {};
   if (bin_size) {
     std::string chunk;
     put_u32(chunk, static_cast<std::uint32_t>(bin_size));
     put_u32(chunk, kChunkBin);
     s.write(chunk.data(), 8);
-    s.write(reinterpret_cast<const char*>(glb.bin().data()),
-            static_cast<std::streamsize>(glb.bin().size()));
-    static constexpr char kZeros[4] = {};
-    s.write(kZeros, static_cast<std::streamsize>(bin_size - glb.bin().size()));
+    glb.write_bin(s, [&](std::size_t written) {
+      report_progress(options.progress, 0.5 + 0.5 * double(written) / double(bin_size), "writing");
+    });
   }
   out.commit();
   stats.bytes = total;

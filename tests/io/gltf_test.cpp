@@ -158,6 +158,114 @@ TEST(Gltf, PlainRoundTripKeepsValuesNamesAndCells) {
   EXPECT_TRUE(back.cell_data.empty());
 }
 
+// Plain views are made and written a slice (about 4 MiB) at a time, straight from the dataset:
+// a mesh whose streams and index views each span several slices, with cells that themselves
+// cross slice boundaries (a 500k-point polygon, a 400k-point strip, a 600k-point polyline, a
+// 1.1M-point poly-vertex), comes back whole, for the plain and the meshopt codec. Progress
+// advances through the BIN chunk, and cancelling there leaves nothing behind.
+TEST(Gltf, ViewsOfManySlicesComeBackWhole) {
+  constexpr std::size_t n = 600000;
+  PolyData pd;
+  pd.points = Points(n);
+  auto xyz = pd.points.floats();
+  std::vector<std::uint8_t> rgba(4 * n);
+  std::vector<float> pair(2 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto f = static_cast<float>(i);
+    xyz[3 * i] = f, xyz[3 * i + 1] = 0.5f * f, xyz[3 * i + 2] = float(i % 977);
+    for (std::size_t k = 0; k < 4; ++k)
+      rgba[4 * i + k] = static_cast<std::uint8_t>((i + 61 * k) % 256);
+    pair[2 * i] = -f, pair[2 * i + 1] = float(i % 13);
+  }
+  pd.point_data.add(DataArray::from_vector<std::uint8_t>("Colors", 4, rgba),
+                    AttributeRole::Scalars);
+  pd.point_data.add(DataArray::from_vector<float>("Pair", 2, pair));
+  std::vector<Index> polygon(500000), strip(400000), polyline(n), poly_vertex(1100000);
+  for (std::size_t i = 0; i < polygon.size(); ++i) polygon[i] = Index(i);
+  for (std::size_t i = 0; i < strip.size(); ++i) strip[i] = Index(n - 1 - i);
+  for (std::size_t i = 0; i < polyline.size(); ++i) polyline[i] = Index((7 * i) % n);
+  for (std::size_t i = 0; i < poly_vertex.size(); ++i) poly_vertex[i] = Index((13 * i) % n);
+  pd.polys.add({1, 2, 3});
+  pd.polys.add(polygon);
+  pd.polys.add({4, 5, 6, 7});
+  pd.strips.add(strip);
+  pd.lines.add(polyline);
+  pd.verts.add(poly_vertex);
+  // The expected primitives: polygons as fans, strips alternating (core's strip_triangle).
+  std::vector<std::array<Index, 3>> expected_triangles;
+  for (std::size_t c = 0; c < pd.polys.size(); ++c) {
+    const auto cell = pd.polys.cell(c);
+    for (std::size_t k = 1; k + 1 < cell.size(); ++k)
+      expected_triangles.push_back({cell[0], cell[k], cell[k + 1]});
+  }
+  for (std::size_t k = 0; k + 2 < strip.size(); ++k) {
+    const bool odd = k % 2;
+    expected_triangles.push_back({strip[k + odd], strip[k + 1 - odd], strip[k + 2]});
+  }
+  for (const GltfCodec codec : {GltfCodec::None, GltfCodec::Meshopt}) {
+    SCOPED_TRACE(std::string(gltf_codec_name(codec)));
+    GltfWriteOptions options = with_codec(codec);
+    std::vector<double> reported;
+    options.progress = [&](double f) {
+      reported.push_back(f);
+      return true;
+    };
+    const auto path = scratch("slices") / (std::string(gltf_codec_name(codec)) + ".glb");
+    const GltfWriteStats stats = write_gltf(pd, path, options);
+    EXPECT_EQ(stats.triangles, expected_triangles.size());
+    EXPECT_EQ(stats.segments, n - 1);
+    EXPECT_EQ(stats.points, poly_vertex.size());
+    EXPECT_EQ(stats.bytes, fs::file_size(path));
+    ASSERT_FALSE(reported.empty());
+    EXPECT_TRUE(std::is_sorted(reported.begin(), reported.end()));
+    EXPECT_EQ(reported.back(), 1.0);
+    if (codec == GltfCodec::None) {  // slice by slice: positions alone are 7.2 MB
+      EXPECT_GT(std::count_if(reported.begin(), reported.end(),
+                              [](double f) { return f > 0.5 && f < 1; }),
+                6);
+    }
+    const GltfContent content = read_gltf(path);
+    ASSERT_EQ(content.meshes.size(), 1u);
+    const PolyData& back = content.meshes[0].mesh;
+    ASSERT_EQ(back.num_points(), n);
+    EXPECT_TRUE(std::equal(xyz.begin(), xyz.end(), back.points.floats().begin()));
+    const DataArray* colors = back.point_data.find("Colors");
+    const DataArray* pairs = back.point_data.find("Pair");
+    ASSERT_TRUE(colors && pairs);
+    EXPECT_TRUE(std::equal(rgba.begin(), rgba.end(), colors->values<std::uint8_t>().begin()));
+    EXPECT_TRUE(std::equal(pair.begin(), pair.end(), pairs->values<float>().begin()));
+    ASSERT_EQ(back.polys.size(), expected_triangles.size());
+    std::size_t wrong = 0;
+    for (std::size_t t = 0; t < expected_triangles.size(); ++t) {
+      const auto c = back.polys.cell(t);
+      std::array<Index, 3> got{c[0], c[1], c[2]}, want = expected_triangles[t];
+      // meshopt's index codec may rotate a triangle's corners, keeping its orientation
+      std::rotate(got.begin(), std::min_element(got.begin(), got.end()), got.end());
+      std::rotate(want.begin(), std::min_element(want.begin(), want.end()), want.end());
+      wrong += got != want;
+    }
+    EXPECT_EQ(wrong, 0u);
+    ASSERT_EQ(back.lines.size(), n - 1);
+    wrong = 0;
+    for (std::size_t s = 0; s + 1 < n; ++s) {
+      const auto c = back.lines.cell(s);
+      wrong += c.size() != 2 || c[0] != polyline[s] || c[1] != polyline[s + 1];
+    }
+    EXPECT_EQ(wrong, 0u);
+    ASSERT_EQ(back.verts.size(), poly_vertex.size());
+    wrong = 0;
+    for (std::size_t v = 0; v < poly_vertex.size(); ++v)
+      wrong += back.verts.cell(v)[0] != poly_vertex[v];
+    EXPECT_EQ(wrong, 0u);
+  }
+  // Cancelled while the BIN chunk is written: no file, no temporary file.
+  const auto dir = scratch("slices_cancel");
+  GltfWriteOptions cancel = kPlain;
+  cancel.progress = [](double f) { return f < 0.75; };
+  EXPECT_THROW((void)write_gltf(pd, dir / "cancelled.glb", cancel), Cancelled);
+  EXPECT_TRUE(fs::is_empty(dir));
+}
+
 TEST(Gltf, MeshoptRoundTripIsLosslessAndSmaller) {
   const PolyData bunny = read_ply(isoforge::test::data_path("bunny.ply"));
   const auto dir = scratch("meshopt");

@@ -718,7 +718,7 @@ TEST(VtkXmlRead, Int32AndInt64Connectivity) {
 /// A raw appended section being built: put() adds a payload and returns its offset.
 struct RawAppended {
   Enc e;
-  std::string data;
+  std::string data{};
   std::string put(const std::string& bytes) {
     const std::string offset = std::to_string(data.size());
     data += appended_payload(bytes, e);

@@ -71,7 +71,8 @@ struct GltfWriteOptions {
   /// none. Zero or non-finite normals become (0, 0, 1) (glTF needs unit length; counted).
   bool normals = true;
   bool arrays = true;  ///< write the other point arrays as `_NAME` float attributes
-  /// Told the fraction written (at the end only); false cancels (`Cancelled`, nothing written).
+  /// Told the fraction done (once the layout is made, then as the binary chunk is written);
+  /// false cancels (`Cancelled`, nothing written).
   ProgressCallback progress{};
 };
 
