@@ -2,8 +2,6 @@
 
 namespace isoforge {
 
-bool is_valid_cell_type(int id) { return id >= 1 && id <= 14; }
-
 int cell_dimension(CellType type) {
   switch (type) {
     case CellType::Vertex:
@@ -23,37 +21,6 @@ int cell_dimension(CellType type) {
     case CellType::Empty: return -1;
   }
   return -1;
-}
-
-int cell_fixed_size(CellType type) {
-  switch (type) {
-    case CellType::Vertex: return 1;
-    case CellType::Line: return 2;
-    case CellType::Triangle: return 3;
-    case CellType::Pixel:
-    case CellType::Quad:
-    case CellType::Tetra: return 4;
-    case CellType::Pyramid: return 5;
-    case CellType::Wedge: return 6;
-    case CellType::Voxel:
-    case CellType::Hexahedron: return 8;
-    case CellType::Empty: return 0;
-    case CellType::PolyVertex:
-    case CellType::PolyLine:
-    case CellType::TriangleStrip:
-    case CellType::Polygon: return -1;
-  }
-  return -1;
-}
-
-int cell_min_size(CellType type) {
-  switch (type) {
-    case CellType::PolyVertex: return 1;
-    case CellType::PolyLine: return 2;
-    case CellType::TriangleStrip:
-    case CellType::Polygon: return 3;
-    default: return cell_fixed_size(type);
-  }
 }
 
 std::string_view cell_type_name(CellType type) {

@@ -874,9 +874,11 @@ class LegacyReader {
       if (binary_) fail_at({0, data_offset_ + 4 * (pos - 1)}, what);
       fail(what);
     };
-    CellArray cells;
-    cells.reserve(a, b - a);
-    std::vector<Index> ids;
+    // Offsets and ids go straight into the cell list's arrays: `b` values hold `a` counts and
+    // b - a ids when they add up (a <= b is checked by the caller).
+    Buffer<Index> offsets(a + 1), conn(b - a);
+    offsets[0] = 0;
+    std::size_t at = 0;  // ids so far
     for (std::size_t c = 0; c < a; ++c) {
       auto cell = [&] { return kw + ": cell " + str(static_cast<std::uint64_t>(c)); };
       if (pos == b) {
@@ -891,15 +893,30 @@ class LegacyReader {
                   str(static_cast<std::uint64_t>(b - pos)) + " values left of the declared size " +
                   str(static_cast<std::uint64_t>(b)));
       }
-      ids.resize(static_cast<std::size_t>(k));
-      for (Index& id : ids) id = next();
-      cells.add(ids);
+      const auto n = static_cast<std::size_t>(k);
+      // More ids than b - a: the cells after this one will find no values left for their
+      // counts, and fail below; until then the ids still have a place.
+      if (at + n > conn.size()) conn.resize(at + n);
+      if (binary_ || buffered) {
+        const std::int32_t* v = (binary_ ? raw : raw_text).data() + pos;
+        std::copy(v, v + n, conn.data() + at);
+        pos += n;
+      } else {
+        for (std::size_t i = 0; i < n; ++i) conn[at + i] = next();
+      }
+      at += n;
+      offsets[c + 1] = static_cast<Index>(at);
     }
     if (pos != b) {
       fail_at(w, kw + " declares " + str(static_cast<std::uint64_t>(b)) + " values but its " +
                      str(static_cast<std::uint64_t>(a)) + " cells hold " +
                      str(static_cast<std::uint64_t>(pos)));
     }
+    // Adopted as built (offsets from 0, non-decreasing, ending at b - a = the ids' count; ids
+    // are checked against the points later, in check_cells).
+    CellArray cells;
+    cells.offsets() = std::move(offsets);
+    cells.connectivity() = std::move(conn);
     return cells;
   }
 
