@@ -38,6 +38,7 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <numeric>
 #include <string>
 #include <unordered_map>
@@ -45,6 +46,7 @@
 
 #include "detail/draco_codec.hpp"
 #include "detail/progress.hpp"
+#include "isoforge/core/parallel.hpp"
 #include "isoforge/io/atomic_file.hpp"
 
 namespace isoforge {
@@ -777,14 +779,31 @@ Measured measure_errors(const Prepared& p, const std::vector<DracoSource>& sourc
     return tuple_error(k, i, [&](int c) { return decoded[k]->get(j, c); });
   };
 
+  // Original points are matched independently: ranges of them in parallel, each range with its
+  // own maxima, merged at the end (maxima and counts do not depend on the order).
+  std::mutex merge_mutex;
+  const auto merge = [&](const Measured& local) {
+    const std::lock_guard<std::mutex> lock(merge_mutex);
+    m.position = std::max(m.position, local.position);
+    for (std::size_t k = 1; k < sources.size(); ++k) {
+      m.arrays[k] = std::max(m.arrays[k], local.arrays[k]);
+    }
+    m.unmatched += local.unmatched;
+  };
+  constexpr std::size_t kGrain = 4096;
   const bool same_order = o.method == DracoMethod::Sequential && d.points.size() == p.points;
   if (same_order) {
-    for (std::size_t i = 0; i < p.points; ++i) {
-      m.position = std::max(m.position, error_at(i, i));
-      for (std::size_t k = 1; k < sources.size(); ++k) {
-        m.arrays[k] = std::max(m.arrays[k], array_error(k, i, i));
+    parallel_for_range(p.points, kGrain, [&](std::size_t b, std::size_t e) {
+      Measured local;
+      local.arrays.assign(sources.size(), 0.0);
+      for (std::size_t i = b; i < e; ++i) {
+        local.position = std::max(local.position, error_at(i, i));
+        for (std::size_t k = 1; k < sources.size(); ++k) {
+          local.arrays[k] = std::max(local.arrays[k], array_error(k, i, i));
+        }
       }
-    }
+      merge(local);
+    });
     m.arrays[0] = m.position;
     return m;
   }
@@ -799,102 +818,142 @@ Measured measure_errors(const Prepared& p, const std::vector<DracoSource>& sourc
     return k;
   };
   std::vector<std::pair<Key, std::uint32_t>> keys(d.points.size());
-  for (std::size_t j = 0; j < d.points.size(); ++j) {
-    keys[j] = {key_of(d.points[j]), static_cast<std::uint32_t>(j)};
-  }
+  parallel_for_range(keys.size(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t j = b; j < e; ++j) {
+      keys[j] = {key_of(d.points[j]), static_cast<std::uint32_t>(j)};
+    }
+  });
   std::sort(keys.begin(), keys.end());
+  const auto run_end = [&](std::size_t b) {
+    std::size_t e = b + 1;
+    while (e < keys.size() && keys[e].first == keys[b].first) ++e;
+    return e;
+  };
+  const auto same_point = [&](std::size_t b, std::size_t e) {
+    const Vec3 q = d.points[keys[b].second];
+    for (std::size_t t = b + 1; t < e; ++t) {
+      if (d.points[keys[t].second] != q) return false;
+    }
+    return true;
+  };
   // A coarse grid puts thousands of decoded points on one grid point, every one a candidate of
-  // every original point rounded there. Such a run of equal keys whose decoded points coincide is
-  // matched at once: one position error, and per array the least error over the run's distinct
-  // decoded tuples (quantized values repeat), found once per run.
+  // every original point rounded there. Such a long run of equal keys whose decoded points
+  // coincide is matched at once: one position error, and per array the least error over the
+  // run's distinct decoded tuples (quantized values repeat), found once per run, before the
+  // matching. A short run is matched tuple by tuple (the least error over a run is the same
+  // over its distinct tuples).
+  constexpr std::size_t kLongRun = 32;
   struct Run {
-    std::size_t end = 0;
     bool same_point = false;
     std::vector<std::vector<double>> tuples;  // per source: distinct decoded tuples, flattened
   };
-  std::unordered_map<std::size_t, Run> runs;  // by the run's first index in `keys`
-  const auto run_at = [&](std::size_t b) -> Run& {
-    auto [it, fresh] = runs.try_emplace(b);
-    Run& r = it->second;
-    if (!fresh) return r;
-    r.end = b + 1;
-    while (r.end < keys.size() && keys[r.end].first == keys[b].first) ++r.end;
-    const Vec3 q = d.points[keys[b].second];
-    r.same_point = true;
-    for (std::size_t t = b + 1; t < r.end && r.same_point; ++t) {
-      r.same_point = d.points[keys[t].second] == q;
-    }
-    if (!r.same_point) return r;
-    r.tuples.resize(sources.size());
-    for (std::size_t k = 1; k < sources.size(); ++k) {
-      if (!decoded[k]) continue;
-      const auto comps = static_cast<std::size_t>(sources[k].components);
-      std::vector<std::vector<std::uint64_t>> bits;  // exact, NaN included
-      for (std::size_t t = b; t < r.end; ++t) {
-        std::vector<std::uint64_t> tuple(comps);
-        for (std::size_t c = 0; c < comps; ++c) {
-          tuple[c] = std::bit_cast<std::uint64_t>(decoded[k]->get(keys[t].second, int(c)));
-        }
-        bits.push_back(std::move(tuple));
-      }
-      std::sort(bits.begin(), bits.end());
-      bits.erase(std::unique(bits.begin(), bits.end()), bits.end());
-      for (const auto& tuple : bits) {
-        for (std::uint64_t x : tuple) r.tuples[k].push_back(std::bit_cast<double>(x));
-      }
-    }
-    return r;
-  };
-  for (std::size_t i = 0; i < p.points; ++i) {
-    if (!p.referenced[i]) continue;
-    const Vec3 v{pos.original(i, 0), pos.original(i, 1), pos.original(i, 2)};
-    const Key k0 = key_of(v);
-    const auto first = std::lower_bound(keys.begin(), keys.end(), std::make_pair(k0, 0u));
-    if (first != keys.end() && first->first == k0) {
-      const Run& r = run_at(static_cast<std::size_t>(first - keys.begin()));
-      if (r.same_point) {
-        m.position = std::max(m.position, error_at(i, first->second));
-        for (std::size_t k = 1; k < sources.size(); ++k) {
-          double e = std::numeric_limits<double>::infinity();
-          const auto comps = static_cast<std::size_t>(sources[k].components);
-          for (std::size_t u = 0; u < r.tuples[k].size() && e > 0; u += comps) {
-            e = std::min(e,
-                         tuple_error(k, i, [&](int c) { return r.tuples[k][u + std::size_t(c)]; }));
+  std::unordered_map<std::size_t, Run> long_runs;  // by the run's first index in `keys`
+  for (std::size_t b = 0; b < keys.size();) {
+    const std::size_t e = run_end(b);
+    if (e - b >= kLongRun) long_runs.try_emplace(b);
+    b = e;
+  }
+  std::vector<std::pair<const std::size_t, Run>*> to_fill;
+  for (auto& entry : long_runs) to_fill.push_back(&entry);
+  parallel_for_range(to_fill.size(), 1, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t u = lo; u < hi; ++u) {
+      const std::size_t b = to_fill[u]->first;
+      Run& r = to_fill[u]->second;
+      const std::size_t end = run_end(b);
+      r.same_point = same_point(b, end);
+      if (!r.same_point) continue;
+      r.tuples.resize(sources.size());
+      for (std::size_t k = 1; k < sources.size(); ++k) {
+        if (!decoded[k]) continue;
+        const auto comps = static_cast<std::size_t>(sources[k].components);
+        std::vector<std::vector<std::uint64_t>> bits;  // exact, NaN included
+        for (std::size_t t = b; t < end; ++t) {
+          std::vector<std::uint64_t> tuple(comps);
+          for (std::size_t c = 0; c < comps; ++c) {
+            tuple[c] = std::bit_cast<std::uint64_t>(decoded[k]->get(keys[t].second, int(c)));
           }
-          m.arrays[k] = std::max(m.arrays[k], e);
+          bits.push_back(std::move(tuple));
         }
+        std::sort(bits.begin(), bits.end());
+        bits.erase(std::unique(bits.begin(), bits.end()), bits.end());
+        for (const auto& tuple : bits) {
+          for (std::uint64_t x : tuple) r.tuples[k].push_back(std::bit_cast<double>(x));
+        }
+      }
+    }
+  });
+  parallel_for_range(p.points, kGrain, [&](std::size_t lo, std::size_t hi) {
+    Measured local;
+    local.arrays.assign(sources.size(), 0.0);
+    std::vector<std::uint32_t> cands;
+    for (std::size_t i = lo; i < hi; ++i) {
+      if (!p.referenced[i]) continue;
+      const Vec3 v{pos.original(i, 0), pos.original(i, 1), pos.original(i, 2)};
+      const Key k0 = key_of(v);
+      const auto first = std::lower_bound(keys.begin(), keys.end(), std::make_pair(k0, 0u));
+      if (first != keys.end() && first->first == k0) {
+        const auto b = static_cast<std::size_t>(first - keys.begin());
+        const auto long_run = long_runs.find(b);
+        if (long_run != long_runs.end() && long_run->second.same_point) {
+          const Run& r = long_run->second;
+          local.position = std::max(local.position, error_at(i, first->second));
+          for (std::size_t k = 1; k < sources.size(); ++k) {
+            double e = std::numeric_limits<double>::infinity();
+            const auto comps = static_cast<std::size_t>(sources[k].components);
+            for (std::size_t u = 0; u < r.tuples[k].size() && e > 0; u += comps) {
+              e = std::min(
+                  e, tuple_error(k, i, [&](int c) { return r.tuples[k][u + std::size_t(c)]; }));
+            }
+            local.arrays[k] = std::max(local.arrays[k], e);
+          }
+          continue;
+        }
+        if (long_run == long_runs.end()) {
+          const std::size_t end = run_end(b);
+          if (same_point(b, end)) {
+            local.position = std::max(local.position, error_at(i, first->second));
+            for (std::size_t k = 1; k < sources.size(); ++k) {
+              double e = std::numeric_limits<double>::infinity();
+              for (std::size_t t = b; t < end && e > 0; ++t) {
+                e = std::min(e, array_error(k, i, keys[t].second));
+              }
+              local.arrays[k] = std::max(local.arrays[k], e);
+            }
+            continue;
+          }
+        }
+      }
+      double best = std::numeric_limits<double>::infinity();
+      cands.clear();
+      for (int pass = 0; pass < 2 && cands.empty(); ++pass) {
+        for (int dx = -pass; dx <= pass; ++dx)
+          for (int dy = -pass; dy <= pass; ++dy)
+            for (int dz = -pass; dz <= pass; ++dz) {
+              const Key k{k0[0] + dx, k0[1] + dy, k0[2] + dz};
+              auto it = std::lower_bound(keys.begin(), keys.end(), std::make_pair(k, 0u));
+              for (; it != keys.end() && it->first == k; ++it) {
+                const double e = error_at(i, it->second);
+                if (e < best) {
+                  best = e;
+                  cands.clear();
+                }
+                if (e == best) cands.push_back(it->second);
+              }
+            }
+      }
+      if (cands.empty()) {
+        ++local.unmatched;
         continue;
       }
+      local.position = std::max(local.position, best);
+      for (std::size_t k = 1; k < sources.size(); ++k) {
+        double e = std::numeric_limits<double>::infinity();
+        for (auto j : cands) e = std::min(e, array_error(k, i, j));
+        local.arrays[k] = std::max(local.arrays[k], e);
+      }
     }
-    double best = std::numeric_limits<double>::infinity();
-    std::vector<std::uint32_t> cands;
-    for (int pass = 0; pass < 2 && cands.empty(); ++pass) {
-      for (int dx = -pass; dx <= pass; ++dx)
-        for (int dy = -pass; dy <= pass; ++dy)
-          for (int dz = -pass; dz <= pass; ++dz) {
-            const Key k{k0[0] + dx, k0[1] + dy, k0[2] + dz};
-            auto it = std::lower_bound(keys.begin(), keys.end(), std::make_pair(k, 0u));
-            for (; it != keys.end() && it->first == k; ++it) {
-              const double e = error_at(i, it->second);
-              if (e < best) {
-                best = e;
-                cands.clear();
-              }
-              if (e == best) cands.push_back(it->second);
-            }
-          }
-    }
-    if (cands.empty()) {
-      ++m.unmatched;
-      continue;
-    }
-    m.position = std::max(m.position, best);
-    for (std::size_t k = 1; k < sources.size(); ++k) {
-      double e = std::numeric_limits<double>::infinity();
-      for (auto j : cands) e = std::min(e, array_error(k, i, j));
-      m.arrays[k] = std::max(m.arrays[k], e);
-    }
-  }
+    merge(local);
+  });
   m.arrays[0] = m.position;
   return m;
 }

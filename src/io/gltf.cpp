@@ -561,7 +561,7 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
   // its view is written (or handed to Draco).
   std::vector<Stream> streams;
   streams.push_back(Stream{"POSITION", 12, kFloat, 3, false, "",
-                           [&pd, as_floats](std::size_t first, std::size_t count, std::byte* dst) {
+                           [as_floats](std::size_t first, std::size_t count, std::byte* dst) {
                              auto* out = reinterpret_cast<float*>(dst);
                              for_elements(first, count, [&](std::size_t i, std::size_t j) {
                                const auto f = as_floats(i);
