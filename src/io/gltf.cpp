@@ -531,32 +531,31 @@ Json write_mesh(GlbBuilder& glb, const GltfMesh& m, const std::string& where,
     return std::array<float, 3>{static_cast<float>(p.x), static_cast<float>(p.y),
                                 static_cast<float>(p.z)};
   };
-  const std::size_t beyond = parallel_find_first(n, kPointGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) {
-      for (const float f : as_floats(i)) {
-        if (!std::isfinite(f)) return i;
-      }
-    }
-    return e;
-  });
-  if (beyond < n) {
-    throw Error(where + ": point " + std::to_string(beyond) + " is beyond the float32 range");
-  }
-  // The bounds of the float positions (POSITION's min and max), merged from parallel ranges.
+  // In one parallel pass: the bounds of the float positions (POSITION's min and max) and the
+  // first point beyond the float32 range, merged from the ranges (neither depends on the order).
   std::array<float, 3> lo, hi;
   lo.fill(std::numeric_limits<float>::max());
   hi.fill(std::numeric_limits<float>::lowest());
+  std::size_t beyond = n;
   std::mutex merge;
   parallel_for_range(n, kPointGrain, [&](std::size_t b, std::size_t e) {
-    std::array<float, 3> l = lo, h = hi;
+    std::array<float, 3> l, h;
+    l.fill(std::numeric_limits<float>::max());
+    h.fill(std::numeric_limits<float>::lowest());
+    std::size_t bad = n;
     for (std::size_t i = b; i < e; ++i) {
       const auto f = as_floats(i);
       for (std::size_t k = 0; k < 3; ++k) l[k] = std::min(l[k], f[k]), h[k] = std::max(h[k], f[k]);
+      if (bad == n && !(std::isfinite(f[0]) && std::isfinite(f[1]) && std::isfinite(f[2]))) bad = i;
     }
     const std::lock_guard<std::mutex> lock(merge);
     for (std::size_t k = 0; k < 3; ++k)
       lo[k] = std::min(lo[k], l[k]), hi[k] = std::max(hi[k], h[k]);
+    beyond = std::min(beyond, bad);
   });
+  if (beyond < n) {
+    throw Error(where + ": point " + std::to_string(beyond) + " is beyond the float32 range");
+  }
   // The vertex streams: positions, normals, colours, arrays; each made from the dataset when
   // its view is written (or handed to Draco).
   std::vector<Stream> streams;

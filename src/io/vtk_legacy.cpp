@@ -1618,7 +1618,7 @@ class LegacyWriter {
       std::byte* out = slice_.data();
       const auto put = [out](std::size_t at, Index v) {
         auto x = static_cast<std::uint32_t>(static_cast<std::int32_t>(v));
-        if (io_detail::kHostEndian != Endian::Big) x = __builtin_bswap32(x);
+        if (io_detail::kHostEndian != Endian::Big) x = io_detail::byteswap_value(x);
         std::memcpy(out + at * sizeof x, &x, sizeof x);
       };
       parallel_for_range(c1 - c0, std::size_t{1} << 12, [&](std::size_t b, std::size_t e) {
