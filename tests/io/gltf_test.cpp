@@ -508,6 +508,21 @@ TEST(Gltf, BadInputsAreErrors) {
         << e.what();
   }
   EXPECT_FALSE(fs::exists(dir / "n.glb"));
+  // Finite doubles that float32 cannot hold: the first such point is named, past many others.
+  PolyData huge;
+  huge.points = Points(100000, ScalarType::Float64);
+  huge.points.set(70001, Vec3{0, 1e300, 0});
+  huge.points.set(90000, Vec3{-1e300, 0, 0});
+  huge.verts.add({0});
+  try {
+    (void)write_gltf(huge, dir / "h.glb", kPlain);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("point 70001 is beyond the float32 range"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir / "h.glb"));
   const PolyData good_mesh = sample_mesh();
   GltfMesh bad_colors{"m", good_mesh, std::nullopt, "Elevation"};  // a float array
   EXPECT_THROW((void)write_gltf(std::span(&bad_colors, 1), dir / "c.glb", kPlain), Error);
